@@ -1,0 +1,217 @@
+// `gltf-pbr convert`: many files in parallel, each loaded once, converted, saved atomically.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/report.hpp"
+#include "core/asset.hpp"
+
+namespace gltf_pbr::cli {
+namespace {
+
+struct ConvertArgs {
+  std::vector<std::string> inputs;
+  std::string output, format, report, target = "metalness", solver = "balanced";
+  bool in_place = false, allow_outside = false, quiet = false, verbose = false;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  double specular_tolerance = 2.0;
+  int png_compression = 3;
+  size_t error_samples = 1u << 18;
+};
+
+struct Job {
+  fs::path input, output;
+};
+
+bool is_gltf_file(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb";
+}
+
+// Expands inputs (files, directories searched recursively) into jobs with output paths.
+std::vector<Job> plan_jobs(const ConvertArgs& args) {
+  std::vector<std::pair<fs::path, fs::path>> files;  // (file, path relative to the output folder)
+  for (const fs::path input : args.inputs) {
+    std::error_code ec;
+    if (fs::is_directory(input, ec)) {
+      std::vector<fs::path> found;
+      for (const auto& entry : fs::recursive_directory_iterator(input, ec))
+        if (entry.is_regular_file() && is_gltf_file(entry.path())) found.push_back(entry.path());
+      std::sort(found.begin(), found.end());
+      for (const auto& f : found) files.emplace_back(f, input.filename().empty() ? f.lexically_relative(input)
+                                                                                 : input.filename() / f.lexically_relative(input));
+    } else if (fs::is_regular_file(input, ec)) {
+      files.emplace_back(input, input.filename());
+    } else {
+      throw CLI::ValidationError("input", input.string() + ": no such file or directory");
+    }
+  }
+  if (files.empty()) throw CLI::ValidationError("input", "no .gltf or .glb files found");
+  const fs::path output = args.output;
+  const bool single_file_output = files.size() == 1 && !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  std::vector<Job> jobs;
+  for (auto& [file, relative] : files) {
+    fs::path target;
+    if (args.in_place) {
+      target = file;
+    } else if (single_file_output) {
+      target = output;
+    } else {
+      target = output / relative;
+      if (!args.format.empty()) target.replace_extension("." + args.format);
+    }
+    jobs.push_back({file, target});
+  }
+  return jobs;
+}
+
+class Progress {
+ public:
+  Progress(size_t total, bool enabled) : total_(total), enabled_(enabled && ::isatty(STDERR_FILENO)) {}
+  void done(const std::string& line) {
+    std::lock_guard lock(mutex_);
+    ++count_;
+    if (enabled_) std::fprintf(stderr, "\r\033[K");
+    std::fputs(line.c_str(), stderr);
+    if (enabled_ && count_ < total_) std::fprintf(stderr, "[%zu/%zu] converting...", count_, total_);
+    std::fflush(stderr);
+  }
+
+ private:
+  size_t total_, count_ = 0;
+  bool enabled_;
+  std::mutex mutex_;
+};
+
+FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  FileResult result{job.input.string(), job.output.string(), "failed", std::nullopt, "", {}, 0, 0, 0};
+  const auto start = Clock::now();
+  try {
+    Asset asset = load_asset(job.input, {args.allow_outside});
+    const auto loaded = Clock::now();
+    result.load_ms = ms(start, loaded);
+    result.report = convert(asset, options);
+    const auto converted = Clock::now();
+    const bool same_format = asset.binary == (job.output.extension() == ".glb");
+    if (!result.report.changed() && same_format && !args.in_place) {
+      copy_asset_verbatim(asset, job.output);
+      result.status = "copied";
+    } else if (!result.report.changed() && args.in_place) {
+      result.status = "copied";  // nothing to write: the input already is the result
+    } else {
+      if (args.in_place) {
+        // The input is the output: write beside it, then rename over it (atomic per file).
+        const fs::path temporary = job.output.parent_path() / (".gltf-pbr-" + job.output.filename().string());
+        save_asset(asset, temporary);
+        fs::rename(temporary, job.output);
+      } else {
+        save_asset(asset, job.output);
+      }
+      result.status = "converted";
+    }
+    result.save_ms = ms(converted, Clock::now());
+  } catch (const InputError& e) {
+    result.error = e;
+  } catch (const std::exception& e) {
+    result.failure = e.what();
+  }
+  result.total_ms = ms(start, Clock::now());
+  return result;
+}
+
+int run(const ConvertArgs& args) {
+  if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
+  ConvertOptions options;
+  options.target = args.target == "specular" ? Target::Specular : Target::Metalness;
+  options.solver = solver_preset(args.solver.c_str());
+  options.specular_tolerance = args.specular_tolerance;
+  options.png_compression = args.png_compression;
+  options.max_error_samples = args.error_samples;
+  const std::vector<Job> jobs = plan_jobs(args);
+
+  std::vector<FileResult> results(jobs.size());
+  Progress progress(jobs.size(), !args.quiet);
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t i; (i = next++) < jobs.size();) {
+      results[i] = convert_file(jobs[i], args, options);
+      if (!args.quiet || results[i].status == "failed") progress.done(file_summary(results[i], args.verbose));
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 0; t < std::min<size_t>(args.jobs, jobs.size()); ++t) threads.emplace_back(worker);
+  for (auto& thread : threads) thread.join();
+
+  const auto failed = std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
+  if (!args.report.empty()) {
+    const std::string text = run_json(results, options, args.solver).dump(2) + "\n";
+    AtomicWriteSet files;
+    files.stage(args.report, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    files.commit();
+  }
+  if (!args.quiet)
+    std::fprintf(stderr, "%zu files: %zu converted or copied, %zu failed\n", results.size(),
+                 results.size() - static_cast<size_t>(failed), static_cast<size_t>(failed));
+  return failed ? kSomeFilesFailed : kAllDone;
+}
+
+}  // namespace
+
+std::function<int()> add_convert_command(CLI::App& app) {
+  auto args = std::make_shared<ConvertArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "convert",
+      "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
+      "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
+      "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
+      "(unless --in-place); every output is written to a temporary file and renamed.\n"
+      "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
+  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
+  cmd->add_option("-o,--output", args->output,
+                  "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs)");
+  cmd->add_option("--format", args->format, "output format for directory outputs (default: as the input)")
+      ->check(CLI::IsMember({"gltf", "glb"}));
+  cmd->add_flag("--in-place", args->in_place, "replace each input with its conversion (atomically)");
+  cmd->add_option("--target", args->target,
+                  "metalness: core glTF only; specular: add KHR_materials_specular + KHR_materials_ior to the materials "
+                  "whose metalness fit misses by more than --specular-tolerance")
+      ->check(CLI::IsMember({"metalness", "specular"}))
+      ->capture_default_str();
+  cmd->add_option("--solver", args->solver,
+                  "fast | balanced | exact: metalness search effort (error against run time); reference: the archived "
+                  "extension's brightness formula, for comparison")
+      ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
+      ->capture_default_str();
+  cmd->add_option("--specular-tolerance", args->specular_tolerance, "ΔE2000 (p95) the metalness fit may miss by")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
+  cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
+      ->check(CLI::Range(0, 9))
+      ->capture_default_str();
+  cmd->add_option("--error-samples", args->error_samples, "texels sampled per texture for the error statistics (0: all)")
+      ->capture_default_str();
+  cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
+  cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
+  return [cmd, args]() -> int {
+    if (!cmd->parsed()) return kBadUsage;
+    try {
+      return run(*args);
+    } catch (const CLI::ValidationError& e) {
+      std::fprintf(stderr, "gltf-pbr convert: %s\n", e.what());
+      return kBadUsage;
+    }
+  };
+}
+
+}  // namespace gltf_pbr::cli

@@ -1,0 +1,20 @@
+// gltf-pbr: legacy glTF materials to albedo + metalness, with error reports.
+#include <cstdio>
+
+#include "cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "gltf-pbr: turns legacy KHR_materials_pbrSpecularGlossiness glTF materials into physically based\n"
+      "albedo + metalness (core pbrMetallicRoughness) and reports the error each material took on."};
+  app.set_version_flag("--version", "gltf-pbr 0.1.0");
+  app.require_subcommand(1);
+  const auto run_convert = gltf_pbr::cli::add_convert_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
+  }
+  return run_convert();
+}

@@ -1,0 +1,94 @@
+#include "converter/bake.hpp"
+
+#include <OpenImageIO/parallel.h>
+
+#include <array>
+#include <cmath>
+
+#include "core/color.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+std::uint8_t quantize(float value) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
+}
+
+// The value of channel c (RGBA) of a texel: grey images repeat their one channel and a missing
+// alpha reads as 1 (PNG and JPEG channel expansion). 8-bit sRGB goes through a table.
+float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
+  if (c == 3 && pixels.channels != 2 && pixels.channels != 4) return 1.0f;
+  const int source = c == 3 ? pixels.channels - 1 : (pixels.channels >= 3 ? c : 0);
+  const float value = pixels.values[texel * static_cast<size_t>(pixels.channels) + static_cast<size_t>(source)];
+  if (!srgb) return value;
+  return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
+}
+
+}  // namespace
+
+float srgb8_to_linear(std::uint8_t value) {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+    return t;
+  }();
+  return table[value];
+}
+
+BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples) {
+  BakedTexels out;
+  out.width = in.width;
+  out.height = in.height;
+  const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
+  out.base_color.resize(texels * 4);
+  out.metal_rough.resize(texels * 3);
+  const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
+  std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
+
+  OIIO_NAMESPACE::parallel_for(int64_t{0}, int64_t{in.height}, [&](int64_t y) {
+    for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width),
+                end = i + static_cast<size_t>(in.width); i < end; ++i) {
+      SpecGloss legacy;
+      float alpha = in.diffuse_factor.a;
+      legacy.diffuse = glm::vec3(in.diffuse_factor);
+      if (in.diffuse) {
+        for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
+        alpha *= channel(*in.diffuse, i, 3, false);
+      }
+      legacy.specular = in.specular_factor;
+      legacy.glossiness = in.glossiness_factor;
+      if (in.spec_gloss) {
+        for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
+        legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
+      }
+      const MetalRough core = solve(legacy, settings);
+      for (int c = 0; c < 3; ++c) out.base_color[i * 4 + static_cast<size_t>(c)] = quantize(linear_to_srgb(core.base[c]));
+      out.base_color[i * 4 + 3] = quantize(alpha);
+      out.metal_rough[i * 3 + 0] = 0;
+      out.metal_rough[i * 3 + 1] = quantize(core.roughness);
+      out.metal_rough[i * 3 + 2] = quantize(core.metalness);
+      if (i % stride == 0) {
+        // The error of what is stored: the quantized texels, read back as a viewer reads them.
+        MetalRough stored;
+        for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(out.base_color[i * 4 + static_cast<size_t>(c)]);
+        stored.metalness = static_cast<float>(out.metal_rough[i * 3 + 2]) / 255.0f;
+        const Reflectance converted = core_reflectance(stored);
+        rows_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), converted);
+        rows_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), converted);
+      }
+    }
+  });
+  for (size_t y = 0; y < rows_a.size(); ++y) {
+    out.error_a.merge(rows_a[y]);
+    out.error_b.merge(rows_b[y]);
+  }
+  for (size_t i = 1; i < texels; ++i) {
+    out.base_constant = out.base_constant && std::equal(&out.base_color[i * 4], &out.base_color[i * 4 + 3], &out.base_color[0]);
+    out.alpha_constant = out.alpha_constant && out.base_color[i * 4 + 3] == out.base_color[3];
+    out.metal_rough_constant =
+        out.metal_rough_constant && std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
+  }
+  return out;
+}
+
+}  // namespace gltf_pbr

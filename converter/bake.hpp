@@ -1,0 +1,36 @@
+// Texel-by-texel baking of spec-gloss textures into baseColor and metallicRoughness texels.
+#pragma once
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "converter/error_stats.hpp"
+#include "converter/solver.hpp"
+#include "core/image.hpp"
+
+namespace gltf_pbr {
+
+struct BakeInputs {
+  const Pixels* diffuse = nullptr;     // sRGB RGB(A), or null for a factor
+  const Pixels* spec_gloss = nullptr;  // sRGB RGB + linear A, or null for factors
+  glm::vec4 diffuse_factor{1.0f};
+  glm::vec3 specular_factor{1.0f};
+  float glossiness_factor = 1.0f;
+  int width = 1, height = 1;           // the larger input resolution
+};
+
+struct BakedTexels {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> base_color;      // RGBA: sRGB RGB, linear A (glTF 2.0 section 3.9.2)
+  std::vector<std::uint8_t> metal_rough;     // RGB linear: R unused (0), G roughness, B metalness
+  bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
+  ErrorAccumulator error_a, error_b;          // against legacy readings A and B
+};
+
+// Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are
+// resampled to width x height first by the caller.
+BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_t max_error_samples);
+
+// The linear value of an 8-bit sRGB-encoded channel.
+float srgb8_to_linear(std::uint8_t value);
+
+}  // namespace gltf_pbr

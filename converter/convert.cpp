@@ -1,0 +1,416 @@
+#include "converter/convert.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "converter/bake.hpp"
+#include "core/color.hpp"
+#include "core/error.hpp"
+#include "core/image.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+constexpr const char* kSpecular = "KHR_materials_specular";
+constexpr const char* kIor = "KHR_materials_ior";
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+// KHR_materials_specular's lossless route for legacy F0: an ior so high that ((ior-1)/(ior+1))^2
+// is ~1, so specularColorFactor alone carries F0 (the route glTF-Transform and Blender take).
+constexpr double kLosslessIor = 1000.0;
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+struct LegacyMaterial {
+  glm::vec4 diffuse_factor{1.0f};
+  glm::vec3 specular_factor{1.0f};
+  float glossiness_factor = 1.0f;
+  std::optional<tinygltf::TextureInfo> diffuse_texture, spec_gloss_texture;
+};
+
+class MaterialReader {
+ public:
+  MaterialReader(const Asset& asset, int material) : asset_(asset), base_(pointer("materials", material) + "/extensions/" + kSpecGloss) {}
+
+  LegacyMaterial read(const tinygltf::Value& extension) const {
+    LegacyMaterial legacy;
+    if (!extension.IsObject()) fail("", "the extension is not an object");
+    number_array(extension, "diffuseFactor", 4, &legacy.diffuse_factor[0]);
+    number_array(extension, "specularFactor", 3, &legacy.specular_factor[0]);
+    if (extension.Has("glossinessFactor")) legacy.glossiness_factor = number(extension.Get("glossinessFactor"), "/glossinessFactor");
+    legacy.diffuse_texture = texture_info(extension, "diffuseTexture");
+    legacy.spec_gloss_texture = texture_info(extension, "specularGlossinessTexture");
+    return legacy;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& where, const std::string& why) const {
+    throw InputError(asset_.path.string(), base_ + where, why);
+  }
+  float number(const tinygltf::Value& value, const std::string& where) const {
+    if (!value.IsNumber()) fail(where, "not a number");
+    const double v = value.GetNumberAsDouble();
+    if (!std::isfinite(v)) fail(where, "is " + std::to_string(v) + "; factors must be finite");
+    return static_cast<float>(v);
+  }
+  void number_array(const tinygltf::Value& object, const char* key, int size, float* out) const {
+    if (!object.Has(key)) return;
+    const tinygltf::Value& array = object.Get(key);
+    if (!array.IsArray() || static_cast<int>(array.ArrayLen()) != size)
+      fail(std::string("/") + key, "must be an array of " + std::to_string(size) + " numbers");
+    for (int i = 0; i < size; ++i) out[i] = number(array.Get(i), std::string("/") + key + "/" + std::to_string(i));
+  }
+  std::optional<tinygltf::TextureInfo> texture_info(const tinygltf::Value& object, const char* key) const {
+    if (!object.Has(key)) return std::nullopt;
+    const tinygltf::Value& value = object.Get(key);
+    const std::string where = std::string("/") + key;
+    if (!value.IsObject() || !value.Get("index").IsInt()) fail(where, "textureInfo needs an integer index");
+    tinygltf::TextureInfo info;
+    info.index = value.Get("index").GetNumberAsInt();
+    const auto& textures = asset_.model.textures;
+    if (info.index < 0 || static_cast<size_t>(info.index) >= textures.size())
+      fail(where + "/index", "texture " + std::to_string(info.index) + " does not exist");
+    const int source = textures[static_cast<size_t>(info.index)].source;
+    if (source < 0 || static_cast<size_t>(source) >= asset_.model.images.size())
+      fail(where + "/index", "texture " + std::to_string(info.index) + " has no image this tool can read");
+    info.texCoord = value.Get("texCoord").IsInt() ? value.Get("texCoord").GetNumberAsInt() : 0;
+    if (value.Get("extensions").IsObject())
+      for (const std::string& name : value.Get("extensions").Keys()) info.extensions[name] = value.Get("extensions").Get(name);
+    if (value.Get("extras").IsObject()) info.extras = value.Get("extras");
+    return info;
+  }
+
+  const Asset& asset_;
+  std::string base_;
+};
+
+tinygltf::Value number_array_value(std::initializer_list<double> values) {
+  tinygltf::Value::Array array;
+  for (double v : values) array.emplace_back(v);
+  return tinygltf::Value(std::move(array));
+}
+
+bool same_mapping(const tinygltf::TextureInfo& a, const tinygltf::TextureInfo& b) {
+  auto transform = [](const tinygltf::TextureInfo& info) {
+    const auto it = info.extensions.find(kTextureTransform);
+    return it == info.extensions.end() ? tinygltf::Value() : it->second;
+  };
+  return a.texCoord == b.texCoord && transform(a) == transform(b);
+}
+
+// Round-trips a float through its 8-bit sRGB or linear encoding, as a factor is stored exactly.
+double to_double(float v) { return static_cast<double>(v); }
+
+class Converter {
+ public:
+  Converter(Asset& asset, const ConvertOptions& options) : asset_(asset), model_(asset.model), options_(options) {}
+
+  ConversionReport run() {
+    const long decoded_before = work_counters().images_decoded;
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      auto& material = model_.materials[i];
+      const auto extension = material.extensions.find(kSpecGloss);
+      if (extension == material.extensions.end()) continue;
+      const LegacyMaterial legacy = MaterialReader(asset_, static_cast<int>(i)).read(extension->second);
+      MaterialReport entry;
+      entry.index = static_cast<int>(i);
+      entry.name = material.name;
+      convert_material(material, legacy, entry);
+      if (entry.outcome != "legacy") material.extensions.erase(kSpecGloss);
+      report_.times += entry.times;
+      report_.materials.push_back(std::move(entry));
+    }
+    update_extension_lists();
+    // Pruning only follows a conversion: an asset with nothing to convert is left as it was.
+    const PruneResult pruned = report_.materials.empty() ? PruneResult{} : prune_unused(asset_);
+    report_.textures_removed = pruned.textures;
+    report_.images_removed = pruned.images;
+    report_.samplers_removed = pruned.samplers;
+    report_.images_decoded = work_counters().images_decoded - decoded_before;
+    report_.warnings.insert(report_.warnings.end(), asset_.warnings.begin(), asset_.warnings.end());
+    return std::move(report_);
+  }
+
+ private:
+  void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
+    if (legacy.diffuse_texture && legacy.spec_gloss_texture && !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
+      entry.outcome = "legacy";
+      entry.note = "diffuseTexture and specularGlossinessTexture use different texCoord sets or texture transforms; "
+                   "left as spec-gloss rather than baked wrongly";
+      report_.warnings.push_back("material " + std::to_string(entry.index) + " (" + material.name + "): " + entry.note);
+      return;
+    }
+    const Bake& baked = bake_for(legacy, entry);
+    entry.texels = static_cast<long long>(baked.texels.width) * baked.texels.height;
+    entry.error_samples = baked.texels.error_a.samples();
+    entry.error_a = baked.error_a;
+    entry.error_b = baked.error_b;
+
+    auto& pbr = material.pbrMetallicRoughness;
+    pbr = tinygltf::PbrMetallicRoughness();  // the author's old fallback is replaced
+    const double worst_p95 = std::max(baked.error_a.diffuse.p95, baked.error_a.f0.p95);
+    if (options_.target == Target::Specular && worst_p95 > options_.specular_tolerance) {
+      write_specular_route(material, legacy, entry);
+      return;
+    }
+    entry.outcome = "metalness";
+    const BakedTexels& t = baked.texels;
+    const tinygltf::TextureInfo* mapping = legacy.diffuse_texture ? &*legacy.diffuse_texture
+                                           : legacy.spec_gloss_texture ? &*legacy.spec_gloss_texture : nullptr;
+    if (!mapping) {  // factors only, at full precision
+      const MetalRough& f = baked.factor_solution;
+      pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, to_double(legacy.diffuse_factor.a)};
+      pbr.metallicFactor = f.metalness;
+      pbr.roughnessFactor = f.roughness;
+      return;
+    }
+    // A texture that came out constant becomes a factor; one equal to the diffuse image reuses it.
+    if (baked.reuse_diffuse) {
+      pbr.baseColorTexture = *legacy.diffuse_texture;
+      pbr.baseColorFactor = {1.0, 1.0, 1.0, to_double(legacy.diffuse_factor.a)};
+      ++report_.textures_reused;
+    } else if (t.base_constant && t.alpha_constant) {
+      pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
+                             srgb8_to_linear(t.base_color[2]), t.base_color[3] / 255.0};
+    } else {
+      pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
+    }
+    if (t.metal_rough_constant) {
+      pbr.metallicFactor = t.metal_rough[2] / 255.0;
+      pbr.roughnessFactor = t.metal_rough[1] / 255.0;
+    } else {
+      pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
+    }
+  }
+
+  // Target specular, where the metalness fit misses: base = diffuse, metallic 0, and F0 carried
+  // by KHR_materials_specular (exact under reading A in viewers that support it).
+  void write_specular_route(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
+    entry.outcome = "specular";
+    entry.note = "metalness fit p95 above " + std::to_string(options_.specular_tolerance) + " ΔE2000";
+    auto& pbr = material.pbrMetallicRoughness;
+    pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b, legacy.diffuse_factor.a};
+    if (legacy.diffuse_texture) pbr.baseColorTexture = *legacy.diffuse_texture;
+    pbr.metallicFactor = 0.0;
+    pbr.roughnessFactor = std::clamp(1.0 - legacy.glossiness_factor, 0.0, 1.0);
+    tinygltf::Value::Object specular;
+    specular["specularColorFactor"] =
+        number_array_value({legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b});
+    if (legacy.spec_gloss_texture) {
+      tinygltf::Value::Object info;
+      info["index"] = tinygltf::Value(legacy.spec_gloss_texture->index);
+      if (legacy.spec_gloss_texture->texCoord) info["texCoord"] = tinygltf::Value(legacy.spec_gloss_texture->texCoord);
+      if (!legacy.spec_gloss_texture->extensions.empty()) {
+        tinygltf::Value::Object extensions(legacy.spec_gloss_texture->extensions.begin(), legacy.spec_gloss_texture->extensions.end());
+        info["extensions"] = tinygltf::Value(std::move(extensions));
+      }
+      specular["specularColorTexture"] = tinygltf::Value(std::move(info));
+      // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
+      const Bake& rough = bake_roughness(legacy);
+      if (rough.texels.metal_rough_constant)
+        pbr.roughnessFactor = rough.texels.metal_rough[1] / 255.0;
+      else
+        pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture), pbr.roughnessFactor = 1.0;
+    }
+    material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
+    tinygltf::Value::Object ior;
+    ior["ior"] = tinygltf::Value(kLosslessIor);
+    material.extensions[kIor] = tinygltf::Value(std::move(ior));
+    // The extension route reproduces reading A by construction; sample the factor case.
+    if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
+      const SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
+      const Reflectance converted = specular_extension_reflectance(factors.diffuse, factors.specular);
+      ErrorAccumulator a, b;
+      a.add(legacy_reflectance(factors, LegacyReading::A), converted);
+      b.add(legacy_reflectance(factors, LegacyReading::B), converted);
+      entry.error_a = a.finish(), entry.error_b = b.finish();
+    } else {
+      entry.error_samples = 0;
+      entry.note += "; texel error not sampled for the extension route (exact under reading A)";
+      entry.error_a = entry.error_b = {};
+    }
+  }
+
+  struct Bake {
+    BakedTexels texels;
+    ReflectanceError error_a, error_b;
+    MetalRough factor_solution;  // full precision, for factor-only materials
+    bool reuse_diffuse = false;  // baseColor texels equal the diffuse image's: keep its bytes
+    int base_color_image = -1, metal_rough_image = -1;
+  };
+
+  // Baking is shared: identical inputs give one output (DESIGN.md: no duplicate textures).
+  const Bake& bake_for(const LegacyMaterial& legacy, MaterialReport& entry, bool roughness_only = false) {
+    const int diffuse_image = legacy.diffuse_texture ? model_.textures[static_cast<size_t>(legacy.diffuse_texture->index)].source : -1;
+    const int spec_image = legacy.spec_gloss_texture ? model_.textures[static_cast<size_t>(legacy.spec_gloss_texture->index)].source : -1;
+    char key[256];
+    std::snprintf(key, sizeof key, "%d|%d|%a,%a,%a,%a|%a,%a,%a|%a|%d", roughness_only ? -2 : diffuse_image, spec_image,
+                  legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b, legacy.diffuse_factor.a,
+                  legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b, legacy.glossiness_factor,
+                  roughness_only);
+    if (auto it = bakes_.find(key); it != bakes_.end()) {
+      if (it->second.base_color_image >= 0 || it->second.metal_rough_image >= 0) ++report_.textures_shared;
+      return it->second;
+    }
+    Bake bake;
+    BakeInputs inputs;
+    inputs.diffuse_factor = legacy.diffuse_factor;
+    inputs.specular_factor = legacy.specular_factor;
+    inputs.glossiness_factor = legacy.glossiness_factor;
+    if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
+      // Factors only: solve at full precision; the 1x1 bake gives the error of the stored factors.
+      SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
+      const auto start = Clock::now();
+      bake.factor_solution = solve(factors, options_.solver);
+      bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
+      ErrorAccumulator a, b;
+      const Reflectance converted = core_reflectance(bake.factor_solution);
+      a.add(legacy_reflectance(factors, LegacyReading::A), converted);
+      b.add(legacy_reflectance(factors, LegacyReading::B), converted);
+      bake.texels.error_a = a, bake.texels.error_b = b;
+      entry.times.solve_ms += ms_since(start);
+    } else {
+      auto start = Clock::now();
+      std::optional<Pixels> diffuse, spec_gloss;
+      if (diffuse_image >= 0 && !roughness_only) diffuse = decode(diffuse_image);
+      if (spec_image >= 0) spec_gloss = decode(spec_image);
+      inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
+      inputs.height = std::max(diffuse ? diffuse->height : 1, spec_gloss ? spec_gloss->height : 1);
+      if (diffuse) diffuse = resize(*diffuse, inputs.width, inputs.height);
+      if (spec_gloss) spec_gloss = resize(*spec_gloss, inputs.width, inputs.height);
+      inputs.diffuse = diffuse ? &*diffuse : nullptr;
+      inputs.spec_gloss = spec_gloss ? &*spec_gloss : nullptr;
+      entry.times.decode_ms += ms_since(start);
+
+      start = Clock::now();
+      bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
+      bake.reuse_diffuse = !roughness_only && diffuse && legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
+                           equals_image(bake.texels, *diffuse);
+      entry.times.solve_ms += ms_since(start);
+
+      start = Clock::now();
+      const BakedTexels& t = bake.texels;
+      if (!roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant)) {
+        std::vector<std::uint8_t> rgb;
+        const int channels = t.alpha_constant && t.base_color[3] == 255 ? 3 : 4;
+        if (channels == 3) {
+          rgb.reserve(t.base_color.size() / 4 * 3);
+          for (size_t i = 0; i < t.base_color.size(); i += 4) rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
+        }
+        bake.base_color_image = add_image(encode_png(channels == 3 ? std::span<const std::uint8_t>(rgb) : t.base_color, t.width,
+                                                     t.height, channels, options_.png_compression),
+                                          "baseColor");
+      }
+      if (!t.metal_rough_constant)
+        bake.metal_rough_image = add_image(encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression), "metallicRoughness");
+      entry.times.encode_ms += ms_since(start);
+    }
+    bake.error_a = bake.texels.error_a.finish();
+    bake.error_b = bake.texels.error_b.finish();
+    return bakes_.emplace(key, std::move(bake)).first->second;
+  }
+
+  const Bake& bake_roughness(const LegacyMaterial& legacy) {
+    MaterialReport scratch;
+    return bake_for(legacy, scratch, /*roughness_only=*/true);
+  }
+
+  static bool equals_image(const BakedTexels& t, const Pixels& diffuse) {
+    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height || diffuse.channels < 3) return false;
+    const size_t texels = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
+    const size_t n = static_cast<size_t>(diffuse.channels);
+    for (size_t i = 0; i < texels; ++i) {
+      for (size_t c = 0; c < n; ++c)
+        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.values[i * n + c] * 255.0f))) return false;
+      if (n == 3 && t.base_color[i * 4 + 3] != t.base_color[3]) return false;
+    }
+    return true;
+  }
+
+  Pixels decode(int image) {
+    if (auto it = decoded_.find(image); it != decoded_.end()) return it->second;
+    const auto bytes = encoded_image_bytes(model_, image);
+    const std::string name = pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
+                                                             ? "" : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
+    try {
+      return decoded_.emplace(image, decode_image(bytes, name)).first->second;
+    } catch (const std::runtime_error& e) {
+      throw InputError(asset_.path.string(), pointer("images", image), e.what());
+    }
+  }
+
+  int add_image(Bytes png, const std::string& role) {
+    tinygltf::Image image;
+    image.mimeType = "image/png";
+    image.name = role + "_" + std::to_string(model_.images.size());
+    image.image = std::move(png);
+    image.as_is = true;
+    model_.images.push_back(std::move(image));
+    ++report_.textures_baked;
+    return static_cast<int>(model_.images.size()) - 1;
+  }
+
+  // A texture for a baked image, sampled like the input it came from (sampler, texCoord,
+  // KHR_texture_transform), shared when several materials bake to the same image.
+  tinygltf::TextureInfo texture_for(int image, const tinygltf::TextureInfo& mapping) {
+    const int sampler = model_.textures[static_cast<size_t>(mapping.index)].sampler;
+    const auto key = std::make_pair(image, sampler);
+    auto it = textures_.find(key);
+    if (it == textures_.end()) {
+      tinygltf::Texture texture;
+      texture.source = image;
+      texture.sampler = sampler;
+      model_.textures.push_back(texture);
+      it = textures_.emplace(key, static_cast<int>(model_.textures.size()) - 1).first;
+    }
+    tinygltf::TextureInfo info = mapping;
+    info.index = it->second;
+    return info;
+  }
+
+  void update_extension_lists() {
+    bool spec_gloss = false, specular = false;
+    for (const auto& material : model_.materials) {
+      spec_gloss = spec_gloss || material.extensions.count(kSpecGloss);
+      specular = specular || material.extensions.count(kSpecular);
+    }
+    auto set = [](std::vector<std::string>& list, const std::string& name, bool present) {
+      std::erase(list, name);
+      if (present) list.push_back(name);
+    };
+    set(model_.extensionsUsed, kSpecGloss, spec_gloss);
+    set(model_.extensionsRequired, kSpecGloss, spec_gloss && std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(), std::string(kSpecGloss)) != model_.extensionsRequired.end());
+    if (specular) {
+      set(model_.extensionsUsed, kSpecular, true);
+      set(model_.extensionsUsed, kIor, true);
+    }
+  }
+
+  Asset& asset_;
+  tinygltf::Model& model_;
+  const ConvertOptions& options_;
+  ConversionReport report_;
+  std::map<std::string, Bake> bakes_;
+  std::map<int, Pixels> decoded_;
+  std::map<std::pair<int, int>, int> textures_;
+};
+
+}  // namespace
+
+ConversionReport convert(Asset& asset, const ConvertOptions& options) {
+  const auto before_used = asset.model.extensionsUsed;
+  const auto before_required = asset.model.extensionsRequired;
+  ConversionReport report = Converter(asset, options).run();
+  // An extension listed but never used (BoxInterleaved) is dropped too: that is a change.
+  report.extension_lists_changed =
+      asset.model.extensionsUsed != before_used || asset.model.extensionsRequired != before_required;
+  return report;
+}
+
+}  // namespace gltf_pbr

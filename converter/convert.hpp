@@ -1,0 +1,63 @@
+// spec-gloss -> metal-rough conversion of a whole asset, with a report of the error each
+// material took on against the time it cost.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "converter/error_stats.hpp"
+#include "converter/solver.hpp"
+#include "core/asset.hpp"
+
+namespace gltf_pbr {
+
+enum class Target {
+  Metalness,  // core glTF only
+  Specular,   // + KHR_materials_specular / KHR_materials_ior where the metalness fit misses
+};
+
+struct ConvertOptions {
+  Target target = Target::Metalness;
+  SolverSettings solver;
+  double specular_tolerance = 2.0;  // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
+  int png_compression = 3;          // zlib level for baked textures: speed against bytes
+  size_t max_error_samples = 1u << 18;  // texels sampled for the error statistics (0: all)
+};
+
+struct StageTimes {
+  double decode_ms = 0, solve_ms = 0, encode_ms = 0;
+  double total() const { return decode_ms + solve_ms + encode_ms; }
+  StageTimes& operator+=(const StageTimes& o) {
+    decode_ms += o.decode_ms, solve_ms += o.solve_ms, encode_ms += o.encode_ms;
+    return *this;
+  }
+};
+
+struct MaterialReport {
+  int index = -1;
+  std::string name;
+  std::string outcome;  // "metalness", "specular" (extensions added), "legacy" (left as is), "unchanged"
+  std::string note;     // why, for "legacy" and "specular"
+  long long texels = 0; // texels solved (1 for a factor-only material)
+  size_t error_samples = 0;
+  ReflectanceError error_a;  // against legacy reading A (the one solved for)
+  ReflectanceError error_b;  // against legacy reading B
+  StageTimes times;
+};
+
+struct ConversionReport {
+  std::vector<MaterialReport> materials;
+  std::vector<std::string> warnings;
+  int textures_baked = 0, textures_reused = 0, textures_shared = 0;
+  int textures_removed = 0, images_removed = 0, samplers_removed = 0;
+  long images_decoded = 0;
+  StageTimes times;
+  bool extension_lists_changed = false;
+  // False when there was nothing to convert: the asset can be copied as is.
+  bool changed() const { return !materials.empty() || extension_lists_changed; }
+};
+
+// Converts every KHR_materials_pbrSpecularGlossiness material in place. Throws InputError for
+// input it refuses (NaN or Inf factors, out-of-range references), naming the JSON pointer.
+ConversionReport convert(Asset& asset, const ConvertOptions& options = {});
+
+}  // namespace gltf_pbr

@@ -1,0 +1,42 @@
+#include "converter/error_stats.hpp"
+
+#include <algorithm>
+
+#include "core/color.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+double delta_e(glm::vec3 a, glm::vec3 b) {
+  return delta_e_2000(linear_srgb_to_lab(glm::dvec3(a)), linear_srgb_to_lab(glm::dvec3(b)));
+}
+
+ErrorStats summarise(std::vector<float> values) {
+  ErrorStats stats;
+  if (values.empty()) return stats;
+  double sum = 0.0;
+  for (float v : values) sum += v;
+  stats.mean = sum / static_cast<double>(values.size());
+  // Nearest-rank percentile.
+  const size_t rank = std::min(values.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(values.size())));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank), values.end());
+  stats.p95 = values[rank];
+  stats.max = *std::max_element(values.begin(), values.end());
+  return stats;
+}
+
+}  // namespace
+
+void ErrorAccumulator::add(const Reflectance& expected, const Reflectance& actual) {
+  diffuse_.push_back(static_cast<float>(delta_e(expected.diffuse, actual.diffuse)));
+  f0_.push_back(static_cast<float>(delta_e(expected.f0, actual.f0)));
+}
+
+void ErrorAccumulator::merge(const ErrorAccumulator& other) {
+  diffuse_.insert(diffuse_.end(), other.diffuse_.begin(), other.diffuse_.end());
+  f0_.insert(f0_.end(), other.f0_.begin(), other.f0_.end());
+}
+
+ReflectanceError ErrorAccumulator::finish() const { return {summarise(diffuse_), summarise(f0_)}; }
+
+}  // namespace gltf_pbr

@@ -1,0 +1,71 @@
+// Per-texel spec-gloss -> albedo + metalness solver (DESIGN.md, "Conversion").
+#pragma once
+#include <glm/vec3.hpp>
+
+namespace gltf_pbr {
+
+// Legacy KHR_materials_pbrSpecularGlossiness values, linear, factors already applied.
+struct SpecGloss {
+  glm::vec3 diffuse{1.0f};
+  glm::vec3 specular{1.0f};
+  float glossiness = 1.0f;
+};
+
+// Core glTF 2.0 pbrMetallicRoughness values, linear.
+struct MetalRough {
+  glm::vec3 base{1.0f};
+  float metalness = 1.0f;
+  float roughness = 1.0f;
+};
+
+// What a material reflects at normal incidence: the diffuse weight and F0. The error model
+// compares these, channel by channel, in CIE ΔE2000.
+struct Reflectance {
+  glm::vec3 diffuse{0.0f};
+  glm::vec3 f0{0.0f};
+};
+
+// The legacy diffuse is ambiguous (DESIGN.md). Reading A, the archived extension's own text:
+// c_diff = diffuse * (1 - max(specular)). Reading B adds the (1 - F0) weighting of the BRDF
+// appendix it points to: c_diff = diffuse * (1 - max(specular)) * (1 - specular).
+// The solver fits reading A, which makes a 0.04 dielectric convert to base = diffuse exactly;
+// reports give both.
+enum class LegacyReading { A, B };
+Reflectance legacy_reflectance(const SpecGloss& legacy, LegacyReading reading = LegacyReading::A);
+
+// glTF 2.0 Appendix B: F0 = mix(0.04, base, m); the dielectric branch weights the diffuse by
+// (1 - F), which is 1 - 0.04 at normal incidence: diffuse = base * (1 - m) * 0.96.
+Reflectance core_reflectance(const MetalRough& core);
+
+// KHR_materials_specular's lossless route (base = diffuse, metallic 0, F0 = specular through
+// specularColorFactor with a very high ior): diffuse = base * (1 - max(F0)), F0 = specular.
+Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 f0);
+
+struct SolverSettings {
+  int grid_steps = 16;        // metalness samples on [0, 1] before refinement
+  int refine_iterations = 24; // golden-section steps around the best sample
+  bool reference_formula = false;  // use solve_reference instead (for comparison only)
+};
+// Named settings for the CLI and the benchmark: error against run time.
+SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default), "exact", "reference"
+
+// Minimises, over base in [0,1]^3 and m in [0,1]:
+//   E = sum_c (D_core,c - D_legacy,c)^2 + (F0_core,c - F0_legacy,c)^2 + lambda (m - m_prior)^2
+// with D and F0 from legacy_reflectance (reading A) and core_reflectance. For fixed m each
+// channel's best base is a closed-form least squares clamped to [0,1] (the objective is a convex
+// quadratic in base), so the search is 1-D over m. m_prior rises smoothly from 0 at the
+// dielectric F0 0.04 to 1 at 0.45, the darkest metal F0 (Hoffman's table; Unity's validator):
+// a black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1, base 0.04), and
+// the prior picks the dielectric without the jump of the reference formula. roughness = 1 - g,
+// since alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs
+// above 1 (gold's F0) are clamped in base, never in the fit.
+MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings = {});
+
+// The reference formula (archived extension examples, Microsoft glTF-SDK PBRUtils): a scalar
+// quadratic on perceived brightness. Kept for comparison in tests and the benchmark.
+MetalRough solve_reference(const SpecGloss& legacy);
+
+// The inverse map: a spec-gloss material whose reading-A reflectance equals core_reflectance.
+SpecGloss to_spec_gloss(const MetalRough& core);
+
+}  // namespace gltf_pbr

@@ -1,0 +1,64 @@
+// The one in-memory asset that every step (convert, validate, preview) shares.
+// Images stay encoded and Draco meshes compressed until a step asks for them (DESIGN.md, "Pay
+// only for what the scene uses").
+#pragma once
+#include <tiny_gltf.h>
+
+#include <atomic>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/files.hpp"
+
+namespace gltf_pbr {
+
+struct LoadOptions {
+  bool allow_outside_uris = false;  // read absolute or "../" URIs (refused by default)
+};
+
+struct Asset {
+  fs::path path;             // the file it was loaded from
+  bool binary = false;       // GLB container
+  tinygltf::Model model;     // images keep their encoded bytes in Image::image (as_is)
+  std::vector<std::string> warnings;  // problems that did not stop loading
+  std::string original_json;          // the JSON text as read, for the byte-for-byte copy path
+};
+
+// Document garbage collection: removes textures, images and samplers that nothing references
+// any more, and the bufferViews that only removed images used (compacting their buffers).
+// Extensions whose references it cannot follow make it keep everything (reported in warnings).
+struct PruneResult {
+  int textures = 0, images = 0, samplers = 0, buffer_views = 0;
+};
+PruneResult prune_unused(Asset& asset);
+
+// Rewrites every integer under `key` anywhere inside `value` through `remap` (old -> new index).
+void remap_in_value(tinygltf::Value& value, const std::string& key, const std::vector<int>& remap);
+
+// Throws InputError (file, JSON pointer, reason) for bad input.
+Asset load_asset(const fs::path& path, const LoadOptions& options = {});
+
+// Writes the asset as .glb or .gltf (by extension of `output`), all files atomically.
+// Buffers and images keep their bytes; a .gltf's external resources are written beside it.
+// Throws InputError or std::runtime_error; leaves nothing behind on failure.
+void save_asset(Asset& asset, const fs::path& output);
+
+// Copies the input file and every external resource it references to `output` unchanged
+// (same format only). Used when a step changed nothing.
+void copy_asset_verbatim(const Asset& asset, const fs::path& output);
+
+// The encoded bytes of image `index`, from its URI data or its bufferView.
+std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index);
+
+// Counters that prove lazy work in tests: how often pixels or meshes were decoded.
+struct WorkCounters {
+  std::atomic<long> images_decoded{0};
+  std::atomic<long> meshes_decoded{0};
+};
+WorkCounters& work_counters();
+
+std::string pointer(std::string_view collection, int index);  // "/images/3"
+
+}  // namespace gltf_pbr

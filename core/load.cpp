@@ -1,0 +1,168 @@
+// Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
+// pointer and the reason; tinygltf then builds the document with images kept encoded.
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "core/asset.hpp"
+#include "core/error.hpp"
+
+namespace gltf_pbr {
+
+WorkCounters& work_counters() {
+  static WorkCounters counters;
+  return counters;
+}
+
+std::string pointer(std::string_view collection, int index) {
+  return "/" + std::string(collection) + "/" + std::to_string(index);
+}
+
+std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index) {
+  const tinygltf::Image& image = model.images.at(static_cast<size_t>(index));
+  if (image.bufferView < 0) return image.image;
+  const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(image.bufferView));
+  const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
+  if (view.byteOffset + view.byteLength > buffer.data.size()) return {};
+  return {buffer.data.data() + view.byteOffset, view.byteLength};
+}
+
+namespace {
+
+struct GlbChunks {
+  std::string json;
+  std::span<const std::uint8_t> bin;
+};
+
+std::uint32_t read_u32(const Bytes& bytes, size_t at) {
+  std::uint32_t value;
+  std::memcpy(&value, bytes.data() + at, 4);
+  return value;  // glTF 2.0 section 4.4: little-endian, as on every platform we build for
+}
+
+// glTF 2.0 spec section 4.4 (GLB file format specification).
+GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
+  auto fail = [&](size_t offset, const std::string& why) -> GlbChunks {
+    throw InputError(file, "byte " + std::to_string(offset), why);
+  };
+  if (bytes.size() < 20) fail(0, "truncated GLB: " + std::to_string(bytes.size()) + " bytes, a header needs 20");
+  if (read_u32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(read_u32(bytes, 4)) + ", only 2 is supported");
+  const std::uint32_t length = read_u32(bytes, 8);
+  if (length > bytes.size())
+    fail(8, "truncated GLB: header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
+  const std::uint32_t json_length = read_u32(bytes, 12);
+  if (read_u32(bytes, 16) != 0x4E4F534A) fail(16, "first GLB chunk is not JSON");
+  if (20ull + json_length > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
+  GlbChunks chunks{std::string(reinterpret_cast<const char*>(bytes.data()) + 20, json_length), {}};
+  const size_t bin_header = 20ull + json_length;
+  if (bin_header + 8 <= length) {
+    const std::uint32_t bin_length = read_u32(bytes, bin_header);
+    if (bin_header + 8 + bin_length > length) fail(bin_header, "truncated GLB: BIN chunk runs past the end of the file");
+    if (read_u32(bytes, bin_header + 4) == 0x004E4942) chunks.bin = {bytes.data() + bin_header + 8, bin_length};
+  }
+  return chunks;
+}
+
+// Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
+// of buffers and images, and that the JSON parses at all.
+void check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin, const LoadOptions& options) {
+  const std::string file = asset.path.string();
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(file, "byte " + std::to_string(e.byte), std::string("malformed JSON: ") + e.what());
+  }
+  if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
+  const fs::path folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
+  for (const char* collection : {"buffers", "images"}) {
+    const auto it = root.find(collection);
+    if (it == root.end() || !it->is_array()) continue;
+    for (size_t i = 0; i < it->size(); ++i) {
+      const nlohmann::json& entry = (*it)[i];
+      const std::string where = pointer(collection, static_cast<int>(i));
+      if (!entry.is_object()) throw InputError(file, where, "not an object");
+      const auto uri = entry.find("uri");
+      if (uri == entry.end()) {
+        if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin))
+          throw InputError(file, where, "buffer has no uri and no GLB BIN chunk to stand for it");
+        continue;
+      }
+      if (!uri->is_string()) throw InputError(file, where + "/uri", "uri is not a string");
+      const std::string text = uri->get<std::string>();
+      if (is_data_uri(text)) {
+        if (!decode_data_uri(text)) throw InputError(file, where + "/uri", "data URI is not valid base64");
+        continue;
+      }
+      if (const std::string problem = uri_problem(folder, text, options.allow_outside_uris); !problem.empty())
+        throw InputError(file, where + "/uri", problem);
+    }
+  }
+}
+
+struct LoaderContext {
+  fs::path folder;
+  bool allow_outside;
+};
+
+// tinygltf image callback: keep the encoded bytes of URI images; bufferView images already live
+// in their buffer. Decoding waits until a step needs texels (core/image.cpp).
+bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0) image->image.assign(bytes, bytes + size);
+  image->as_is = true;
+  return true;
+}
+
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  const auto* context = static_cast<const LoaderContext*>(user);
+  // Defence in depth: check_resources already refused these, but never read outside the folder.
+  const fs::path relative = fs::path(path).lexically_relative(context->folder);
+  if (!context->allow_outside && (relative.empty() || *relative.begin() == ".."))
+    return (*err += "refused to read outside the asset's folder: " + path + "\n"), false;
+  auto bytes = read_file(path);
+  if (!bytes) return (*err += "cannot read " + path + "\n"), false;
+  *out = std::move(*bytes);
+  return true;
+}
+
+}  // namespace
+
+Asset load_asset(const fs::path& path, const LoadOptions& options) {
+  Asset asset;
+  asset.path = path;
+  const std::string file = path.string();
+  auto bytes = read_file(path);
+  if (!bytes) throw InputError(file, "", "cannot read the file");
+  asset.binary = bytes->size() >= 4 && std::memcmp(bytes->data(), "glTF", 4) == 0;
+
+  bool glb_has_bin = false;
+  if (asset.binary) {
+    GlbChunks chunks = split_glb(file, *bytes);
+    glb_has_bin = !chunks.bin.empty();
+    asset.original_json = std::move(chunks.json);
+  } else {
+    asset.original_json.assign(bytes->begin(), bytes->end());
+  }
+  check_resources(asset, asset.original_json, glb_has_bin, options);
+
+  LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&keep_encoded, nullptr);
+  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
+                                  &tinygltf::WriteWholeFile, &context};
+  loader.SetFsCallbacks(callbacks);
+  std::string err, warn;
+  const std::string base_dir = context.folder.string();
+  const bool ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, bytes->data(),
+                                                             static_cast<unsigned>(bytes->size()), base_dir)
+                               : loader.LoadASCIIFromString(&asset.model, &err, &warn, asset.original_json.c_str(),
+                                                            static_cast<unsigned>(asset.original_json.size()), base_dir);
+  if (!ok) throw InputError(file, "", "cannot load glTF: " + (err.empty() ? warn : err));
+  // tinygltf reports an unreadable image only as a warning; after check_resources any such
+  // warning is unexpected, so it is an error too.
+  if (warn.find("Failed to load external") != std::string::npos) throw InputError(file, "", warn);
+  if (!warn.empty()) asset.warnings.push_back(warn);
+  return asset;
+}
+
+}  // namespace gltf_pbr

@@ -1,0 +1,221 @@
+// Saving: tinygltf serialises the document; buffers and images are laid out here so that
+// untouched bytes are written back as they were and every file lands atomically.
+#include <algorithm>
+#include <cctype>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "core/asset.hpp"
+#include "core/error.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+bool has_extension(const fs::path& path, const char* extension) {
+  std::string actual = path.extension().string();
+  std::transform(actual.begin(), actual.end(), actual.begin(), [](unsigned char c) { return std::tolower(c); });
+  return actual == extension;
+}
+
+void pad_to_4(Bytes& bytes) { bytes.resize((bytes.size() + 3) & ~size_t{3}, 0); }
+
+// Appends bytes to buffer 0 as a new bufferView and returns its index.
+int append_view(tinygltf::Model& model, std::span<const std::uint8_t> bytes) {
+  Bytes& bin = model.buffers[0].data;
+  pad_to_4(bin);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = bin.size();
+  view.byteLength = bytes.size();
+  bin.insert(bin.end(), bytes.begin(), bytes.end());
+  model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
+
+// GLB holds one BIN chunk: every buffer is merged into buffer 0 (bufferViews shifted), and every
+// image moves into a bufferView, so the .glb stands alone.
+void gather_into_bin(tinygltf::Model& model) {
+  if (model.buffers.empty()) model.buffers.emplace_back();
+  std::vector<size_t> base(model.buffers.size(), 0);
+  Bytes& bin = model.buffers[0].data;
+  for (size_t b = 1; b < model.buffers.size(); ++b) {
+    pad_to_4(bin);
+    base[b] = bin.size();
+    bin.insert(bin.end(), model.buffers[b].data.begin(), model.buffers[b].data.end());
+  }
+  for (auto& view : model.bufferViews) {
+    view.byteOffset += base[static_cast<size_t>(view.buffer)];
+    view.buffer = 0;
+  }
+  if (model.buffers.size() > 1) {
+    std::vector<int> remap(model.buffers.size(), 0);
+    for (auto& mesh : model.meshes)
+      for (auto& primitive : mesh.primitives)
+        for (auto& [name, value] : primitive.extensions) remap_in_value(value, "buffer", remap);
+    model.buffers.resize(1);
+  }
+  model.buffers[0].uri.clear();
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    auto& image = model.images[i];
+    if (image.bufferView >= 0) continue;
+    if (image.mimeType.empty()) image.mimeType = has_extension(image.uri, ".png") ? "image/png" : "image/jpeg";
+    image.bufferView = append_view(model, image.image);
+    image.uri.clear();
+  }
+}
+
+std::string mime_extension(const std::string& mime) {
+  if (mime == "image/png") return ".png";
+  if (mime == "image/jpeg") return ".jpg";
+  if (mime == "image/webp") return ".webp";
+  if (mime == "image/ktx2") return ".ktx2";
+  return ".bin";
+}
+
+// A file name beside the output that no other output file and no input file takes.
+class FileNamer {
+ public:
+  FileNamer(fs::path folder, std::set<fs::path> inputs) : folder_(std::move(folder)), inputs_(std::move(inputs)) {}
+  bool is_input(const std::string& name) const { return inputs_.count(canonical(name)) > 0; }
+  std::string claim(const std::string& wanted) {
+    std::string name = wanted;
+    const fs::path stem = fs::path(wanted).stem(), extension = fs::path(wanted).extension();
+    for (int n = 1; taken_.count(name) || is_input(name); ++n)
+      name = (fs::path(wanted).parent_path() / (stem.string() + "_" + std::to_string(n) + extension.string())).string();
+    taken_.insert(name);
+    return name;
+  }
+  void reserve(const std::string& name) { taken_.insert(name); }
+
+ private:
+  fs::path canonical(const std::string& name) const { return fs::weakly_canonical(folder_ / name); }
+  fs::path folder_;
+  std::set<fs::path> inputs_;
+  std::set<std::string> taken_;
+};
+
+}  // namespace
+
+void save_asset(Asset& asset, const fs::path& output) {
+  tinygltf::Model& model = asset.model;
+  const bool to_glb = has_extension(output, ".glb");
+  const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+  const fs::path input_folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
+  const std::string stem = output.stem().string();
+  AtomicWriteSet files;
+
+  // Input files this asset came from: never overwritten.
+  std::set<fs::path> inputs{fs::weakly_canonical(asset.path)};
+  for (const auto& buffer : model.buffers)
+    if (!buffer.uri.empty() && !is_data_uri(buffer.uri))
+      inputs.insert(fs::weakly_canonical(input_folder / percent_decode(buffer.uri)));
+  for (const auto& image : model.images)
+    if (!image.uri.empty() && !is_data_uri(image.uri))
+      inputs.insert(fs::weakly_canonical(input_folder / percent_decode(image.uri)));
+  if (inputs.count(fs::weakly_canonical(output)))
+    throw std::runtime_error("refusing to overwrite the input " + output.string());
+
+  std::vector<std::string> buffer_uris(model.buffers.size());
+  if (to_glb) {
+    gather_into_bin(model);
+    buffer_uris.assign(1, "");
+  } else {
+    FileNamer names(folder, inputs);
+    const bool same_folder = fs::weakly_canonical(folder) == fs::weakly_canonical(input_folder);
+    // An untouched external resource keeps its URI. Beside its input it needs no write at all;
+    // elsewhere it is copied as is.
+    auto place = [&](const std::string& uri, std::span<const std::uint8_t> bytes, const std::string& fallback) {
+      if (is_data_uri(uri)) return uri;
+      if (!uri.empty() && same_folder && names.is_input(percent_decode(uri))) {
+        names.reserve(percent_decode(uri));
+        return uri;
+      }
+      const std::string name = names.claim(uri.empty() ? fallback : percent_decode(uri));
+      files.stage(folder / name, bytes);
+      return uri.empty() || name != percent_decode(uri) ? name : uri;
+    };
+    for (size_t b = 0; b < model.buffers.size(); ++b)
+      buffer_uris[b] = place(model.buffers[b].uri, model.buffers[b].data,
+                             stem + (b ? "_" + std::to_string(b) : "") + ".bin");
+    for (size_t i = 0; i < model.images.size(); ++i) {
+      auto& image = model.images[i];
+      if (image.bufferView >= 0) continue;
+      const std::string name = image.name.empty() ? std::to_string(i) : image.name;
+      image.uri = place(image.uri, image.image, stem + "_" + name + mime_extension(image.mimeType));
+    }
+  }
+
+  // tinygltf serialises everything but buffer payloads, which are swapped out meanwhile and
+  // described by hand below (its stream writer would inline them as base64).
+  std::vector<Bytes> payloads(model.buffers.size());
+  for (size_t b = 0; b < model.buffers.size(); ++b) payloads[b].swap(model.buffers[b].data);
+  std::ostringstream stream;
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(nullptr, nullptr);
+  writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!to_glb, /*writeBinary=*/false);
+  for (size_t b = 0; b < model.buffers.size(); ++b) payloads[b].swap(model.buffers[b].data);
+
+  nlohmann::json document = nlohmann::json::parse(stream.str());
+  for (size_t b = 0; b < model.buffers.size(); ++b) {
+    nlohmann::json& entry = document["buffers"][b];
+    entry["byteLength"] = model.buffers[b].data.size();
+    if (buffer_uris[b].empty())
+      entry.erase("uri");
+    else
+      entry["uri"] = buffer_uris[b];
+  }
+
+  Bytes main_file;
+  if (to_glb) {
+    // glTF 2.0 section 4.4: 12-byte header, JSON chunk padded with spaces, BIN chunk with zeros.
+    std::string json = document.dump();
+    json.resize((json.size() + 3) & ~size_t{3}, ' ');
+    Bytes bin = model.buffers.empty() ? Bytes{} : model.buffers[0].data;
+    pad_to_4(bin);
+    auto put_u32 = [&](std::uint32_t v) {
+      for (int k = 0; k < 4; ++k) main_file.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+    };
+    const size_t total = 12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size());
+    if (total > 0xFFFFFFFFull) throw std::runtime_error("GLB output over 4 GiB: " + output.string());
+    main_file.insert(main_file.end(), {'g', 'l', 'T', 'F'});
+    put_u32(2);
+    put_u32(static_cast<std::uint32_t>(total));
+    put_u32(static_cast<std::uint32_t>(json.size()));
+    put_u32(0x4E4F534A);
+    main_file.insert(main_file.end(), json.begin(), json.end());
+    if (!bin.empty()) {
+      put_u32(static_cast<std::uint32_t>(bin.size()));
+      put_u32(0x004E4942);
+      main_file.insert(main_file.end(), bin.begin(), bin.end());
+    }
+  } else {
+    const std::string json = document.dump(2) + "\n";
+    main_file.assign(json.begin(), json.end());
+  }
+  files.stage(output, main_file);  // staged last, so it is renamed last
+  files.commit();
+}
+
+void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
+  if (fs::weakly_canonical(output) == fs::weakly_canonical(asset.path))
+    throw std::runtime_error("refusing to overwrite the input " + output.string());
+  AtomicWriteSet files;
+  const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+  const fs::path input_folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
+  if (!asset.binary && fs::weakly_canonical(folder) != fs::weakly_canonical(input_folder)) {
+    auto copy = [&](const std::string& uri) {
+      if (uri.empty() || is_data_uri(uri)) return;
+      const std::string relative = percent_decode(uri);
+      if (auto bytes = read_file(input_folder / relative)) files.stage(folder / relative, *bytes);
+    };
+    for (const auto& buffer : asset.model.buffers) copy(buffer.uri);
+    for (const auto& image : asset.model.images) copy(image.uri);
+  }
+  auto bytes = read_file(asset.path);
+  if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file");
+  files.stage(output, *bytes);
+  files.commit();
+}
+
+}  // namespace gltf_pbr
