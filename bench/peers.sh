@@ -19,7 +19,7 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
   echo "peers.sh: installing nodejs and npm from apt" >&2
   $sudo apt-get update >&2
-  $sudo DEBIAN_FRONTEND=noninteractive apt-get install -y nodejs npm >&2
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y nodejs npm >&2
 fi
 
 # Exact pins so benchmark numbers are comparable between runs. The CLI's own
@@ -56,7 +56,7 @@ EOF
 # Prints the installed version of package $1, or nothing if it is not installed.
 installed_version() {
   local package_json="$cache/node_modules/$1/package.json"
-  [ -f "$package_json" ] && node -p "require(process.argv[1]).version" "$package_json" || true
+  if [ -f "$package_json" ]; then node -p "require(process.argv[1]).version" "$package_json"; fi
 }
 
 if [ "$manifest" != "$(cat "$cache/package.json" 2>/dev/null)" ] ||

@@ -1,0 +1,203 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "converter/error_stats.hpp"
+#include "converter/solver.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+// DESIGN.md's table of measured metal F0 (Hoffman, "Physics and Math of Shading"), linear RGB.
+struct Metal { const char* name; glm::vec3 f0; };
+const Metal kMetals[] = {
+    {"Titanium", {0.542f, 0.497f, 0.449f}}, {"Chromium", {0.549f, 0.556f, 0.554f}},
+    {"Iron", {0.562f, 0.565f, 0.578f}},     {"Nickel", {0.660f, 0.609f, 0.526f}},
+    {"Platinum", {0.673f, 0.637f, 0.585f}}, {"Silver", {0.972f, 0.960f, 0.915f}},
+    {"Copper", {0.955f, 0.638f, 0.538f}},   {"Palladium", {0.733f, 0.697f, 0.652f}},
+    {"Zinc", {0.664f, 0.824f, 0.850f}},     {"Gold", {1.022f, 0.782f, 0.344f}},
+    {"Aluminum", {0.913f, 0.922f, 0.924f}},
+};
+
+bool finite_and_in_unit_range(const MetalRough& r) {
+  for (float v : {r.base.r, r.base.g, r.base.b, r.metalness, r.roughness})
+    if (!std::isfinite(v) || v < 0.0f || v > 1.0f) return false;
+  return true;
+}
+
+double worst_delta_e(const SpecGloss& legacy, const MetalRough& core) {
+  ErrorAccumulator error;
+  error.add(legacy_reflectance(legacy), core_reflectance(core));
+  return error.finish().worst();
+}
+
+TEST(Solver, DielectricAt004BecomesMetalnessZeroWithBaseEqualToDiffuse) {
+  for (glm::vec3 diffuse : {glm::vec3(0.0f), glm::vec3(1.0f), glm::vec3(0.8f, 0.2f, 0.1f), glm::vec3(0.05f, 0.5f, 0.9f)}) {
+    const MetalRough r = solve({diffuse, glm::vec3(0.04f), 0.5f});
+    EXPECT_EQ(r.metalness, 0.0f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], diffuse[c], 1e-5f);
+    EXPECT_FLOAT_EQ(r.roughness, 0.5f);
+  }
+}
+
+TEST(Solver, EveryMetalOfTheF0TableBecomesMetalnessOneWithBaseF0) {
+  for (const Metal& metal : kMetals) {
+    const MetalRough r = solve({glm::vec3(0.0f), metal.f0, 0.8f});
+    EXPECT_EQ(r.metalness, 1.0f) << metal.name;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], std::min(metal.f0[c], 1.0f), 1e-5f) << metal.name;
+  }
+}
+
+TEST(Solver, GoldsRedAboveOneIsClampedNotNaN) {
+  const MetalRough r = solve({glm::vec3(0.0f), {1.022f, 0.782f, 0.344f}, 1.0f});
+  EXPECT_TRUE(finite_and_in_unit_range(r));
+  EXPECT_EQ(r.base.r, 1.0f);
+}
+
+// Sweeps specular upwards in small steps; the solution must move in small steps too.
+float largest_step(glm::vec3 diffuse, glm::vec3 tint, float from, float to, float step,
+                   MetalRough (*solver)(const SpecGloss&)) {
+  MetalRough previous = solver({diffuse, tint * from, 1.0f});
+  float largest = 0.0f;
+  for (float s = from + step; s <= to; s += step) {
+    const MetalRough r = solver({diffuse, tint * s, 1.0f});
+    largest = std::max(largest, std::abs(r.metalness - previous.metalness));
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(r.base[c] - previous.base[c]));
+    previous = r;
+  }
+  return largest;
+}
+
+MetalRough solve_balanced(const SpecGloss& legacy) { return solve(legacy); }
+
+TEST(Solver, IsContinuousAcrossSpecular004) {
+  for (glm::vec3 diffuse : {glm::vec3(0.0f), glm::vec3(0.02f), glm::vec3(0.5f), glm::vec3(1.0f), glm::vec3(0.9f, 0.1f, 0.1f)})
+    EXPECT_LT(largest_step(diffuse, glm::vec3(1.0f), 0.035f, 0.045f, 1e-5f, &solve_balanced), 0.002f)
+        << "diffuse " << diffuse.r << "," << diffuse.g << "," << diffuse.b;
+}
+
+TEST(Solver, IsContinuousOverTheWholeSpecularRange) {
+  for (glm::vec3 diffuse : {glm::vec3(0.0f), glm::vec3(0.1f), glm::vec3(0.5f), glm::vec3(1.0f), glm::vec3(0.2f, 0.6f, 0.9f)})
+    for (glm::vec3 tint : {glm::vec3(1.0f), glm::vec3(1.0f, 0.7f, 0.4f)})
+      EXPECT_LT(largest_step(diffuse, tint, 0.0f, 1.1f, 1e-3f, &solve_balanced), 0.03f)
+          << "diffuse " << diffuse.r << "," << diffuse.g << "," << diffuse.b;
+}
+
+TEST(Solver, ReferenceFormulaJumpsAt004WhereOursDoesNot) {
+  // The archived formula turns black 0.04 plastic into a dark metal: the sweep test catches it.
+  EXPECT_GT(largest_step(glm::vec3(0.0f), glm::vec3(1.0f), 0.035f, 0.045f, 1e-5f, &solve_reference), 0.5f);
+}
+
+TEST(Solver, KeepsChroma) {
+  // Coloured diffuse over a 0.04 dielectric keeps its hue exactly; a coloured metal keeps its tint.
+  const MetalRough plastic = solve({{0.8f, 0.2f, 0.1f}, glm::vec3(0.04f), 1.0f});
+  EXPECT_NEAR(plastic.base.r / plastic.base.g, 4.0f, 1e-4f);
+  const MetalRough copper = solve({glm::vec3(0.0f), {0.955f, 0.638f, 0.538f}, 1.0f});
+  EXPECT_NEAR(copper.base.g / copper.base.r, 0.638f / 0.955f, 1e-4f);
+  // Red diffuse with green specular: the reference turns it into a green metal; we keep the red
+  // diffuse in the base and reach a lower error.
+  const SpecGloss mixed{{0.7f, 0.05f, 0.05f}, {0.1f, 0.5f, 0.1f}, 1.0f};
+  const MetalRough ours = solve(mixed), reference = solve_reference(mixed);
+  EXPECT_GT(ours.base.r, ours.base.g);
+  EXPECT_LT(worst_delta_e(mixed, ours), worst_delta_e(mixed, reference));
+}
+
+// Exact idempotence and continuity conflict on the black-diffuse line: there a dark metal
+// (m = 1, base = F0) fits any grey F0 exactly, so an exact-when-possible solver must jump at 0.04.
+// The solver keeps continuity; a second pass may move the look a little (measured over 5000
+// samples: mean 1.7, worst 10.4 ΔE2000), and dielectrics and plausible metals stay fixed.
+TEST(Solver, SecondPassDriftIsBounded) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  ErrorAccumulator drift;
+  for (int i = 0; i < 2000; ++i) {
+    const SpecGloss legacy{{unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)) * glm::vec3(1.0f, unit(rng), 1.0f), unit(rng)};
+    const MetalRough once = solve(legacy);
+    const MetalRough twice = solve(to_spec_gloss(once));
+    EXPECT_FLOAT_EQ(twice.roughness, once.roughness);
+    drift.add(core_reflectance(once), core_reflectance(twice));
+  }
+  const ReflectanceError e = drift.finish();
+  EXPECT_LT(std::max(e.diffuse.mean, e.f0.mean), 2.0);
+  EXPECT_LT(e.worst(), 12.0);
+}
+
+TEST(Solver, DielectricsAndMetalsAreFixedPoints) {
+  for (const Metal& metal : kMetals) {
+    const MetalRough once = solve({glm::vec3(0.0f), metal.f0, 0.7f});
+    const MetalRough twice = solve(to_spec_gloss(once));
+    EXPECT_EQ(twice.metalness, once.metalness) << metal.name;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(twice.base[c], once.base[c], 1e-4f) << metal.name;
+  }
+  const MetalRough plastic = solve({{0.6f, 0.3f, 0.1f}, glm::vec3(0.04f), 0.3f});
+  const MetalRough again = solve(to_spec_gloss(plastic));
+  EXPECT_EQ(again.metalness, 0.0f);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(again.base[c], plastic.base[c], 1e-4f);
+}
+
+TEST(Solver, MetalRoughToSpecGlossAndBackIsExactForPureClasses) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 300; ++i) {
+    // Dielectrics (m = 0) and plausible metals (m = 1, mean F0 >= 0.45) round-trip exactly.
+    const bool metal = i % 2;
+    MetalRough original{metal ? glm::vec3(0.5f) + 0.5f * glm::vec3(unit(rng), unit(rng), unit(rng))
+                              : glm::vec3(unit(rng), unit(rng), unit(rng)),
+                        metal ? 1.0f : 0.0f, unit(rng)};
+    const MetalRough back = solve(to_spec_gloss(original));
+    EXPECT_NEAR(back.metalness, original.metalness, 1e-3f) << i;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.base[c], original.base[c], 2e-3f) << i;
+    EXPECT_NEAR(back.roughness, original.roughness, 1e-6f);
+  }
+}
+
+TEST(Solver, MetalRoughToSpecGlossAndBackStaysCloseForPartialMetalness) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  // The prior trades fit for continuity: dark partial metals (implausible, DESIGN.md) are pulled
+  // towards dielectrics, so single samples can miss by up to ~30 ΔE2000; on average the look stays
+  // within a few ΔE2000 (measured: mean 2.6 over 2000 samples).
+  double sum = 0;
+  const int samples = 2000;
+  for (int i = 0; i < samples; ++i) {
+    const MetalRough original{{unit(rng), unit(rng), unit(rng)}, unit(rng), unit(rng)};
+    const SpecGloss legacy = to_spec_gloss(original);
+    sum += worst_delta_e(legacy, solve(legacy));
+  }
+  EXPECT_LT(sum / samples, 3.0);
+}
+
+TEST(Solver, StaysFiniteOnExtremes) {
+  const float denormal = std::numeric_limits<float>::denorm_min();
+  const float values[] = {0.0f, denormal, 1e-30f, 0.04f, 0.5f, 1.0f, 1.5f, 1e30f};
+  for (float d : values)
+    for (float s : values)
+      for (float g : {0.0f, denormal, 0.5f, 1.0f}) {
+        const SpecGloss legacy{glm::vec3(std::min(d, 1.0f)), glm::vec3(s, s * 0.5f, s), g};
+        for (const SolverSettings& settings : {solver_preset("fast"), solver_preset("balanced"), solver_preset("exact")})
+          EXPECT_TRUE(finite_and_in_unit_range(solve(legacy, settings))) << d << " " << s << " " << g;
+        EXPECT_TRUE(finite_and_in_unit_range(solve_reference(legacy))) << d << " " << s << " " << g;
+      }
+}
+
+TEST(Solver, GlossinessZeroAndOneMapToRoughnessOneAndZero) {
+  EXPECT_EQ(solve({glm::vec3(0.5f), glm::vec3(0.04f), 0.0f}).roughness, 1.0f);
+  EXPECT_EQ(solve({glm::vec3(0.5f), glm::vec3(0.04f), 1.0f}).roughness, 0.0f);
+}
+
+TEST(Solver, MoreEffortNeverFitsWorse) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  double fast = 0, exact = 0;
+  for (int i = 0; i < 300; ++i) {
+    const SpecGloss legacy{{unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)), 1.0f};
+    fast += worst_delta_e(legacy, solve(legacy, solver_preset("fast")));
+    exact += worst_delta_e(legacy, solve(legacy, solver_preset("exact")));
+  }
+  EXPECT_LE(exact, fast * 1.001);
+}
+
+}  // namespace
+}  // namespace gltf_pbr

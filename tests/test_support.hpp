@@ -1,0 +1,51 @@
+// Shared test helpers: paths to ../shared, scratch folders, and small assets built in code.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "core/asset.hpp"
+
+namespace gltf_pbr::test {
+
+inline fs::path shared_dir() { return GLTF_PBR_SHARED_DIR; }
+inline fs::path assets_dir() { return shared_dir() / "assets"; }
+
+// A fresh folder under the system temp dir, removed when the test ends.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() / ("gltf-pbr-test-" + std::string(info->test_suite_name()) + "-" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~ScratchDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+// Every file below a folder, for "nothing was written" checks.
+inline std::vector<fs::path> files_under(const fs::path& folder) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(entry.path());
+  return files;
+}
+
+inline std::string read_text(const fs::path& path) {
+  auto bytes = read_file(path);
+  return bytes ? std::string(bytes->begin(), bytes->end()) : std::string();
+}
+
+inline void write_text(const fs::path& path, const std::string& text) {
+  AtomicWriteSet files;
+  files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  files.commit();
+}
+
+}  // namespace gltf_pbr::test
