@@ -11,13 +11,19 @@ namespace {
 constexpr float kDielectricF0 = 0.04f;                  // glTF 2.0 Appendix B, ior 1.5
 constexpr float kDielectricDiffuse = 1.0f - kDielectricF0;  // (1 - F) at normal incidence
 constexpr float kDarkestMetalF0 = 0.45f;                // Unity material validator; Hoffman's table
-// Weight of the prior. With black diffuse the fit alone has two basins (dielectric m = 0 and a
-// dark metal m = 1, base = F0) and its minimiser jumps between them as the specular rises; the
-// prior's curvature must exceed the fit's negative curvature there. Measured over a sweep of
-// specular 0..1 in steps of 0.001 (tests/solver_test.cpp): lambda = 0.01 jumps by 0.76 in m,
-// 0.1 by 0.49, 0.3 moves at most 0.017 per step. Larger values cost fit error (mean diffuse ΔE
-// 5.4 -> 6.1 at lambda = 1 over the shared assets' materials and random samples).
-constexpr float kPriorWeight = 0.3f;
+
+// Perceptual weighting: ΔE2000 follows L*, which grows as Y^(1/3), so a reflectance error dY at
+// level Y costs about dY * Y^(-2/3); squared, the residual's weight is (Y + eps)^(-4/3)
+// (Gauss-Newton on CIE 1976 L*). eps keeps black finite and stands for the flare of a real view.
+constexpr float kWeightEpsilon = 0.05f;
+// Prior weight. With black diffuse the fit has two basins (a dielectric at m = 0 and a dark metal
+// at m = 1, base = F0) and its minimiser jumps between them as the specular rises; the prior's
+// curvature must beat the fit's there. With a bright diffuse there is no ambiguity, and a weak
+// prior lets the fit decide. Tuned on sweeps of specular 0..1.1 in steps of 0.001 and 2000 random
+// materials (tests/solver_test.cpp): largest metalness step 0.009, mean second-pass drift 0.8 ΔE.
+constexpr float kPriorWeightOnBlack = 10.0f;
+constexpr float kPriorWeightOnBright = 0.1f;
+constexpr float kBrightDiffuse = 0.2f;  // diffuse weight from which the weak prior applies
 
 float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
@@ -26,26 +32,49 @@ float smoothstep01(float t) {
   return t * t * (3.0f - 2.0f * t);
 }
 
+// What one solve minimises, fixed for all m: targets, their weights and the prior.
+struct Objective {
+  Reflectance target;
+  glm::vec3 diffuse_weight, f0_weight;
+  float prior_m, prior_weight;
+};
+
+Objective objective_for(const SpecGloss& legacy) {
+  Objective o;
+  o.target = legacy_reflectance(legacy, LegacyReading::A);
+  for (int c = 0; c < 3; ++c) {
+    o.diffuse_weight[c] = std::pow(std::max(o.target.diffuse[c], 0.0f) + kWeightEpsilon, -4.0f / 3.0f);
+    o.f0_weight[c] = std::pow(std::max(o.target.f0[c], 0.0f) + kWeightEpsilon, -4.0f / 3.0f);
+  }
+  const float mean_f0 = (o.target.f0.x + o.target.f0.y + o.target.f0.z) / 3.0f;
+  o.prior_m = smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
+  o.prior_weight = kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
+                                              (1.0f - smoothstep01(max3(o.target.diffuse) / kBrightDiffuse));
+  return o;
+}
+
 struct Fit {
   glm::vec3 base;
   float error;
 };
 
 // Best base for a fixed metalness m: per channel, minimise
-//   (k b (1-m) - D)^2 + (0.04 (1-m) + b m - F)^2,   k = 0.96,
-// whose unconstrained minimiser is b = (k (1-m) D + m (F - 0.04 (1-m))) / (k^2 (1-m)^2 + m^2).
-// The denominator is at least k^2/(1+k^2) > 0.47 on [0, 1], so no epsilon is needed.
-Fit fit_at(float m, const Reflectance& target, float m_prior) {
+//   wd (k b (1-m) - D)^2 + wf (0.04 (1-m) + b m - F)^2,   k = 0.96,
+// a convex quadratic in b whose minimiser, clamped to [0, 1], is exact:
+//   b = (wd k (1-m) D + wf m (F - 0.04 (1-m))) / (wd k^2 (1-m)^2 + wf m^2).
+// The denominator is at least min(wd, wf) k^2/(1+k^2) > 0 on [0, 1]: no epsilon is needed.
+Fit fit_at(float m, const Objective& o) {
   const float k = kDielectricDiffuse, one_minus = 1.0f - m;
-  const float denominator = k * k * one_minus * one_minus + m * m;
-  Fit fit{{}, kPriorWeight * (m - m_prior) * (m - m_prior)};
+  Fit fit{{}, o.prior_weight * (m - o.prior_m) * (m - o.prior_m)};
   for (int c = 0; c < 3; ++c) {
-    const float d = target.diffuse[c], f = target.f0[c];
-    const float b = std::clamp((k * one_minus * d + m * (f - kDielectricF0 * one_minus)) / denominator, 0.0f, 1.0f);
+    const float d = o.target.diffuse[c], f = o.target.f0[c], wd = o.diffuse_weight[c], wf = o.f0_weight[c];
+    const float b = std::clamp((wd * k * one_minus * d + wf * m * (f - kDielectricF0 * one_minus)) /
+                                   (wd * k * k * one_minus * one_minus + wf * m * m),
+                               0.0f, 1.0f);
     const float diffuse_error = k * b * one_minus - d;
     const float f0_error = kDielectricF0 * one_minus + b * m - f;
     fit.base[c] = b;
-    fit.error += diffuse_error * diffuse_error + f0_error * f0_error;
+    fit.error += wd * diffuse_error * diffuse_error + wf * f0_error * f0_error;
   }
   return fit;
 }
@@ -80,31 +109,29 @@ SolverSettings solver_preset(const char* name) {
 
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   if (settings.reference_formula) return solve_reference(legacy);
-  const Reflectance target = legacy_reflectance(legacy, LegacyReading::A);
-  const float mean_f0 = (target.f0.x + target.f0.y + target.f0.z) / 3.0f;
-  const float m_prior = smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
+  const Objective objective = objective_for(legacy);
 
   // Coarse grid over m, then golden-section search in the bracket around the best sample.
   const int steps = std::max(1, settings.grid_steps);
   float best_m = 0.0f;
-  Fit best = fit_at(0.0f, target, m_prior);
+  Fit best = fit_at(0.0f, objective);
   for (int i = 1; i <= steps; ++i) {
     const float m = static_cast<float>(i) / static_cast<float>(steps);
-    const Fit fit = fit_at(m, target, m_prior);
+    const Fit fit = fit_at(m, objective);
     if (fit.error < best.error) best = fit, best_m = m;
   }
   float lo = std::max(0.0f, best_m - 1.0f / static_cast<float>(steps));
   float hi = std::min(1.0f, best_m + 1.0f / static_cast<float>(steps));
   constexpr float kInvPhi = 0.6180339887f;
   float x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
-  Fit f1 = fit_at(x1, target, m_prior), f2 = fit_at(x2, target, m_prior);
+  Fit f1 = fit_at(x1, objective), f2 = fit_at(x2, objective);
   for (int i = 0; i < settings.refine_iterations; ++i) {
     if (f1.error < f2.error) {
       hi = x2, x2 = x1, f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo), f1 = fit_at(x1, target, m_prior);
+      x1 = hi - kInvPhi * (hi - lo), f1 = fit_at(x1, objective);
     } else {
       lo = x1, x1 = x2, f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo), f2 = fit_at(x2, target, m_prior);
+      x2 = lo + kInvPhi * (hi - lo), f2 = fit_at(x2, objective);
     }
   }
   if (settings.refine_iterations > 0) {

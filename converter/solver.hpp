@@ -50,15 +50,20 @@ struct SolverSettings {
 SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default), "exact", "reference"
 
 // Minimises, over base in [0,1]^3 and m in [0,1]:
-//   E = sum_c (D_core,c - D_legacy,c)^2 + (F0_core,c - F0_legacy,c)^2 + lambda (m - m_prior)^2
-// with D and F0 from legacy_reflectance (reading A) and core_reflectance. For fixed m each
-// channel's best base is a closed-form least squares clamped to [0,1] (the objective is a convex
-// quadratic in base), so the search is 1-D over m. m_prior rises smoothly from 0 at the
-// dielectric F0 0.04 to 1 at 0.45, the darkest metal F0 (Hoffman's table; Unity's validator):
-// a black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1, base 0.04), and
-// the prior picks the dielectric without the jump of the reference formula. roughness = 1 - g,
-// since alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs
-// above 1 (gold's F0) are clamped in base, never in the fit.
+//   E = sum_c wd_c (D_core,c - D_legacy,c)^2 + wf_c (F0_core,c - F0_legacy,c)^2 + lambda (m - m_prior)^2
+// with D and F0 from legacy_reflectance (reading A) and core_reflectance, and weights
+// (target + 0.05)^(-4/3) that make squared residuals follow ΔE (L* ~ Y^(1/3)). For fixed m each
+// channel's best base is a closed-form weighted least squares clamped to [0,1], so the search is
+// 1-D over m. m_prior rises smoothly from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest
+// metal F0 (Hoffman's table; Unity's validator). lambda is strong where the diffuse is black: a
+// black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1, base 0.04), and
+// the prior picks the dielectric without the jump of the reference formula; it fades to weak as
+// the diffuse brightens. The result is continuous in the inputs, keeps chroma, and is exact for
+// dielectrics at 0.04 and for metals (black diffuse, mean F0 >= 0.45). roughness = 1 - g, since
+// alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
+// (gold's F0) are clamped in base, never in the fit.
+// Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
+// any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings = {});
 
 // The reference formula (archived extension examples, Microsoft glTF-SDK PBRUtils): a scalar
