@@ -96,9 +96,17 @@ TEST(Solver, KeepsChroma) {
   EXPECT_NEAR(plastic.base.r / plastic.base.g, 4.0f, 1e-4f);
   const MetalRough copper = solve({glm::vec3(0.0f), {0.955f, 0.638f, 0.538f}, 1.0f});
   EXPECT_NEAR(copper.base.g / copper.base.r, 0.638f / 0.955f, 1e-4f);
-  // Red diffuse with green specular: no core material reproduces both; the base keeps the red.
-  const MetalRough mixed = solve({{0.7f, 0.05f, 0.05f}, {0.1f, 0.5f, 0.1f}, 1.0f});
-  EXPECT_GT(mixed.base.r, mixed.base.g);
+  // Coloured diffuse under grey specular of any level keeps its hue order in the base and in the
+  // diffuse weight; saturation falls as the specular rises (a metal's F0 is tinted by its base).
+  for (float s : {0.0f, 0.02f, 0.04f, 0.08f, 0.17f, 0.3f, 0.5f})
+    for (glm::vec3 diffuse : {glm::vec3(0.8f, 0.2f, 0.1f), glm::vec3(0.1f, 0.3f, 0.9f)}) {
+      const MetalRough r = solve({diffuse, glm::vec3(s), 1.0f});
+      const glm::vec3 d = core_reflectance(r).diffuse;
+      const bool red_first = diffuse.r > diffuse.b;
+      EXPECT_EQ(r.base.r > r.base.g, red_first) << s;
+      EXPECT_EQ(r.base.g > r.base.b, !red_first) << s;
+      EXPECT_EQ(d.r > d.b, red_first) << s;
+    }
 }
 
 // Exact idempotence and continuity conflict on the black-diffuse line: there a dark metal
