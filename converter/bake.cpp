@@ -1,6 +1,6 @@
 #include "converter/bake.hpp"
 
-#include <OpenImageIO/parallel.h>
+#include "core/parallel.hpp"
 
 #include <array>
 #include <cmath>
@@ -45,7 +45,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
 
-  OIIO_NAMESPACE::parallel_for(int64_t{0}, int64_t{in.height}, [&](int64_t y) {
+  parallel_for(0, in.height, [&](std::int64_t y) {
     for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width),
                 end = i + static_cast<size_t>(in.width); i < end; ++i) {
       SpecGloss legacy;

@@ -1,80 +1,65 @@
+// Loads the OpenImageIO module on first use (see core/image_oiio.cpp for why) and forwards to it.
 #include "core/image.hpp"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
+#include <unistd.h>
 
+#include <mutex>
 #include <stdexcept>
 
 #include "core/asset.hpp"
 
 namespace gltf_pbr {
-namespace OIIO = OIIO_NAMESPACE;
-
 namespace {
-// OpenImageIO picks its reader by file name; the bytes' signature tells which name to give.
-std::string name_for_signature(std::span<const std::uint8_t> bytes) {
-  auto starts = [&](std::initializer_list<std::uint8_t> magic) {
-    return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
-  };
-  if (starts({0x89, 'P', 'N', 'G'})) return "memory.png";
-  if (starts({0xFF, 0xD8, 0xFF})) return "memory.jpg";
-  if (starts({'R', 'I', 'F', 'F'})) return "memory.webp";
-  if (starts({'B', 'M'})) return "memory.bmp";
-  if (starts({'G', 'I', 'F'})) return "memory.gif";
-  return "memory.png";
+
+constexpr const char* kModuleName = "libgltf_pbr_images.so";
+
+fs::path executable_folder() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path() : self.parent_path();
 }
+
+// Looks beside the executable, then in ../lib (an installed layout), then in the build tree.
+const ImageCodec& codec() {
+  static const ImageCodec* loaded = [] {
+    std::vector<fs::path> candidates;
+    if (const char* override_path = std::getenv("GLTF_PBR_IMAGE_MODULE")) candidates.emplace_back(override_path);
+    const fs::path here = executable_folder();
+    candidates.push_back(here / kModuleName);
+    candidates.push_back(here / ".." / "lib" / "gltf-pbr" / kModuleName);
+    candidates.push_back(fs::path(GLTF_PBR_BUILD_DIR) / kModuleName);
+    std::string tried;
+    for (const fs::path& candidate : candidates) {
+      if (!fs::exists(candidate)) continue;
+      void* module = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (!module) {
+        tried += std::string(" ") + ::dlerror();
+        continue;
+      }
+      using Entry = const ImageCodec* (*)();
+      if (auto entry = reinterpret_cast<Entry>(::dlsym(module, "gltf_pbr_image_codec"))) return entry();
+    }
+    throw std::runtime_error("cannot load the image module " + std::string(kModuleName) + tried);
+  }();
+  return *loaded;
+}
+
 }  // namespace
 
 Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
-  OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it
-  void* proxy = &reader;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  auto input = OIIO::ImageInput::open(name_for_signature(encoded), &config, &reader);
-  if (!input) throw std::runtime_error("cannot decode image " + name_for_errors + ": " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = input->spec();
-  Pixels pixels;
-  pixels.width = spec.width;
-  pixels.height = spec.height;
-  pixels.channels = spec.nchannels;
-  pixels.bits = static_cast<int>(spec.format.size()) * 8;
-  pixels.values.resize(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) *
-                       static_cast<size_t>(spec.nchannels));
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.values.data()))
-    throw std::runtime_error("cannot decode image " + name_for_errors + ": " + input->geterror());
+  Pixels pixels = codec().decode(encoded, name_for_errors);
   ++work_counters().images_decoded;
   return pixels;
 }
 
 Pixels resize(const Pixels& pixels, int width, int height) {
   if (pixels.width == width && pixels.height == height) return pixels;
-  OIIO::ImageSpec source_spec(pixels.width, pixels.height, pixels.channels, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf source(source_spec, const_cast<float*>(pixels.values.data()));
-  OIIO::ImageSpec target_spec(width, height, pixels.channels, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf target(target_spec);
-  // A triangle filter does not ring, so resampled texels stay inside the input's range.
-  OIIO::ImageBufAlgo::resize(target, source, "triangle", 0.0f);
-  Pixels out{width, height, pixels.channels, pixels.bits, {}};
-  out.values.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(pixels.channels));
-  target.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.values.data());
-  return out;
+  return codec().resample(pixels, width, height);
 }
 
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
-  Bytes encoded;
-  OIIO::Filesystem::IOVecOutput writer(encoded);
-  auto output = OIIO::ImageOutput::create("memory.png", &writer);
-  if (!output) throw std::runtime_error("cannot create a PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", compression_level);
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!output->open("memory.png", spec) ||
-      !output->write_image(OIIO::TypeDesc::UINT8, texels.data()) || !output->close())
-    throw std::runtime_error("cannot encode PNG: " + output->geterror());
-  return encoded;
+  return codec().encode_png(texels, width, height, channels, compression_level);
 }
 
 }  // namespace gltf_pbr

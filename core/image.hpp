@@ -29,4 +29,11 @@ Pixels resize(const Pixels& pixels, int width, int height);
 // Encodes 8-bit PNG; `channels` is 1-4, interleaved.
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
 
+// The functions the OpenImageIO module (core/image_oiio.cpp) provides; core/image.cpp loads it.
+struct ImageCodec {
+  Pixels (*decode)(std::span<const std::uint8_t> encoded, const std::string& name_for_errors);
+  Pixels (*resample)(const Pixels& pixels, int width, int height);
+  Bytes (*encode_png)(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
+};
+
 }  // namespace gltf_pbr

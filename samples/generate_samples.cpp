@@ -148,7 +148,7 @@ MeshData make_cube(float half_extent) {
   return mesh;
 }
 
-// glTF 2.0 section 3.7.2.1: front faces wind counter-clockwise. A generator bug here would make
+// glTF 2.0 spec, "Meshes": front faces wind counter-clockwise. A generator bug here would make
 // every sample render inside out, so check each triangle against its vertex normals.
 void check_outward_winding(const MeshData& mesh, const char* mesh_name) {
   for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
@@ -203,7 +203,7 @@ void add_mesh_node(tinygltf::Model& model, const MeshData& mesh, const std::stri
   if (model.buffers.empty()) model.buffers.emplace_back();
   const int positions = add_accessor(model, add_buffer_view(model, mesh.positions, TINYGLTF_TARGET_ARRAY_BUFFER),
                                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, mesh.positions.size());
-  // POSITION requires min and max (glTF 2.0 section 3.7.2.1).
+  // POSITION accessors must carry min and max (glTF 2.0 spec, "Meshes").
   glm::vec3 low = mesh.positions.front(), high = mesh.positions.front();
   for (const glm::vec3& p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
   model.accessors[static_cast<size_t>(positions)].minValues = {low.x, low.y, low.z};

@@ -1,0 +1,88 @@
+// The OpenImageIO side of core/image.hpp, built as a module that core/image.cpp loads on first
+// use: Debian's libOpenImageIO pulls in ~260 shared libraries whose binding takes 0.2-0.3 s, a
+// cost that a factor-only asset must not pay.
+#include "core/image.hpp"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <stdexcept>
+
+
+namespace gltf_pbr {
+namespace OIIO = OIIO_NAMESPACE;
+
+namespace {
+// OpenImageIO picks its reader by file name; the bytes' signature tells which name to give.
+std::string name_for_signature(std::span<const std::uint8_t> bytes) {
+  auto starts = [&](std::initializer_list<std::uint8_t> magic) {
+    return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
+  };
+  if (starts({0x89, 'P', 'N', 'G'})) return "memory.png";
+  if (starts({0xFF, 0xD8, 0xFF})) return "memory.jpg";
+  if (starts({'R', 'I', 'F', 'F'})) return "memory.webp";
+  if (starts({'B', 'M'})) return "memory.bmp";
+  if (starts({'G', 'I', 'F'})) return "memory.gif";
+  return "memory.png";
+}
+}  // namespace
+
+namespace {
+
+Pixels decode(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
+  OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto input = OIIO::ImageInput::open(name_for_signature(encoded), &config, &reader);
+  if (!input) throw std::runtime_error("cannot decode image " + name_for_errors + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = input->spec();
+  Pixels pixels;
+  pixels.width = spec.width;
+  pixels.height = spec.height;
+  pixels.channels = spec.nchannels;
+  pixels.bits = static_cast<int>(spec.format.size()) * 8;
+  pixels.values.resize(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) *
+                       static_cast<size_t>(spec.nchannels));
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.values.data()))
+    throw std::runtime_error("cannot decode image " + name_for_errors + ": " + input->geterror());
+  return pixels;
+}
+
+Pixels resample(const Pixels& pixels, int width, int height) {
+  OIIO::ImageSpec source_spec(pixels.width, pixels.height, pixels.channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf source(source_spec, const_cast<float*>(pixels.values.data()));
+  OIIO::ImageSpec target_spec(width, height, pixels.channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf target(target_spec);
+  // A triangle filter does not ring, so resampled texels stay inside the input's range.
+  OIIO::ImageBufAlgo::resize(target, source, "triangle", 0.0f);
+  Pixels out{width, height, pixels.channels, pixels.bits, {}};
+  out.values.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(pixels.channels));
+  target.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.values.data());
+  return out;
+}
+
+Bytes encode(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
+  Bytes encoded;
+  OIIO::Filesystem::IOVecOutput writer(encoded);
+  auto output = OIIO::ImageOutput::create("memory.png", &writer);
+  if (!output) throw std::runtime_error("cannot create a PNG writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+  spec.attribute("png:compressionLevel", compression_level);
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  if (!output->open("memory.png", spec) ||
+      !output->write_image(OIIO::TypeDesc::UINT8, texels.data()) || !output->close())
+    throw std::runtime_error("cannot encode PNG: " + output->geterror());
+  return encoded;
+}
+
+}  // namespace
+}  // namespace gltf_pbr
+
+extern "C" __attribute__((visibility("default"))) const gltf_pbr::ImageCodec* gltf_pbr_image_codec() {
+  static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode, &gltf_pbr::resample, &gltf_pbr::encode};
+  return &codec;
+}
