@@ -21,7 +21,7 @@ struct ConvertArgs {
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   double specular_tolerance = 2.0;
   int png_compression = 3;
-  size_t error_samples = 1u << 18;
+  size_t error_samples = 1u << 16;
 };
 
 struct Job {

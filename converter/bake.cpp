@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <thread>
 
 #include "core/color.hpp"
 
@@ -23,6 +25,39 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   if (!srgb) return value;
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
+
+// The solve depends only on diffuse and specular (roughness is 1 - glossiness), and textures
+// repeat those pairs a lot: a direct-mapped cache of recent solves, keyed by the exact input bits,
+// skips most of the work without changing any result.
+class SolveCache {
+ public:
+  explicit SolveCache(const SolverSettings& settings) : settings_(settings), entries_(kSize) {}
+  glm::vec4 solve(const SpecGloss& legacy) {
+    Key key;
+    std::memcpy(key.bits, &legacy.diffuse, sizeof(float) * 3);
+    std::memcpy(key.bits + 3, &legacy.specular, sizeof(float) * 3);
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
+    for (std::uint32_t word : key.bits) hash = (hash ^ word) * 1099511628211ull;
+    Entry& entry = entries_[(hash ^ (hash >> 29)) & (kSize - 1)];
+    if (entry.filled && std::memcmp(entry.key.bits, key.bits, sizeof key.bits) == 0) return entry.result;
+    const MetalRough r = gltf_pbr::solve(legacy, settings_);
+    entry = {key, glm::vec4(r.base, r.metalness), true};
+    return entry.result;
+  }
+
+ private:
+  static constexpr size_t kSize = 1u << 16;
+  struct Key {
+    std::uint32_t bits[6];
+  };
+  struct Entry {
+    Key key;
+    glm::vec4 result;
+    bool filled = false;
+  };
+  const SolverSettings& settings_;
+  std::vector<Entry> entries_;
+};
 
 }  // namespace
 
@@ -45,7 +80,10 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
 
-  parallel_for(0, in.height, [&](std::int64_t y) {
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  parallel_for(0, threads, [&](std::int64_t thread) {
+   SolveCache cache(settings);
+   for (std::int64_t y = in.height * thread / threads, last = in.height * (thread + 1) / threads; y < last; ++y) {
     for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width),
                 end = i + static_cast<size_t>(in.width); i < end; ++i) {
       SpecGloss legacy;
@@ -61,7 +99,8 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
         for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
         legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
       }
-      const MetalRough core = solve(legacy, settings);
+      const glm::vec4 solved = cache.solve(legacy);
+      const MetalRough core{glm::vec3(solved), solved.w, std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f)};
       for (int c = 0; c < 3; ++c) out.base_color[i * 4 + static_cast<size_t>(c)] = quantize(linear_to_srgb(core.base[c]));
       out.base_color[i * 4 + 3] = quantize(alpha);
       out.metal_rough[i * 3 + 0] = 0;
@@ -77,6 +116,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
         rows_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), converted);
       }
     }
+   }
   });
   for (size_t y = 0; y < rows_a.size(); ++y) {
     out.error_a.merge(rows_a[y]);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -277,9 +278,13 @@ class Converter {
       entry.times.solve_ms += ms_since(start);
     } else {
       auto start = Clock::now();
+      // The two images decode concurrently (decoding is most of the pre-solve time).
       std::optional<Pixels> diffuse, spec_gloss;
+      auto pending_spec = std::async(std::launch::async, [&] {
+        return spec_image >= 0 ? std::optional<Pixels>(decode(spec_image)) : std::nullopt;
+      });
       if (diffuse_image >= 0 && !roughness_only) diffuse = decode(diffuse_image);
-      if (spec_image >= 0) spec_gloss = decode(spec_image);
+      spec_gloss = pending_spec.get();
       inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
       inputs.height = std::max(diffuse ? diffuse->height : 1, spec_gloss ? spec_gloss->height : 1);
       if (diffuse) diffuse = resize(*diffuse, inputs.width, inputs.height);
@@ -296,6 +301,10 @@ class Converter {
 
       start = Clock::now();
       const BakedTexels& t = bake.texels;
+      // The two textures encode concurrently; images are added in a fixed order afterwards.
+      auto metal_rough_png = std::async(std::launch::async, [&] {
+        return t.metal_rough_constant ? Bytes{} : encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
+      });
       if (!roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant)) {
         std::vector<std::uint8_t> rgb;
         const int channels = t.alpha_constant && t.base_color[3] == 255 ? 3 : 4;
@@ -307,8 +316,8 @@ class Converter {
                                                      t.height, channels, options_.png_compression),
                                           "baseColor");
       }
-      if (!t.metal_rough_constant)
-        bake.metal_rough_image = add_image(encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression), "metallicRoughness");
+      Bytes metal_rough = metal_rough_png.get();
+      if (!t.metal_rough_constant) bake.metal_rough_image = add_image(std::move(metal_rough), "metallicRoughness");
       entry.times.encode_ms += ms_since(start);
     }
     bake.error_a = bake.texels.error_a.finish();
@@ -333,13 +342,13 @@ class Converter {
     return true;
   }
 
-  Pixels decode(int image) {
-    if (auto it = decoded_.find(image); it != decoded_.end()) return it->second;
+  // Thread-safe (called concurrently); nothing is cached, so peak memory stays at one bake.
+  Pixels decode(int image) const {
     const auto bytes = encoded_image_bytes(model_, image);
     const std::string name = pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
                                                              ? "" : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
     try {
-      return decoded_.emplace(image, decode_image(bytes, name)).first->second;
+      return decode_image(bytes, name);
     } catch (const std::runtime_error& e) {
       throw InputError(asset_.path.string(), pointer("images", image), e.what());
     }
@@ -397,7 +406,6 @@ class Converter {
   const ConvertOptions& options_;
   ConversionReport report_;
   std::map<std::string, Bake> bakes_;
-  std::map<int, Pixels> decoded_;
   std::map<std::pair<int, int>, int> textures_;
 };
 

@@ -20,7 +20,7 @@ struct ConvertOptions {
   SolverSettings solver;
   double specular_tolerance = 2.0;  // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
   int png_compression = 3;          // zlib level for baked textures: speed against bytes
-  size_t max_error_samples = 1u << 18;  // texels sampled for the error statistics (0: all)
+  size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
 };
 
 struct StageTimes {
