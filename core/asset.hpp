@@ -49,6 +49,9 @@ void save_asset(Asset& asset, const fs::path& output);
 // (same format only). Used when a step changed nothing.
 void copy_asset_verbatim(const Asset& asset, const fs::path& output);
 
+// A GLB container (glTF 2.0 section 4.4) holding the JSON text and the BIN chunk.
+Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin);
+
 // The encoded bytes of image `index`, from its URI data or its bufferView.
 std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index);
 

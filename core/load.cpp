@@ -64,7 +64,7 @@ GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
 
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
 // of buffers and images, and that the JSON parses at all.
-void check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin, const LoadOptions& options) {
+nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin, const LoadOptions& options) {
   const std::string file = asset.path.string();
   nlohmann::json root;
   try {
@@ -97,6 +97,33 @@ void check_resources(const Asset& asset, const std::string& json_text, bool glb_
         throw InputError(file, where + "/uri", problem);
     }
   }
+  return root;
+}
+
+// tinygltf 2.7 without its Draco decoder refuses a Draco primitive's indices accessor, which
+// rightly has no bufferView; with the decoder it would decode every mesh on load. So the indices
+// of Draco primitives are hidden from it and restored afterwards: meshes stay compressed.
+struct HiddenIndices {
+  std::vector<std::pair<std::pair<size_t, size_t>, int>> entries;  // ((mesh, primitive), indices)
+};
+
+HiddenIndices hide_draco_indices(nlohmann::json& root) {
+  HiddenIndices hidden;
+  const auto meshes = root.find("meshes");
+  if (meshes == root.end() || !meshes->is_array()) return hidden;
+  for (size_t m = 0; m < meshes->size(); ++m) {
+    auto& primitives = (*meshes)[m]["primitives"];
+    if (!primitives.is_array()) continue;
+    for (size_t p = 0; p < primitives.size(); ++p) {
+      auto& primitive = primitives[p];
+      if (!primitive.is_object() || !primitive.contains("indices") || !primitive["indices"].is_number_integer()) continue;
+      const auto extensions = primitive.find("extensions");
+      if (extensions == primitive.end() || !extensions->is_object() || !extensions->contains("KHR_draco_mesh_compression")) continue;
+      hidden.entries.push_back({{m, p}, primitive["indices"].get<int>()});
+      primitive.erase("indices");
+    }
+  }
+  return hidden;
 }
 
 struct LoaderContext {
@@ -143,7 +170,17 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   } else {
     asset.original_json.assign(bytes->begin(), bytes->end());
   }
-  check_resources(asset, asset.original_json, glb_has_bin, options);
+  nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, options);
+  const HiddenIndices hidden = hide_draco_indices(root);
+  std::string json_for_tinygltf;
+  if (!hidden.entries.empty()) {
+    json_for_tinygltf = root.dump();
+    if (asset.binary) {
+      const GlbChunks chunks = split_glb(file, *bytes);
+      *bytes = glb_bytes(json_for_tinygltf, chunks.bin);
+    }
+  }
+  const std::string& json_text = hidden.entries.empty() ? asset.original_json : json_for_tinygltf;
 
   LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
   tinygltf::TinyGLTF loader;
@@ -155,13 +192,15 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   const std::string base_dir = context.folder.string();
   const bool ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, bytes->data(),
                                                              static_cast<unsigned>(bytes->size()), base_dir)
-                               : loader.LoadASCIIFromString(&asset.model, &err, &warn, asset.original_json.c_str(),
-                                                            static_cast<unsigned>(asset.original_json.size()), base_dir);
+                               : loader.LoadASCIIFromString(&asset.model, &err, &warn, json_text.c_str(),
+                                                            static_cast<unsigned>(json_text.size()), base_dir);
   if (!ok) throw InputError(file, "", "cannot load glTF: " + (err.empty() ? warn : err));
   // tinygltf reports an unreadable image only as a warning; after check_resources any such
   // warning is unexpected, so it is an error too.
   if (warn.find("Failed to load external") != std::string::npos) throw InputError(file, "", warn);
   if (!warn.empty()) asset.warnings.push_back(warn);
+  for (const auto& [where, indices] : hidden.entries)
+    asset.model.meshes.at(where.first).primitives.at(where.second).indices = indices;
   return asset;
 }
 

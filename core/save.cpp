@@ -97,6 +97,33 @@ class FileNamer {
 
 }  // namespace
 
+Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin) {
+  // glTF 2.0 section 4.4: 12-byte header, JSON chunk padded with spaces, BIN chunk with zeros.
+  std::string json = json_text;
+  json.resize((json.size() + 3) & ~size_t{3}, ' ');
+  const size_t bin_padded = (bin.size() + 3) & ~size_t{3};
+  const size_t total = 12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin_padded);
+  if (total > 0xFFFFFFFFull) throw std::runtime_error("GLB over 4 GiB");
+  Bytes out;
+  out.reserve(total);
+  auto put_u32 = [&](std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  };
+  for (char c : {'g', 'l', 'T', 'F'}) out.push_back(static_cast<std::uint8_t>(c));
+  put_u32(2);
+  put_u32(static_cast<std::uint32_t>(total));
+  put_u32(static_cast<std::uint32_t>(json.size()));
+  put_u32(0x4E4F534A);
+  out.insert(out.end(), json.begin(), json.end());
+  if (!bin.empty()) {
+    put_u32(static_cast<std::uint32_t>(bin_padded));
+    put_u32(0x004E4942);
+    out.insert(out.end(), bin.begin(), bin.end());
+    out.resize(total, 0);
+  }
+  return out;
+}
+
 void save_asset(Asset& asset, const fs::path& output) {
   tinygltf::Model& model = asset.model;
   const bool to_glb = has_extension(output, ".glb");
@@ -168,27 +195,8 @@ void save_asset(Asset& asset, const fs::path& output) {
 
   Bytes main_file;
   if (to_glb) {
-    // glTF 2.0 section 4.4: 12-byte header, JSON chunk padded with spaces, BIN chunk with zeros.
-    std::string json = document.dump();
-    json.resize((json.size() + 3) & ~size_t{3}, ' ');
-    Bytes bin = model.buffers.empty() ? Bytes{} : model.buffers[0].data;
-    pad_to_4(bin);
-    auto put_u32 = [&](std::uint32_t v) {
-      for (int k = 0; k < 4; ++k) main_file.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-    };
-    const size_t total = 12 + 8 + json.size() + (bin.empty() ? 0 : 8 + bin.size());
-    if (total > 0xFFFFFFFFull) throw std::runtime_error("GLB output over 4 GiB: " + output.string());
-    main_file.insert(main_file.end(), {'g', 'l', 'T', 'F'});
-    put_u32(2);
-    put_u32(static_cast<std::uint32_t>(total));
-    put_u32(static_cast<std::uint32_t>(json.size()));
-    put_u32(0x4E4F534A);
-    main_file.insert(main_file.end(), json.begin(), json.end());
-    if (!bin.empty()) {
-      put_u32(static_cast<std::uint32_t>(bin.size()));
-      put_u32(0x004E4942);
-      main_file.insert(main_file.end(), bin.begin(), bin.end());
-    }
+    main_file = glb_bytes(document.dump(), model.buffers.empty() ? std::span<const std::uint8_t>{}
+                                                                : std::span<const std::uint8_t>(model.buffers[0].data));
   } else {
     const std::string json = document.dump(2) + "\n";
     main_file.assign(json.begin(), json.end());

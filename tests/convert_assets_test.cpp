@@ -1,1 +1,270 @@
+// Conversion of the real spec-gloss assets in ../shared/assets.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "converter/convert.hpp"
+#include "core/draco.hpp"
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::assets_dir;
+using test::ScratchDir;
+
+constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+
+// Every spec-gloss input: the eleven models, the GLB and the Draco variants.
+std::vector<fs::path> spec_gloss_inputs() {
+  std::vector<fs::path> inputs;
+  for (const auto& model : fs::directory_iterator(assets_dir()))
+    for (const char* variant : {"specgloss", "specgloss-glb-generated", "specgloss-draco-generated"})
+      if (fs::is_directory(model.path() / variant))
+        for (const auto& file : fs::directory_iterator(model.path() / variant))
+          if (file.path().extension() == ".gltf" || file.path().extension() == ".glb") inputs.push_back(file.path());
+  std::sort(inputs.begin(), inputs.end());
+  return inputs;
+}
+
+fs::path asset_file(const std::string& model, const std::string& variant = "specgloss") {
+  for (const auto& file : fs::directory_iterator(assets_dir() / model / variant))
+    if (file.path().extension() == ".gltf" || file.path().extension() == ".glb") return file.path();
+  ADD_FAILURE() << "no asset " << model << "/" << variant;
+  return {};
+}
+
+int count_spec_gloss_materials(const tinygltf::Model& model) {
+  int n = 0;
+  for (const auto& material : model.materials) n += material.extensions.count(kSpecGloss) ? 1 : 0;
+  return n;
+}
+
+bool lists(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The bytes an accessor's bufferView covers, for byte-identity checks across containers.
+std::vector<std::uint8_t> view_bytes(const tinygltf::Model& model, int view_index) {
+  const auto& view = model.bufferViews.at(static_cast<size_t>(view_index));
+  const auto& data = model.buffers.at(static_cast<size_t>(view.buffer)).data;
+  return {data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+          data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength)};
+}
+
+TEST(ConvertSharedAssets, FindsEveryInputVariant) {
+  const auto inputs = spec_gloss_inputs();
+  EXPECT_EQ(inputs.size(), 13u);  // 11 models + a GLB + a Draco variant
+}
+
+TEST(ConvertSharedAssets, EverySpecGlossAssetConvertsInBothTargetsAndReloadsWithoutSpecGloss) {
+  ScratchDir scratch;
+  for (const fs::path& input : spec_gloss_inputs()) {
+    for (Target target : {Target::Metalness, Target::Specular}) {
+      SCOPED_TRACE(input.string() + (target == Target::Metalness ? " metalness" : " specular"));
+      Asset asset = load_asset(input);
+      const int legacy_materials = count_spec_gloss_materials(asset.model);
+      ConvertOptions options;
+      options.target = target;
+      const ConversionReport report = convert(asset, options);
+      EXPECT_EQ(static_cast<int>(report.materials.size()), legacy_materials);
+      for (const MaterialReport& m : report.materials) {
+        EXPECT_TRUE(m.outcome == "metalness" || m.outcome == "specular") << m.index << " " << m.outcome;
+        for (double v : {m.error_a.diffuse.mean, m.error_a.diffuse.max, m.error_a.f0.max, m.error_b.f0.max})
+          EXPECT_TRUE(std::isfinite(v));
+        if (target == Target::Metalness) {
+          EXPECT_EQ(m.outcome, "metalness");
+        }
+      }
+      const fs::path output = scratch / (input.parent_path().parent_path().filename().string() +
+                                         (target == Target::Metalness ? "-m" : "-s")) / input.filename();
+      save_asset(asset, output);
+
+      const Asset converted = load_asset(output);
+      EXPECT_EQ(count_spec_gloss_materials(converted.model), 0);
+      EXPECT_FALSE(lists(converted.model.extensionsUsed, kSpecGloss));
+      EXPECT_FALSE(lists(converted.model.extensionsRequired, kSpecGloss));
+      bool uses_specular = false;
+      for (const auto& material : converted.model.materials) {
+        uses_specular = uses_specular || material.extensions.count("KHR_materials_specular");
+        for (double v : material.pbrMetallicRoughness.baseColorFactor) EXPECT_TRUE(std::isfinite(v));
+        EXPECT_TRUE(std::isfinite(material.pbrMetallicRoughness.metallicFactor));
+      }
+      EXPECT_EQ(lists(converted.model.extensionsUsed, "KHR_materials_specular"), uses_specular);
+      if (target == Target::Metalness) {
+        EXPECT_FALSE(uses_specular);
+      }
+    }
+  }
+}
+
+TEST(LazyWork, FactorOnlyAssetsDecodeNoImage) {
+  for (const char* model : {"Box", "BoxInterleaved", "RiggedSimple", "2CylinderEngine"}) {
+    Asset asset = load_asset(asset_file(model));
+    const long before = work_counters().images_decoded;
+    convert(asset);
+    EXPECT_EQ(work_counters().images_decoded - before, 0) << model;
+  }
+}
+
+TEST(LazyWork, DracoAssetDecodesNoMeshAndStaysCompressedByteForByte) {
+  ScratchDir scratch;
+  const fs::path input = asset_file("2CylinderEngine", "specgloss-draco-generated");
+  Asset asset = load_asset(input);
+  const long before = work_counters().meshes_decoded;
+  convert(asset);
+  save_asset(asset, scratch / "engine.gltf");
+  EXPECT_EQ(work_counters().meshes_decoded - before, 0);
+
+  const Asset original = load_asset(input), converted = load_asset(scratch / "engine.gltf");
+  EXPECT_TRUE(lists(converted.model.extensionsUsed, "KHR_draco_mesh_compression"));
+  ASSERT_EQ(converted.model.meshes.size(), original.model.meshes.size());
+  for (size_t m = 0; m < original.model.meshes.size(); ++m)
+    for (size_t p = 0; p < original.model.meshes[m].primitives.size(); ++p) {
+      const auto& before_ext = original.model.meshes[m].primitives[p].extensions.at("KHR_draco_mesh_compression");
+      const auto& after_ext = converted.model.meshes[m].primitives[p].extensions.at("KHR_draco_mesh_compression");
+      EXPECT_EQ(view_bytes(converted.model, after_ext.Get("bufferView").GetNumberAsInt()),
+                view_bytes(original.model, before_ext.Get("bufferView").GetNumberAsInt()));
+    }
+}
+
+TEST(Draco, DecodesTheSharedDracoMeshOnDemandAndCountsIt) {
+  const Asset asset = load_asset(asset_file("2CylinderEngine", "specgloss-draco-generated"));
+  const long before = work_counters().meshes_decoded;
+  const DecodedPrimitive primitive = decode_draco_primitive(asset, 0, 0);
+  EXPECT_EQ(work_counters().meshes_decoded - before, 1);
+  EXPECT_EQ(primitive.indices.size() % 3, 0u);
+  ASSERT_TRUE(primitive.attributes.count("POSITION"));
+  const auto& accessor = asset.model.accessors.at(static_cast<size_t>(asset.model.meshes[0].primitives[0].attributes.at("POSITION")));
+  EXPECT_EQ(primitive.attributes.at("POSITION").size(), accessor.count * 3);
+}
+
+TEST(Untouched, BuffersAndUntouchedImagesAreWrittenByteForByte) {
+  ScratchDir scratch;
+  const fs::path input = asset_file("Avocado");
+  Asset asset = load_asset(input);
+  convert(asset);
+  save_asset(asset, scratch / "Avocado.gltf");
+  EXPECT_EQ(read_file(scratch / "Avocado.bin"), read_file(input.parent_path() / "Avocado.bin"));
+  EXPECT_EQ(read_file(scratch / "Avocado_normal.png"), read_file(input.parent_path() / "Avocado_normal.png"));
+}
+
+TEST(Untouched, GlbMeshDataKeepsItsBytes) {
+  ScratchDir scratch;
+  const fs::path input = asset_file("CesiumMilkTruck", "specgloss-glb-generated");
+  Asset asset = load_asset(input);
+  convert(asset);
+  save_asset(asset, scratch / "truck.glb");
+  const Asset original = load_asset(input), converted = load_asset(scratch / "truck.glb");
+  ASSERT_EQ(converted.model.accessors.size(), original.model.accessors.size());
+  for (size_t i = 0; i < original.model.accessors.size(); ++i)
+    EXPECT_EQ(view_bytes(converted.model, converted.model.accessors[i].bufferView),
+              view_bytes(original.model, original.model.accessors[i].bufferView)) << "accessor " << i;
+}
+
+TEST(Idempotence, ConvertingAConvertedFileChangesNothing) {
+  ScratchDir scratch;
+  for (const char* model : {"Duck", "Box", "VC"}) {
+    Asset first = load_asset(asset_file(model));
+    convert(first);
+    const fs::path once = scratch / model / "once.gltf";
+    save_asset(first, once);
+    Asset again = load_asset(once);
+    const ConversionReport report = convert(again);
+    EXPECT_FALSE(report.changed()) << model;
+    copy_asset_verbatim(again, scratch / (std::string(model) + "-twice") / "twice.gltf");
+    EXPECT_EQ(read_file(scratch / (std::string(model) + "-twice") / "twice.gltf"), read_file(once)) << model;
+  }
+}
+
+TEST(Sharing, IdenticalInputsShareOneOutputTexture) {
+  Asset asset = load_asset(asset_file("Duck"));
+  asset.model.materials.push_back(asset.model.materials[0]);  // a second material, same inputs
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 2u);
+  const auto& a = asset.model.materials[0].pbrMetallicRoughness;
+  const auto& b = asset.model.materials[1].pbrMetallicRoughness;
+  EXPECT_EQ(a.baseColorTexture.index, b.baseColorTexture.index);
+  EXPECT_EQ(a.metallicRoughnessTexture.index, b.metallicRoughnessTexture.index);
+  EXPECT_LE(report.textures_baked, 2);
+}
+
+TEST(Fallback, AuthorsOldMetalRoughTexturesAreDroppedWhenUnused) {
+  ScratchDir scratch;
+  Asset asset = load_asset(asset_file("Avocado"));
+  const ConversionReport report = convert(asset);
+  save_asset(asset, scratch / "Avocado.gltf");
+  EXPECT_GE(report.images_removed, 2);
+  EXPECT_FALSE(fs::exists(scratch / "Avocado_baseColor.png"));
+  EXPECT_FALSE(fs::exists(scratch / "Avocado_roughnessMetallic.png"));
+  for (const auto& image : load_asset(scratch / "Avocado.gltf").model.images)
+    EXPECT_TRUE(image.uri.find("roughnessMetallic") == std::string::npos) << image.uri;
+}
+
+TEST(ExtensionLists, DeclaredButUnusedSpecGlossIsRemoved) {
+  Asset asset = load_asset(asset_file("BoxInterleaved"));
+  ASSERT_TRUE(lists(asset.model.extensionsRequired, kSpecGloss));
+  const ConversionReport report = convert(asset);
+  EXPECT_TRUE(report.changed());
+  EXPECT_FALSE(lists(asset.model.extensionsUsed, kSpecGloss));
+  EXPECT_FALSE(lists(asset.model.extensionsRequired, kSpecGloss));
+}
+
+TEST(SpecularTarget, AddsExtensionsOnlyToMaterialsThatNeedThem) {
+  Asset asset = load_asset(asset_file("2CylinderEngine"));
+  ConvertOptions options;
+  options.target = Target::Specular;
+  const ConversionReport report = convert(asset, options);
+  int specular = 0, metalness = 0;
+  for (const MaterialReport& m : report.materials) {
+    const auto& material = asset.model.materials[static_cast<size_t>(m.index)];
+    const bool has = material.extensions.count("KHR_materials_specular") > 0;
+    EXPECT_EQ(has, m.outcome == "specular") << m.index;
+    EXPECT_EQ(material.extensions.count("KHR_materials_ior") > 0, has) << m.index;
+    (has ? specular : metalness)++;
+  }
+  EXPECT_GT(specular, 0);   // coloured specular 0.8 on diffuse 0.85 cannot fit metalness
+  EXPECT_GT(metalness, 0);  // the plain ones can
+}
+
+TEST(TextureMapping, DifferentTexCoordSetsLeaveTheMaterialLegacyWithAWarning) {
+  Asset asset = load_asset(asset_file("Avocado"));
+  auto& extension = asset.model.materials[0].extensions.at(kSpecGloss);
+  tinygltf::Value::Object object = extension.Get<tinygltf::Value::Object>();
+  tinygltf::Value::Object diffuse = object.at("diffuseTexture").Get<tinygltf::Value::Object>();
+  diffuse["texCoord"] = tinygltf::Value(1);
+  object["diffuseTexture"] = tinygltf::Value(diffuse);
+  extension = tinygltf::Value(object);
+  const long before = work_counters().images_decoded;
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].outcome, "legacy");
+  EXPECT_FALSE(report.warnings.empty());
+  EXPECT_TRUE(asset.model.materials[0].extensions.count(kSpecGloss));
+  EXPECT_TRUE(lists(asset.model.extensionsUsed, kSpecGloss));
+  EXPECT_EQ(work_counters().images_decoded - before, 0);
+}
+
+TEST(Report, FactorOnlyMaterialsReportOneTexelAndTheirError) {
+  Asset asset = load_asset(asset_file("2CylinderEngine"));
+  const ConversionReport report = convert(asset);
+  ASSERT_FALSE(report.materials.empty());
+  for (const MaterialReport& m : report.materials) {
+    EXPECT_EQ(m.texels, 1);
+    EXPECT_EQ(m.error_samples, 1u);
+  }
+}
+
+TEST(Report, TexturedMaterialsReportTexelsAndSampledError) {
+  Asset asset = load_asset(asset_file("Avocado"));
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].texels, 2048LL * 2048);
+  EXPECT_GE(report.materials[0].error_samples, 65536u);
+  EXPECT_GT(report.materials[0].times.solve_ms, 0.0);
+  EXPECT_EQ(report.images_decoded, 2);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
