@@ -6,7 +6,9 @@ namespace gltf_pbr::cli {
 
 enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2 };
 
-// Registers `convert` on the app; the returned callback runs it after parsing.
+// Each registers a subcommand; the returned callback runs it after parsing, or returns -1 when
+// another subcommand was given.
 std::function<int()> add_convert_command(CLI::App& app);
+std::function<int()> add_compare_command(CLI::App& app);
 
 }  // namespace gltf_pbr::cli

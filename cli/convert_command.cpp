@@ -204,7 +204,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
   return [cmd, args]() -> int {
-    if (!cmd->parsed()) return kBadUsage;
+    if (!cmd->parsed()) return -1;
     try {
       return run(*args);
     } catch (const CLI::ValidationError& e) {

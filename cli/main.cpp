@@ -10,11 +10,15 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "gltf-pbr 0.1.0");
   app.require_subcommand(1);
   const auto run_convert = gltf_pbr::cli::add_convert_command(app);
+  const auto run_compare = gltf_pbr::cli::add_compare_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
   }
-  return run_convert();
+  // Each runner returns -1 unless its subcommand was the one given.
+  for (const auto& run : {run_convert, run_compare})
+    if (const int code = run(); code >= 0) return code;
+  return gltf_pbr::cli::kBadUsage;
 }

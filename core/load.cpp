@@ -62,6 +62,62 @@ GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
   return chunks;
 }
 
+// The JSON pointer (RFC 6901) of the value a SAX parse failed on. nlohmann refuses a number
+// too large for a double (1e999, which would read as Inf) without saying where it is.
+class FailurePointer : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  std::string pointer, token;
+  bool null() override { return next_value(); }
+  bool boolean(bool) override { return next_value(); }
+  bool number_integer(number_integer_t) override { return next_value(); }
+  bool number_unsigned(number_unsigned_t) override { return next_value(); }
+  bool number_float(number_float_t, const string_t&) override { return next_value(); }
+  bool string(string_t&) override { return next_value(); }
+  bool binary(binary_t&) override { return next_value(); }
+  bool start_object(std::size_t) override { return open(false); }
+  bool key(string_t& name) override {
+    levels_.back().key = name;
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(true); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t, const std::string& last_token, const nlohmann::json::exception&) override {
+    next_value();  // the value that failed is the next one in its container
+    for (const Level& level : levels_) {
+      pointer += "/";
+      if (level.array) {
+        pointer += std::to_string(level.index);
+        continue;
+      }
+      for (char c : level.key) pointer += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+    }
+    token = last_token;
+    return false;
+  }
+
+ private:
+  struct Level {
+    bool array;
+    long index;
+    std::string key;
+  };
+  bool next_value() {
+    if (!levels_.empty() && levels_.back().array) ++levels_.back().index;
+    return true;
+  }
+  bool open(bool array) {
+    next_value();
+    levels_.push_back({array, -1, {}});
+    return true;
+  }
+  bool close() {
+    levels_.pop_back();
+    return true;
+  }
+  std::vector<Level> levels_;
+};
+
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
 // of buffers and images, and that the JSON parses at all.
 nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin, const LoadOptions& options) {
@@ -70,7 +126,15 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
   try {
     root = nlohmann::json::parse(json_text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(file, "byte " + std::to_string(e.byte), std::string("malformed JSON: ") + e.what());
+    // nlohmann counts from 1 within the JSON text; the pointer is a 0-based file offset, as for
+    // GLB header errors, so a GLB's JSON starts at byte 20 (glTF 2.0 section 4.4).
+    const size_t offset = (asset.binary ? 20 : 0) + (e.byte > 0 ? e.byte - 1 : 0);
+    throw InputError(file, "byte " + std::to_string(offset), std::string("malformed JSON: ") + e.what());
+  } catch (const nlohmann::json::out_of_range& e) {
+    // JSON cannot hold NaN or Inf, but 1e999 overflows to Inf: refused here, naming its pointer.
+    FailurePointer failure;
+    nlohmann::json::sax_parse(json_text, &failure);
+    throw InputError(file, failure.pointer, "number " + failure.token + " is out of range: not finite");
   }
   if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
   const fs::path folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
@@ -140,6 +204,17 @@ bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*,
   return true;
 }
 
+// tinygltf joins every URI to the base folder, absolute ones too ("/base" + "/" + "/abs"); this
+// undoes that, so that an allowed absolute URI reads the file it names.
+std::string expand_file_path(const std::string& joined, void* user) {
+  const auto* context = static_cast<const LoaderContext*>(user);
+  std::string prefix = context->folder.string();
+  if (prefix.empty() || prefix.back() != '/') prefix += '/';
+  if (joined.size() > prefix.size() && joined.compare(0, prefix.size(), prefix) == 0 && joined[prefix.size()] == '/')
+    return joined.substr(prefix.size());
+  return joined;
+}
+
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   const auto* context = static_cast<const LoaderContext*>(user);
   // Defence in depth: check_resources already refused these, but never read outside the folder.
@@ -185,7 +260,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded, nullptr);
-  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_whole_file,
+  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &expand_file_path, &read_whole_file,
                                   &tinygltf::WriteWholeFile, &context};
   loader.SetFsCallbacks(callbacks);
   std::string err, warn;

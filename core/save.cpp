@@ -18,6 +18,12 @@ bool has_extension(const fs::path& path, const char* extension) {
   return actual == extension;
 }
 
+// An absolute path, or a relative one that climbs out of its folder ("../x", "a/../../x").
+bool leaves_folder(const fs::path& relative) {
+  const fs::path normal = relative.lexically_normal();
+  return normal.is_absolute() || (!normal.empty() && *normal.begin() == "..");
+}
+
 void pad_to_4(Bytes& bytes) { bytes.resize((bytes.size() + 3) & ~size_t{3}, 0); }
 
 // Appends bytes to buffer 0 as a new bufferView and returns its index.
@@ -158,7 +164,11 @@ void save_asset(Asset& asset, const fs::path& output) {
         names.reserve(percent_decode(uri));
         return uri;
       }
-      const std::string name = names.claim(uri.empty() ? fallback : percent_decode(uri));
+      std::string wanted = uri.empty() ? fallback : percent_decode(uri);
+      // A resource read from outside the input's folder (--allow-outside-uris) is written beside
+      // the output under its file name, never outside the output's folder.
+      if (leaves_folder(wanted)) wanted = fs::path(wanted).filename().empty() ? fallback : fs::path(wanted).filename().string();
+      const std::string name = names.claim(wanted);
       files.stage(folder / name, bytes);
       return uri.empty() || name != percent_decode(uri) ? name : uri;
     };
@@ -212,6 +222,15 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
   const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
   const fs::path input_folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
   if (!asset.binary && fs::weakly_canonical(folder) != fs::weakly_canonical(input_folder)) {
+    // A resource outside the input's folder (--allow-outside-uris) cannot keep its URI in a copy
+    // elsewhere: save_asset writes it beside the output and rewrites the URI instead.
+    auto outside = [](const std::string& uri) { return !uri.empty() && !is_data_uri(uri) && leaves_folder(percent_decode(uri)); };
+    if (std::any_of(asset.model.buffers.begin(), asset.model.buffers.end(), [&](const auto& b) { return outside(b.uri); }) ||
+        std::any_of(asset.model.images.begin(), asset.model.images.end(), [&](const auto& i) { return outside(i.uri); })) {
+      Asset copy = asset;
+      save_asset(copy, output);
+      return;
+    }
     auto copy = [&](const std::string& uri) {
       if (uri.empty() || is_data_uri(uri)) return;
       const std::string relative = percent_decode(uri);

@@ -1,0 +1,29 @@
+// How far a converted asset (ours or anyone's) is from its legacy spec-gloss original, as a viewer
+// would see it: the error model of solver.hpp evaluated on a UV grid of each material.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "converter/error_stats.hpp"
+#include "core/asset.hpp"
+
+namespace gltf_pbr {
+
+enum class Viewer {
+  CoreOnly,  // baseColor, metallic and roughness only (KHR_materials_specular / _ior ignored)
+  Full,      // also KHR_materials_specular and KHR_materials_ior
+};
+
+struct MaterialComparison {
+  int index = -1;
+  std::string name;
+  size_t samples = 0;
+  ReflectanceError error;  // converted against legacy reading A
+};
+
+// Compares every material of `legacy` that has spec-gloss with the material of the same index in
+// `converted`, sampling both on a grid x grid lattice of UVs (nearest texel of each texture; both
+// sides must use the same texture coordinates, as conversions do). Factor-only pairs take one sample.
+std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer, int grid = 256);
+
+}  // namespace gltf_pbr

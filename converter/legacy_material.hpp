@@ -1,0 +1,24 @@
+// The legacy KHR_materials_pbrSpecularGlossiness material as read from a document, checked.
+#pragma once
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <optional>
+
+#include "core/asset.hpp"
+
+namespace gltf_pbr {
+
+constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+
+struct LegacyMaterial {
+  glm::vec4 diffuse_factor{1.0f};
+  glm::vec3 specular_factor{1.0f};
+  float glossiness_factor = 1.0f;
+  std::optional<tinygltf::TextureInfo> diffuse_texture, spec_gloss_texture;
+};
+
+// Reads and checks the extension object of material `index`. Throws InputError naming the JSON
+// pointer for non-finite factors, wrong shapes, and textures or images that do not exist.
+LegacyMaterial read_legacy_material(const Asset& asset, int index, const tinygltf::Value& extension);
+
+}  // namespace gltf_pbr

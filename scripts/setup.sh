@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The README's two set-up commands, for a fresh Debian 12 machine as root (or with sudo):
+#   bash scripts/setup.sh demo   installs what is missing, builds, converts the generated samples
+#   bash scripts/setup.sh test   installs what is missing, builds (plain and ASan+UBSan), runs every test
+set -euo pipefail
+mode=${1:-}
+case "$mode" in demo|test) ;; *) echo "usage: bash scripts/setup.sh demo|test" >&2; exit 2 ;; esac
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev libdraco-dev libopenimageio-dev
+          libglm-dev libcli11-dev libgtest-dev)
+# The tests check converted files with the Khronos validator from npm; keep an existing node.
+if [ "$mode" = test ] && ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
+missing=()
+for p in "${packages[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p"); done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "installing: ${missing[*]}" >&2
+  $sudo apt-get update -qq
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+build() {  # build DIR [cmake options...]
+  local dir=$1
+  shift
+  cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+  cmake --build "$dir" -j "$jobs"
+}
+
+if [ "$mode" = demo ]; then
+  build build -DCMAKE_BUILD_TYPE=Release -DGLTF_PBR_TESTS=OFF
+  ./build/gltf-pbr convert build/samples -o out --report out/samples-report.json -v
+  echo "converted samples in out/samples, report in out/samples-report.json" >&2
+else
+  build build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLTF_PBR_TESTS=ON
+  ctest --test-dir build --output-on-failure -j "$jobs"
+  # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+  build build-sanitize -DCMAKE_BUILD_TYPE=Debug -DGLTF_PBR_SANITIZE=ON -DGLTF_PBR_TESTS=ON
+  ASAN_OPTIONS=detect_leaks=1 ctest --test-dir build-sanitize --output-on-failure -j "$jobs"
+fi
