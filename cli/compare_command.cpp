@@ -1,10 +1,10 @@
 // `gltf-pbr compare`: the error a viewer sees in a converted asset against its legacy original.
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "converter/evaluate.hpp"
 #include "core/error.hpp"
-#include <nlohmann/json.hpp>
 
 namespace gltf_pbr::cli {
 namespace {
@@ -19,20 +19,24 @@ nlohmann::json stats(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.
 int run(const CompareArgs& args) {
   try {
     const Asset legacy = load_asset(args.legacy), converted = load_asset(args.converted);
-    const auto materials = compare_conversion(legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly, args.grid);
+    const auto materials =
+        compare_conversion(legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly, args.grid);
     nlohmann::json out = {{"legacy", args.legacy}, {"converted", args.converted}, {"viewer", args.viewer}};
     nlohmann::json list = nlohmann::json::array();
     double sum_mean = 0, worst = 0;
     for (const auto& m : materials) {
-      list.push_back({{"index", m.index}, {"name", m.name}, {"samples", m.samples},
+      list.push_back({{"index", m.index},
+                      {"name", m.name},
+                      {"samples", m.samples},
                       {"deltaE2000", {{"diffuse", stats(m.error.diffuse)}, {"f0", stats(m.error.f0)}}}});
       sum_mean += 0.5 * (m.error.diffuse.mean + m.error.f0.mean);
       worst = std::max(worst, m.error.worst());
     }
     out["materials"] = list;
-    out["summary"] = {{"materials", materials.size()},
-                      {"meanOfMaterialMeans", materials.empty() ? 0.0 : sum_mean / static_cast<double>(materials.size())},
-                      {"worst", worst}};
+    out["summary"] = {
+        {"materials", materials.size()},
+        {"meanOfMaterialMeans", materials.empty() ? 0.0 : sum_mean / static_cast<double>(materials.size())},
+        {"worst", worst}};
     std::printf("%s\n", out.dump(2).c_str());
     return kAllDone;
   } catch (const std::exception& e) {
@@ -56,7 +60,9 @@ std::function<int()> add_compare_command(CLI::App& app) {
                   "core: baseColor/metallic/roughness only; full: also KHR_materials_specular and KHR_materials_ior")
       ->check(CLI::IsMember({"core", "full"}))
       ->capture_default_str();
-  cmd->add_option("--grid", args->grid, "UV samples per side for textured materials")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--grid", args->grid, "UV samples per side for textured materials")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
   return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
 }
 

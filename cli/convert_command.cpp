@@ -21,6 +21,7 @@ struct ConvertArgs {
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   double specular_tolerance = 2.0;
   int png_compression = 3;
+  int jpeg_quality = 90;
   size_t error_samples = 1u << 16;
 };
 
@@ -44,8 +45,9 @@ std::vector<Job> plan_jobs(const ConvertArgs& args) {
       for (const auto& entry : fs::recursive_directory_iterator(input, ec))
         if (entry.is_regular_file() && is_gltf_file(entry.path())) found.push_back(entry.path());
       std::sort(found.begin(), found.end());
-      for (const auto& f : found) files.emplace_back(f, input.filename().empty() ? f.lexically_relative(input)
-                                                                                 : input.filename() / f.lexically_relative(input));
+      for (const auto& f : found)
+        files.emplace_back(
+            f, input.filename().empty() ? f.lexically_relative(input) : input.filename() / f.lexically_relative(input));
     } else if (fs::is_regular_file(input, ec)) {
       files.emplace_back(input, input.filename());
     } else {
@@ -54,7 +56,8 @@ std::vector<Job> plan_jobs(const ConvertArgs& args) {
   }
   if (files.empty()) throw CLI::ValidationError("input", "no .gltf or .glb files found");
   const fs::path output = args.output;
-  const bool single_file_output = files.size() == 1 && !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  const bool single_file_output =
+      files.size() == 1 && !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
   std::vector<Job> jobs;
   for (auto& [file, relative] : files) {
     fs::path target;
@@ -91,7 +94,9 @@ class Progress {
 
 FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOptions& options) {
   using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   FileResult result{job.input.string(), job.output.string(), "failed", std::nullopt, "", {}, 0, 0, 0};
   const auto start = Clock::now();
   try {
@@ -134,6 +139,7 @@ int run(const ConvertArgs& args) {
   options.solver = solver_preset(args.solver.c_str());
   options.specular_tolerance = args.specular_tolerance;
   options.png_compression = args.png_compression;
+  options.jpeg_quality = args.jpeg_quality;
   options.max_error_samples = args.error_samples;
   const std::vector<Job> jobs = plan_jobs(args);
 
@@ -150,7 +156,8 @@ int run(const ConvertArgs& args) {
   for (unsigned t = 0; t < std::min<size_t>(args.jobs, jobs.size()); ++t) threads.emplace_back(worker);
   for (auto& thread : threads) thread.join();
 
-  const auto failed = std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
+  const auto failed =
+      std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
   if (!args.report.empty()) {
     const std::string text = run_json(results, options, args.solver).dump(2) + "\n";
     AtomicWriteSet files;
@@ -167,22 +174,23 @@ int run(const ConvertArgs& args) {
 
 std::function<int()> add_convert_command(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "convert",
-      "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
-      "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
-      "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
-      "(unless --in-place); every output is written to a temporary file and renamed.\n"
-      "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
+  CLI::App* cmd =
+      app.add_subcommand("convert",
+                         "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
+                         "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
+                         "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
+                         "(unless --in-place); every output is written to a temporary file and renamed.\n"
+                         "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
   cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
   cmd->add_option("-o,--output", args->output,
                   "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs)");
   cmd->add_option("--format", args->format, "output format for directory outputs (default: as the input)")
       ->check(CLI::IsMember({"gltf", "glb"}));
   cmd->add_flag("--in-place", args->in_place, "replace each input with its conversion (atomically)");
-  cmd->add_option("--target", args->target,
-                  "metalness: core glTF only; specular: add KHR_materials_specular + KHR_materials_ior to the materials "
-                  "whose metalness fit misses by more than --specular-tolerance")
+  cmd->add_option(
+         "--target", args->target,
+         "metalness: core glTF only; specular: add KHR_materials_specular + KHR_materials_ior to the materials "
+         "whose metalness fit misses by more than --specular-tolerance")
       ->check(CLI::IsMember({"metalness", "specular"}))
       ->capture_default_str();
   cmd->add_option("--solver", args->solver,
@@ -194,11 +202,16 @@ std::function<int()> add_convert_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
-  cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
-  cmd->add_option("--error-samples", args->error_samples, "texels sampled per texture for the error statistics (0: all)")
+  cmd->add_option("--jpeg-quality", args->jpeg_quality, "quality 1-100 of base colours baked from JPEG diffuse textures")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--error-samples", args->error_samples,
+                  "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");

@@ -41,9 +41,9 @@ json file_json(const FileResult& r) {
   }
   const ConversionReport& c = r.report;
   out["materials"] = materials;
-  out["textures"] = {{"baked", c.textures_baked}, {"reused", c.textures_reused}, {"shared", c.textures_shared},
-                     {"texturesRemoved", c.textures_removed}, {"imagesRemoved", c.images_removed},
-                     {"samplersRemoved", c.samplers_removed}};
+  out["textures"] = {{"baked", c.textures_baked},         {"reused", c.textures_reused},
+                     {"shared", c.textures_shared},       {"texturesRemoved", c.textures_removed},
+                     {"imagesRemoved", c.images_removed}, {"samplersRemoved", c.samplers_removed}};
   out["imagesDecoded"] = c.images_decoded;
   out["timeMs"] = {{"load", r.load_ms}, {"convert", times_json(c.times)}, {"save", r.save_ms}, {"total", r.total_ms}};
   out["warnings"] = c.warnings;
@@ -67,15 +67,23 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
   return {{"tool", "gltf-pbr"},
           {"version", "0.1.0"},
           {"target", options.target == Target::Metalness ? "metalness" : "specular"},
-          {"solver", {{"name", solver_name}, {"gridSteps", options.solver.grid_steps},
-                      {"refineIterations", options.solver.refine_iterations}}},
+          {"solver",
+           {{"name", solver_name},
+            {"gridSteps", options.solver.grid_steps},
+            {"refineIterations", options.solver.refine_iterations}}},
           {"errorModel",
            "CIEDE2000 between legacy and converted reflectance at normal incidence, per texel (linear sRGB, D65): "
            "diffuse weight and F0. Legacy reading A: c_diff = diffuse*(1-max(specular)); reading B also weights "
            "by (1-specular). Core: diffuse = base*(1-m)*0.96, F0 = mix(0.04, base, m) (glTF 2.0 Appendix B)."},
           {"files", files},
-          {"totals", {{"files", results.size()}, {"converted", converted}, {"copied", copied}, {"failed", failed},
-                      {"materials", materials}, {"texels", texels}, {"timeMs", total_ms}}}};
+          {"totals",
+           {{"files", results.size()},
+            {"converted", converted},
+            {"copied", copied},
+            {"failed", failed},
+            {"materials", materials},
+            {"texels", texels},
+            {"timeMs", total_ms}}}};
 }
 
 std::string file_summary(const FileResult& r, bool verbose) {
@@ -92,8 +100,8 @@ std::string file_summary(const FileResult& r, bool verbose) {
     worst = std::max(worst, m.error_a.worst());
     if (!verbose && m.outcome == "metalness") continue;
     out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + m.name + "' ") + m.outcome +
-           format(": texels %.0f, ΔE2000 diffuse mean %.2f max %.2f", static_cast<double>(m.texels), m.error_a.diffuse.mean,
-                  m.error_a.diffuse.max) +
+           format(": texels %.0f, ΔE2000 diffuse mean %.2f max %.2f", static_cast<double>(m.texels),
+                  m.error_a.diffuse.mean, m.error_a.diffuse.max) +
            format(", F0 mean %.2f max %.2f, %.1f ms", m.error_a.f0.mean, m.error_a.f0.max, m.times.total()) +
            (m.note.empty() ? "" : " (" + m.note + ")") + "\n";
   }

@@ -19,7 +19,8 @@ struct FileResult {
 };
 
 nlohmann::json file_json(const FileResult& result);
-nlohmann::json run_json(const std::vector<FileResult>& results, const ConvertOptions& options, const std::string& solver_name);
+nlohmann::json run_json(const std::vector<FileResult>& results, const ConvertOptions& options,
+                        const std::string& solver_name);
 std::string file_summary(const FileResult& result, bool verbose);
 
 }  // namespace gltf_pbr::cli

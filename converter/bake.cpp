@@ -1,13 +1,13 @@
 #include "converter/bake.hpp"
 
-#include "core/parallel.hpp"
-
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <thread>
 
 #include "core/color.hpp"
+#include "core/parallel.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -28,33 +28,58 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
 
 // The solve depends only on diffuse and specular (roughness is 1 - glossiness), and textures
 // repeat those pairs a lot: a direct-mapped cache of recent solves, keyed by the exact input bits,
-// skips most of the work without changing any result.
+// skips most of the work without changing any result. The ΔE2000 of the stored (quantized) result
+// against both legacy readings depends on the same inputs, so it is cached too.
 class SolveCache {
  public:
-  explicit SolveCache(const SolverSettings& settings) : settings_(settings), entries_(kSize) {}
-  glm::vec4 solve(const SpecGloss& legacy) {
-    Key key;
-    std::memcpy(key.bits, &legacy.diffuse, sizeof(float) * 3);
-    std::memcpy(key.bits + 3, &legacy.specular, sizeof(float) * 3);
+  struct Entry {
+    std::uint32_t key[6];
+    std::uint8_t base_srgb[3];
+    std::uint8_t metalness;
+    float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
+    bool filled = false, has_error = false;
+  };
+
+  // Sized to the texels it will see (a power of two up to 65536 entries, about 3 MB).
+  SolveCache(const SolverSettings& settings, size_t texels)
+      : settings_(settings), entries_(std::bit_ceil(std::clamp<size_t>(texels, 256, 65536))) {}
+
+  Entry& solve(const SpecGloss& legacy) {
+    std::uint32_t key[6];
+    std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
+    std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
     std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
-    for (std::uint32_t word : key.bits) hash = (hash ^ word) * 1099511628211ull;
-    Entry& entry = entries_[(hash ^ (hash >> 29)) & (kSize - 1)];
-    if (entry.filled && std::memcmp(entry.key.bits, key.bits, sizeof key.bits) == 0) return entry.result;
+    for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
+    Entry& entry = entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
+    if (entry.filled && std::memcmp(entry.key, key, sizeof key) == 0) return entry;
     const MetalRough r = gltf_pbr::solve(legacy, settings_);
-    entry = {key, glm::vec4(r.base, r.metalness), true};
-    return entry.result;
+    std::memcpy(entry.key, key, sizeof key);
+    for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
+    entry.metalness = quantize(r.metalness);
+    entry.filled = true;
+    entry.has_error = false;
+    return entry;
+  }
+
+  // The error of what is stored: the quantized texels, read back as a viewer reads them.
+  static const float* error(Entry& entry, const SpecGloss& legacy) {
+    if (!entry.has_error) {
+      MetalRough stored;
+      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(entry.base_srgb[c]);
+      stored.metalness = static_cast<float>(entry.metalness) / 255.0f;
+      const Reflectance converted = core_reflectance(stored);
+      ErrorAccumulator a, b;
+      a.add(legacy_reflectance(legacy, LegacyReading::A), converted);
+      b.add(legacy_reflectance(legacy, LegacyReading::B), converted);
+      const ReflectanceError ea = a.finish(), eb = b.finish();
+      entry.delta_e[0] = static_cast<float>(ea.diffuse.max), entry.delta_e[1] = static_cast<float>(ea.f0.max);
+      entry.delta_e[2] = static_cast<float>(eb.diffuse.max), entry.delta_e[3] = static_cast<float>(eb.f0.max);
+      entry.has_error = true;
+    }
+    return entry.delta_e;
   }
 
  private:
-  static constexpr size_t kSize = 1u << 16;
-  struct Key {
-    std::uint32_t bits[6];
-  };
-  struct Entry {
-    Key key;
-    glm::vec4 result;
-    bool filled = false;
-  };
   const SolverSettings& settings_;
   std::vector<Entry> entries_;
 };
@@ -82,51 +107,47 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
 
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   parallel_for(0, threads, [&](std::int64_t thread) {
-   SolveCache cache(settings);
-   for (std::int64_t y = in.height * thread / threads, last = in.height * (thread + 1) / threads; y < last; ++y) {
-    for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width),
-                end = i + static_cast<size_t>(in.width); i < end; ++i) {
-      SpecGloss legacy;
-      float alpha = in.diffuse_factor.a;
-      legacy.diffuse = glm::vec3(in.diffuse_factor);
-      if (in.diffuse) {
-        for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
-        alpha *= channel(*in.diffuse, i, 3, false);
-      }
-      legacy.specular = in.specular_factor;
-      legacy.glossiness = in.glossiness_factor;
-      if (in.spec_gloss) {
-        for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
-        legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
-      }
-      const glm::vec4 solved = cache.solve(legacy);
-      const MetalRough core{glm::vec3(solved), solved.w, std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f)};
-      for (int c = 0; c < 3; ++c) out.base_color[i * 4 + static_cast<size_t>(c)] = quantize(linear_to_srgb(core.base[c]));
-      out.base_color[i * 4 + 3] = quantize(alpha);
-      out.metal_rough[i * 3 + 0] = 0;
-      out.metal_rough[i * 3 + 1] = quantize(core.roughness);
-      out.metal_rough[i * 3 + 2] = quantize(core.metalness);
-      if (i % stride == 0) {
-        // The error of what is stored: the quantized texels, read back as a viewer reads them.
-        MetalRough stored;
-        for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(out.base_color[i * 4 + static_cast<size_t>(c)]);
-        stored.metalness = static_cast<float>(out.metal_rough[i * 3 + 2]) / 255.0f;
-        const Reflectance converted = core_reflectance(stored);
-        rows_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), converted);
-        rows_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), converted);
+    SolveCache cache(settings, texels / static_cast<size_t>(threads));
+    for (std::int64_t y = in.height * thread / threads, last = in.height * (thread + 1) / threads; y < last; ++y) {
+      for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width), end = i + static_cast<size_t>(in.width);
+           i < end; ++i) {
+        SpecGloss legacy;
+        float alpha = in.diffuse_factor.a;
+        legacy.diffuse = glm::vec3(in.diffuse_factor);
+        if (in.diffuse) {
+          for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
+          alpha *= channel(*in.diffuse, i, 3, false);
+        }
+        legacy.specular = in.specular_factor;
+        legacy.glossiness = in.glossiness_factor;
+        if (in.spec_gloss) {
+          for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
+          legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
+        }
+        SolveCache::Entry& solved = cache.solve(legacy);
+        std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
+        out.base_color[i * 4 + 3] = quantize(alpha);
+        out.metal_rough[i * 3 + 0] = 0;
+        out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
+        out.metal_rough[i * 3 + 2] = solved.metalness;
+        if (i % stride == 0) {
+          const float* delta_e = SolveCache::error(solved, legacy);
+          rows_a[static_cast<size_t>(y)].add(delta_e[0], delta_e[1]);
+          rows_b[static_cast<size_t>(y)].add(delta_e[2], delta_e[3]);
+        }
       }
     }
-   }
   });
   for (size_t y = 0; y < rows_a.size(); ++y) {
     out.error_a.merge(rows_a[y]);
     out.error_b.merge(rows_b[y]);
   }
   for (size_t i = 1; i < texels; ++i) {
-    out.base_constant = out.base_constant && std::equal(&out.base_color[i * 4], &out.base_color[i * 4 + 3], &out.base_color[0]);
+    out.base_constant =
+        out.base_constant && std::equal(&out.base_color[i * 4], &out.base_color[i * 4 + 3], &out.base_color[0]);
     out.alpha_constant = out.alpha_constant && out.base_color[i * 4 + 3] == out.base_color[3];
-    out.metal_rough_constant =
-        out.metal_rough_constant && std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
+    out.metal_rough_constant = out.metal_rough_constant &&
+                               std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
   }
   return out;
 }

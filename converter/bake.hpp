@@ -15,15 +15,15 @@ struct BakeInputs {
   glm::vec4 diffuse_factor{1.0f};
   glm::vec3 specular_factor{1.0f};
   float glossiness_factor = 1.0f;
-  int width = 1, height = 1;           // the larger input resolution
+  int width = 1, height = 1;  // the larger input resolution
 };
 
 struct BakedTexels {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> base_color;      // RGBA: sRGB RGB, linear A (glTF 2.0 section 3.9.2)
-  std::vector<std::uint8_t> metal_rough;     // RGB linear: R unused (0), G roughness, B metalness
+  std::vector<std::uint8_t> base_color;   // RGBA: sRGB RGB, linear A (glTF 2.0 section 3.9.2)
+  std::vector<std::uint8_t> metal_rough;  // RGB linear: R unused (0), G roughness, B metalness
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
-  ErrorAccumulator error_a, error_b;          // against legacy readings A and B
+  ErrorAccumulator error_a, error_b;  // against legacy readings A and B
 };
 
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are

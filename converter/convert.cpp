@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <future>
 #include <cmath>
+#include <future>
 #include <map>
 #include <optional>
 
@@ -77,10 +77,12 @@ class Converter {
 
  private:
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
-    if (legacy.diffuse_texture && legacy.spec_gloss_texture && !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
+    if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
+        !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
       entry.outcome = "legacy";
-      entry.note = "diffuseTexture and specularGlossinessTexture use different texCoord sets or texture transforms; "
-                   "left as spec-gloss rather than baked wrongly";
+      entry.note =
+          "diffuseTexture and specularGlossinessTexture use different texCoord sets or texture transforms; "
+          "left as spec-gloss rather than baked wrongly";
       report_.warnings.push_back("material " + std::to_string(entry.index) + " (" + material.name + "): " + entry.note);
       return;
     }
@@ -99,8 +101,9 @@ class Converter {
     }
     entry.outcome = "metalness";
     const BakedTexels& t = baked.texels;
-    const tinygltf::TextureInfo* mapping = legacy.diffuse_texture ? &*legacy.diffuse_texture
-                                           : legacy.spec_gloss_texture ? &*legacy.spec_gloss_texture : nullptr;
+    const tinygltf::TextureInfo* mapping = legacy.diffuse_texture      ? &*legacy.diffuse_texture
+                                           : legacy.spec_gloss_texture ? &*legacy.spec_gloss_texture
+                                                                       : nullptr;
     if (!mapping) {  // factors only, at full precision
       const MetalRough& f = baked.factor_solution;
       pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, to_double(legacy.diffuse_factor.a)};
@@ -108,16 +111,18 @@ class Converter {
       pbr.roughnessFactor = f.roughness;
       return;
     }
-    // A texture that came out constant becomes a factor; one equal to the diffuse image reuses it.
-    if (baked.reuse_diffuse) {
+    // A texture that came out constant becomes a factor (even one equal to the diffuse image);
+    // one equal to the diffuse image reuses it.
+    if (t.base_constant && t.alpha_constant) {
+      pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
+                             srgb8_to_linear(t.base_color[2]), t.base_color[3] / 255.0};
+    } else if (baked.reuse_diffuse) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
       pbr.baseColorFactor = {1.0, 1.0, 1.0, to_double(legacy.diffuse_factor.a)};
       ++report_.textures_reused;
-    } else if (t.base_constant && t.alpha_constant) {
-      pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
-                             srgb8_to_linear(t.base_color[2]), t.base_color[3] / 255.0};
     } else {
       pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
+      pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.base_color[3] / 255.0 : 1.0};
     }
     if (t.metal_rough_constant) {
       pbr.metallicFactor = t.metal_rough[2] / 255.0;
@@ -133,7 +138,8 @@ class Converter {
     entry.outcome = "specular";
     entry.note = "metalness fit p95 above " + std::to_string(options_.specular_tolerance) + " ΔE2000";
     auto& pbr = material.pbrMetallicRoughness;
-    pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b, legacy.diffuse_factor.a};
+    pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b,
+                           legacy.diffuse_factor.a};
     if (legacy.diffuse_texture) pbr.baseColorTexture = *legacy.diffuse_texture;
     pbr.metallicFactor = 0.0;
     pbr.roughnessFactor = std::clamp(1.0 - legacy.glossiness_factor, 0.0, 1.0);
@@ -145,7 +151,8 @@ class Converter {
       info["index"] = tinygltf::Value(legacy.spec_gloss_texture->index);
       if (legacy.spec_gloss_texture->texCoord) info["texCoord"] = tinygltf::Value(legacy.spec_gloss_texture->texCoord);
       if (!legacy.spec_gloss_texture->extensions.empty()) {
-        tinygltf::Value::Object extensions(legacy.spec_gloss_texture->extensions.begin(), legacy.spec_gloss_texture->extensions.end());
+        tinygltf::Value::Object extensions(legacy.spec_gloss_texture->extensions.begin(),
+                                           legacy.spec_gloss_texture->extensions.end());
         info["extensions"] = tinygltf::Value(std::move(extensions));
       }
       specular["specularColorTexture"] = tinygltf::Value(std::move(info));
@@ -154,7 +161,8 @@ class Converter {
       if (rough.texels.metal_rough_constant)
         pbr.roughnessFactor = rough.texels.metal_rough[1] / 255.0;
       else
-        pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture), pbr.roughnessFactor = 1.0;
+        pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture),
+        pbr.roughnessFactor = 1.0;
     }
     material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
     tinygltf::Value::Object ior;
@@ -185,13 +193,15 @@ class Converter {
 
   // Baking is shared: identical inputs give one output (DESIGN.md: no duplicate textures).
   const Bake& bake_for(const LegacyMaterial& legacy, MaterialReport& entry, bool roughness_only = false) {
-    const int diffuse_image = legacy.diffuse_texture ? model_.textures[static_cast<size_t>(legacy.diffuse_texture->index)].source : -1;
-    const int spec_image = legacy.spec_gloss_texture ? model_.textures[static_cast<size_t>(legacy.spec_gloss_texture->index)].source : -1;
+    const int diffuse_image =
+        legacy.diffuse_texture ? model_.textures[static_cast<size_t>(legacy.diffuse_texture->index)].source : -1;
+    const int spec_image =
+        legacy.spec_gloss_texture ? model_.textures[static_cast<size_t>(legacy.spec_gloss_texture->index)].source : -1;
     char key[256];
     std::snprintf(key, sizeof key, "%d|%d|%a,%a,%a,%a|%a,%a,%a|%a|%d", roughness_only ? -2 : diffuse_image, spec_image,
                   legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b, legacy.diffuse_factor.a,
-                  legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b, legacy.glossiness_factor,
-                  roughness_only);
+                  legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b,
+                  legacy.glossiness_factor, roughness_only);
     if (auto it = bakes_.find(key); it != bakes_.end()) {
       if (it->second.base_color_image >= 0 || it->second.metal_rough_image >= 0) ++report_.textures_shared;
       return it->second;
@@ -232,7 +242,8 @@ class Converter {
 
       start = Clock::now();
       bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
-      bake.reuse_diffuse = !roughness_only && diffuse && legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
+      bake.reuse_diffuse = !roughness_only && diffuse &&
+                           legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
                            equals_image(bake.texels, *diffuse);
       entry.times.solve_ms += ms_since(start);
 
@@ -240,21 +251,28 @@ class Converter {
       const BakedTexels& t = bake.texels;
       // The two textures encode concurrently; images are added in a fixed order afterwards.
       auto metal_rough_png = std::async(std::launch::async, [&] {
-        return t.metal_rough_constant ? Bytes{} : encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
+        return t.metal_rough_constant ? Bytes{}
+                                      : encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
       });
       if (!roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant)) {
+        // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
         std::vector<std::uint8_t> rgb;
-        const int channels = t.alpha_constant && t.base_color[3] == 255 ? 3 : 4;
-        if (channels == 3) {
+        if (t.alpha_constant) {
           rgb.reserve(t.base_color.size() / 4 * 3);
-          for (size_t i = 0; i < t.base_color.size(); i += 4) rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
+          for (size_t i = 0; i < t.base_color.size(); i += 4)
+            rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
         }
-        bake.base_color_image = add_image(encode_png(channels == 3 ? std::span<const std::uint8_t>(rgb) : t.base_color, t.width,
-                                                     t.height, channels, options_.png_compression),
-                                          "baseColor");
+        const std::span<const std::uint8_t> texels = t.alpha_constant ? std::span<const std::uint8_t>(rgb) : t.base_color;
+        // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
+        const bool jpeg = t.alpha_constant && diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
+        bake.base_color_image =
+            jpeg ? add_image(encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality), "baseColor", "image/jpeg")
+                 : add_image(encode_png(texels, t.width, t.height, t.alpha_constant ? 3 : 4, options_.png_compression),
+                             "baseColor", "image/png");
       }
       Bytes metal_rough = metal_rough_png.get();
-      if (!t.metal_rough_constant) bake.metal_rough_image = add_image(std::move(metal_rough), "metallicRoughness");
+      if (!t.metal_rough_constant)
+        bake.metal_rough_image = add_image(std::move(metal_rough), "metallicRoughness", "image/png");
       entry.times.encode_ms += ms_since(start);
     }
     bake.error_a = bake.texels.error_a.finish();
@@ -268,12 +286,14 @@ class Converter {
   }
 
   static bool equals_image(const BakedTexels& t, const Pixels& diffuse) {
-    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height || diffuse.channels < 3) return false;
+    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height || diffuse.channels < 3)
+      return false;
     const size_t texels = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
     const size_t n = static_cast<size_t>(diffuse.channels);
     for (size_t i = 0; i < texels; ++i) {
       for (size_t c = 0; c < n; ++c)
-        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.values[i * n + c] * 255.0f))) return false;
+        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.values[i * n + c] * 255.0f)))
+          return false;
       if (n == 3 && t.base_color[i * 4 + 3] != t.base_color[3]) return false;
     }
     return true;
@@ -282,8 +302,10 @@ class Converter {
   // Thread-safe (called concurrently); nothing is cached, so peak memory stays at one bake.
   Pixels decode(int image) const {
     const auto bytes = encoded_image_bytes(model_, image);
-    const std::string name = pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
-                                                             ? "" : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
+    const std::string name =
+        pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
+                                        ? ""
+                                        : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
     try {
       return decode_image(bytes, name);
     } catch (const std::runtime_error& e) {
@@ -291,11 +313,11 @@ class Converter {
     }
   }
 
-  int add_image(Bytes png, const std::string& role) {
+  int add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {
     tinygltf::Image image;
-    image.mimeType = "image/png";
+    image.mimeType = mime_type;
     image.name = role + "_" + std::to_string(model_.images.size());
-    image.image = std::move(png);
+    image.image = std::move(encoded);
     image.as_is = true;
     model_.images.push_back(std::move(image));
     ++report_.textures_baked;
@@ -331,7 +353,9 @@ class Converter {
       if (present) list.push_back(name);
     };
     set(model_.extensionsUsed, kSpecGloss, spec_gloss);
-    set(model_.extensionsRequired, kSpecGloss, spec_gloss && std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(), std::string(kSpecGloss)) != model_.extensionsRequired.end());
+    set(model_.extensionsRequired, kSpecGloss,
+        spec_gloss && std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
+                                std::string(kSpecGloss)) != model_.extensionsRequired.end());
     if (specular) {
       set(model_.extensionsUsed, kSpecular, true);
       set(model_.extensionsUsed, kIor, true);

@@ -18,8 +18,9 @@ enum class Target {
 struct ConvertOptions {
   Target target = Target::Metalness;
   SolverSettings solver;
-  double specular_tolerance = 2.0;  // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
-  int png_compression = 3;          // zlib level for baked textures: speed against bytes
+  double specular_tolerance = 2.0;      // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
+  int png_compression = 3;              // zlib level for baked textures: speed against bytes
+  int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
 };
 
@@ -35,9 +36,9 @@ struct StageTimes {
 struct MaterialReport {
   int index = -1;
   std::string name;
-  std::string outcome;  // "metalness", "specular" (extensions added), "legacy" (left as is), "unchanged"
-  std::string note;     // why, for "legacy" and "specular"
-  long long texels = 0; // texels solved (1 for a factor-only material)
+  std::string outcome;   // "metalness", "specular" (extensions added), "legacy" (left as is), "unchanged"
+  std::string note;      // why, for "legacy" and "specular"
+  long long texels = 0;  // texels solved (1 for a factor-only material)
   size_t error_samples = 0;
   ReflectanceError error_a;  // against legacy reading A (the one solved for)
   ReflectanceError error_b;  // against legacy reading B

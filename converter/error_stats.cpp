@@ -32,6 +32,11 @@ void ErrorAccumulator::add(const Reflectance& expected, const Reflectance& actua
   f0_.push_back(static_cast<float>(delta_e(expected.f0, actual.f0)));
 }
 
+void ErrorAccumulator::add(float diffuse_delta_e, float f0_delta_e) {
+  diffuse_.push_back(diffuse_delta_e);
+  f0_.push_back(f0_delta_e);
+}
+
 void ErrorAccumulator::merge(const ErrorAccumulator& other) {
   diffuse_.insert(diffuse_.end(), other.diffuse_.begin(), other.diffuse_.end());
   f0_.insert(f0_.end(), other.f0_.begin(), other.f0_.end());

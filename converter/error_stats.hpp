@@ -19,6 +19,7 @@ struct ReflectanceError {
 class ErrorAccumulator {
  public:
   void add(const Reflectance& expected, const Reflectance& actual);
+  void add(float diffuse_delta_e, float f0_delta_e);  // already computed ΔE2000 values
   void merge(const ErrorAccumulator& other);
   ReflectanceError finish() const;
   size_t samples() const { return diffuse_.size(); }

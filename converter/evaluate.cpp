@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
+#include <map>
 #include <optional>
 
 #include "converter/legacy_material.hpp"
@@ -37,7 +37,9 @@ class TextureSampler {
   const Pixels& image(int texture) {
     const int source = asset_.model.textures.at(static_cast<size_t>(texture)).source;
     auto it = images_.find(source);
-    if (it == images_.end()) it = images_.emplace(source, decode_image(encoded_image_bytes(asset_.model, source), pointer("images", source))).first;
+    if (it == images_.end())
+      it = images_.emplace(source, decode_image(encoded_image_bytes(asset_.model, source), pointer("images", source)))
+               .first;
     return it->second;
   }
   const Asset& asset_;
@@ -63,7 +65,8 @@ int texture_of(const tinygltf::Value& object, const char* key) {
 // The converted material's reflectance at uv, as `viewer` shades it (glTF 2.0 Appendix B; with
 // KHR_materials_specular: dielectric F0 = min(F0(ior) * specularColor, 1) * specular, and the
 // dielectric diffuse is scaled by 1 - max(dielectric F0) at normal incidence).
-Reflectance converted_reflectance(const tinygltf::Material& material, TextureSampler& textures, glm::vec2 uv, Viewer viewer) {
+Reflectance converted_reflectance(const tinygltf::Material& material, TextureSampler& textures, glm::vec2 uv,
+                                  Viewer viewer) {
   const auto& pbr = material.pbrMetallicRoughness;
   glm::vec3 base(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
   if (pbr.baseColorTexture.index >= 0) base *= srgb_rgb(textures.at(pbr.baseColorTexture.index, uv));
@@ -91,23 +94,27 @@ Reflectance converted_reflectance(const tinygltf::Material& material, TextureSam
 
 }  // namespace
 
-std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer, int grid) {
+std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
+                                                   int grid) {
   TextureSampler legacy_textures(legacy), converted_textures(converted);
   std::vector<MaterialComparison> out;
   for (size_t i = 0; i < legacy.model.materials.size(); ++i) {
     const auto extension = legacy.model.materials[i].extensions.find(kSpecGloss);
     if (extension == legacy.model.materials[i].extensions.end()) continue;
     if (i >= converted.model.materials.size())
-      throw InputError(converted.path.string(), pointer("materials", static_cast<int>(i)), "material missing in the converted asset");
+      throw InputError(converted.path.string(), pointer("materials", static_cast<int>(i)),
+                       "material missing in the converted asset");
     const LegacyMaterial l = read_legacy_material(legacy, static_cast<int>(i), extension->second);
     const tinygltf::Material& c = converted.model.materials[i];
-    const bool textured = l.diffuse_texture || l.spec_gloss_texture || c.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
+    const bool textured = l.diffuse_texture || l.spec_gloss_texture ||
+                          c.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
                           c.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0;
     const int n = textured ? grid : 1;
     ErrorAccumulator error;
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
-        const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(n), (static_cast<float>(y) + 0.5f) / static_cast<float>(n));
+        const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(n),
+                           (static_cast<float>(y) + 0.5f) / static_cast<float>(n));
         SpecGloss s{glm::vec3(l.diffuse_factor), l.specular_factor, l.glossiness_factor};
         if (l.diffuse_texture) s.diffuse *= srgb_rgb(legacy_textures.at(l.diffuse_texture->index, uv));
         if (l.spec_gloss_texture) s.specular *= srgb_rgb(legacy_textures.at(l.spec_gloss_texture->index, uv));

@@ -24,6 +24,7 @@ struct MaterialComparison {
 // Compares every material of `legacy` that has spec-gloss with the material of the same index in
 // `converted`, sampling both on a grid x grid lattice of UVs (nearest texel of each texture; both
 // sides must use the same texture coordinates, as conversions do). Factor-only pairs take one sample.
-std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer, int grid = 256);
+std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
+                                                   int grid = 256);
 
 }  // namespace gltf_pbr

@@ -9,14 +9,16 @@ namespace {
 
 class MaterialReader {
  public:
-  MaterialReader(const Asset& asset, int material) : asset_(asset), base_(pointer("materials", material) + "/extensions/" + kSpecGloss) {}
+  MaterialReader(const Asset& asset, int material)
+      : asset_(asset), base_(pointer("materials", material) + "/extensions/" + kSpecGloss) {}
 
   LegacyMaterial read(const tinygltf::Value& extension) const {
     LegacyMaterial legacy;
     if (!extension.IsObject()) fail("", "the extension is not an object");
     number_array(extension, "diffuseFactor", 4, &legacy.diffuse_factor[0]);
     number_array(extension, "specularFactor", 3, &legacy.specular_factor[0]);
-    if (extension.Has("glossinessFactor")) legacy.glossiness_factor = number(extension.Get("glossinessFactor"), "/glossinessFactor");
+    if (extension.Has("glossinessFactor"))
+      legacy.glossiness_factor = number(extension.Get("glossinessFactor"), "/glossinessFactor");
     legacy.diffuse_texture = texture_info(extension, "diffuseTexture");
     legacy.spec_gloss_texture = texture_info(extension, "specularGlossinessTexture");
     return legacy;
@@ -54,7 +56,8 @@ class MaterialReader {
       fail(where + "/index", "texture " + std::to_string(info.index) + " has no image this tool can read");
     info.texCoord = value.Get("texCoord").IsInt() ? value.Get("texCoord").GetNumberAsInt() : 0;
     if (value.Get("extensions").IsObject())
-      for (const std::string& name : value.Get("extensions").Keys()) info.extensions[name] = value.Get("extensions").Get(name);
+      for (const std::string& name : value.Get("extensions").Keys())
+        info.extensions[name] = value.Get("extensions").Get(name);
     if (value.Get("extras").IsObject()) info.extras = value.Get("extras");
     return info;
   }

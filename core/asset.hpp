@@ -19,9 +19,9 @@ struct LoadOptions {
 };
 
 struct Asset {
-  fs::path path;             // the file it was loaded from
-  bool binary = false;       // GLB container
-  tinygltf::Model model;     // images keep their encoded bytes in Image::image (as_is)
+  fs::path path;                      // the file it was loaded from
+  bool binary = false;                // GLB container
+  tinygltf::Model model;              // images keep their encoded bytes in Image::image (as_is)
   std::vector<std::string> warnings;  // problems that did not stop loading
   std::string original_json;          // the JSON text as read, for the byte-for-byte copy path
 };

@@ -11,9 +11,9 @@
 namespace gltf_pbr {
 
 struct DecodedPrimitive {
-  std::vector<std::uint32_t> indices;                     // three per triangle
-  std::map<std::string, std::vector<float>> attributes;   // glTF semantic -> values, components interleaved
-  std::map<std::string, int> components;                  // glTF semantic -> components per vertex
+  std::vector<std::uint32_t> indices;                    // three per triangle
+  std::map<std::string, std::vector<float>> attributes;  // glTF semantic -> values, components interleaved
+  std::map<std::string, int> components;                 // glTF semantic -> components per vertex
 };
 
 // Throws InputError naming /meshes/M/primitives/P/extensions/KHR_draco_mesh_compression when the

@@ -10,7 +10,9 @@ namespace gltf_pbr {
 struct InputError : std::runtime_error {
   InputError(std::string file_, std::string pointer_, std::string reason_)
       : std::runtime_error(file_ + (pointer_.empty() ? "" : ": " + pointer_) + ": " + reason_),
-        file(std::move(file_)), pointer(std::move(pointer_)), reason(std::move(reason_)) {}
+        file(std::move(file_)),
+        pointer(std::move(pointer_)),
+        reason(std::move(reason_)) {}
   std::string file, pointer, reason;
 };
 
@@ -19,15 +21,15 @@ struct InputError : std::runtime_error {
 }  // namespace gltf_pbr
 
 // Internal invariant: prints both operands when it fails.
-#define GLTF_PBR_CHECK_OP(a, op, b)                                                   \
-  do {                                                                                \
-    const auto& check_a_ = (a);                                                       \
-    const auto& check_b_ = (b);                                                       \
-    if (!(check_a_ op check_b_)) {                                                    \
-      std::ostringstream check_os_;                                                   \
-      check_os_ << #a " = " << check_a_ << ", " #b " = " << check_b_;                 \
-      ::gltf_pbr::check_failed(#a " " #op " " #b, check_os_.str(), __FILE__);         \
-    }                                                                                 \
+#define GLTF_PBR_CHECK_OP(a, op, b)                                           \
+  do {                                                                        \
+    const auto& check_a_ = (a);                                               \
+    const auto& check_b_ = (b);                                               \
+    if (!(check_a_ op check_b_)) {                                            \
+      std::ostringstream check_os_;                                           \
+      check_os_ << #a " = " << check_a_ << ", " #b " = " << check_b_;         \
+      ::gltf_pbr::check_failed(#a " " #op " " #b, check_os_.str(), __FILE__); \
+    }                                                                         \
   } while (0)
 #define CHECK_EQ(a, b) GLTF_PBR_CHECK_OP(a, ==, b)
 #define CHECK_LE(a, b) GLTF_PBR_CHECK_OP(a, <=, b)

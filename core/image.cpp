@@ -62,4 +62,12 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
   return codec().encode_png(texels, width, height, channels, compression_level);
 }
 
+Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
+  return codec().encode_jpeg(texels, width, height, channels, quality);
+}
+
+bool is_jpeg(std::span<const std::uint8_t> encoded) {
+  return encoded.size() >= 3 && encoded[0] == 0xFF && encoded[1] == 0xD8 && encoded[2] == 0xFF;
+}
+
 }  // namespace gltf_pbr

@@ -15,7 +15,8 @@ struct Pixels {
   std::vector<float> values;
   float at(int x, int y, int c) const {
     return values[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
-                      static_cast<size_t>(channels) + static_cast<size_t>(c)];
+                      static_cast<size_t>(channels) +
+                  static_cast<size_t>(c)];
   }
 };
 
@@ -29,11 +30,18 @@ Pixels resize(const Pixels& pixels, int width, int height);
 // Encodes 8-bit PNG; `channels` is 1-4, interleaved.
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
 
+// Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.
+Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
+
+// True when the bytes carry a JPEG signature.
+bool is_jpeg(std::span<const std::uint8_t> encoded);
+
 // The functions the OpenImageIO module (core/image_oiio.cpp) provides; core/image.cpp loads it.
 struct ImageCodec {
   Pixels (*decode)(std::span<const std::uint8_t> encoded, const std::string& name_for_errors);
   Pixels (*resample)(const Pixels& pixels, int width, int height);
   Bytes (*encode_png)(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
+  Bytes (*encode_jpeg)(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 };
 
 }  // namespace gltf_pbr

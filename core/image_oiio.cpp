@@ -1,8 +1,6 @@
 // The OpenImageIO side of core/image.hpp, built as a module that core/image.cpp loads on first
 // use: Debian's libOpenImageIO pulls in ~260 shared libraries whose binding takes 0.2-0.3 s, a
 // cost that a factor-only asset must not pay.
-#include "core/image.hpp"
-
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -10,6 +8,7 @@
 
 #include <stdexcept>
 
+#include "core/image.hpp"
 
 namespace gltf_pbr {
 namespace OIIO = OIIO_NAMESPACE;
@@ -31,7 +30,7 @@ std::string name_for_signature(std::span<const std::uint8_t> bytes) {
 
 namespace {
 
-Pixels decode(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
+Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
   OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it
@@ -52,7 +51,7 @@ Pixels decode(std::span<const std::uint8_t> encoded, const std::string& name_for
   return pixels;
 }
 
-Pixels resample(const Pixels& pixels, int width, int height) {
+Pixels resample_with_oiio(const Pixels& pixels, int width, int height) {
   OIIO::ImageSpec source_spec(pixels.width, pixels.height, pixels.channels, OIIO::TypeDesc::FLOAT);
   OIIO::ImageBuf source(source_spec, const_cast<float*>(pixels.values.data()));
   OIIO::ImageSpec target_spec(width, height, pixels.channels, OIIO::TypeDesc::FLOAT);
@@ -65,24 +64,35 @@ Pixels resample(const Pixels& pixels, int width, int height) {
   return out;
 }
 
-Bytes encode(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
+
+// One writer for both formats: OpenImageIO picks it by the file name.
+Bytes write_8bit(const char* name, std::span<const std::uint8_t> texels, int width, int height, int channels,
+                 const char* attribute, int value) {
   Bytes encoded;
   OIIO::Filesystem::IOVecOutput writer(encoded);
-  auto output = OIIO::ImageOutput::create("memory.png", &writer);
-  if (!output) throw std::runtime_error("cannot create a PNG writer: " + OIIO::geterror());
+  auto output = OIIO::ImageOutput::create(name, &writer);
+  if (!output) throw std::runtime_error(std::string("cannot create a writer for ") + name + ": " + OIIO::geterror());
   OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", compression_level);
+  spec.attribute(attribute, value);
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!output->open("memory.png", spec) ||
-      !output->write_image(OIIO::TypeDesc::UINT8, texels.data()) || !output->close())
-    throw std::runtime_error("cannot encode PNG: " + output->geterror());
+  if (!output->open(name, spec) || !output->write_image(OIIO::TypeDesc::UINT8, texels.data()) || !output->close())
+    throw std::runtime_error(std::string("cannot encode ") + name + ": " + output->geterror());
   return encoded;
+}
+
+Bytes encode_png_with_oiio(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
+  return write_8bit("memory.png", texels, width, height, channels, "png:compressionLevel", compression_level);
+}
+
+Bytes encode_jpeg_with_oiio(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
+  return write_8bit("memory.jpg", texels, width, height, channels, "CompressionQuality", quality);
 }
 
 }  // namespace
 }  // namespace gltf_pbr
 
 extern "C" __attribute__((visibility("default"))) const gltf_pbr::ImageCodec* gltf_pbr_image_codec() {
-  static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode, &gltf_pbr::resample, &gltf_pbr::encode};
+  static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode_with_oiio, &gltf_pbr::resample_with_oiio,
+                                          &gltf_pbr::encode_png_with_oiio, &gltf_pbr::encode_jpeg_with_oiio};
   return &codec;
 }

@@ -48,7 +48,8 @@ GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
   if (read_u32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(read_u32(bytes, 4)) + ", only 2 is supported");
   const std::uint32_t length = read_u32(bytes, 8);
   if (length > bytes.size())
-    fail(8, "truncated GLB: header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
+    fail(8,
+         "truncated GLB: header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
   const std::uint32_t json_length = read_u32(bytes, 12);
   if (read_u32(bytes, 16) != 0x4E4F534A) fail(16, "first GLB chunk is not JSON");
   if (20ull + json_length > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
@@ -56,7 +57,8 @@ GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
   const size_t bin_header = 20ull + json_length;
   if (bin_header + 8 <= length) {
     const std::uint32_t bin_length = read_u32(bytes, bin_header);
-    if (bin_header + 8 + bin_length > length) fail(bin_header, "truncated GLB: BIN chunk runs past the end of the file");
+    if (bin_header + 8 + bin_length > length)
+      fail(bin_header, "truncated GLB: BIN chunk runs past the end of the file");
     if (read_u32(bytes, bin_header + 4) == 0x004E4942) chunks.bin = {bytes.data() + bin_header + 8, bin_length};
   }
   return chunks;
@@ -120,7 +122,8 @@ class FailurePointer : public nlohmann::json_sax<nlohmann::json> {
 
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
 // of buffers and images, and that the JSON parses at all.
-nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin, const LoadOptions& options) {
+nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin,
+                               const LoadOptions& options) {
   const std::string file = asset.path.string();
   nlohmann::json root;
   try {
@@ -180,9 +183,12 @@ HiddenIndices hide_draco_indices(nlohmann::json& root) {
     if (!primitives.is_array()) continue;
     for (size_t p = 0; p < primitives.size(); ++p) {
       auto& primitive = primitives[p];
-      if (!primitive.is_object() || !primitive.contains("indices") || !primitive["indices"].is_number_integer()) continue;
+      if (!primitive.is_object() || !primitive.contains("indices") || !primitive["indices"].is_number_integer())
+        continue;
       const auto extensions = primitive.find("extensions");
-      if (extensions == primitive.end() || !extensions->is_object() || !extensions->contains("KHR_draco_mesh_compression")) continue;
+      if (extensions == primitive.end() || !extensions->is_object() ||
+          !extensions->contains("KHR_draco_mesh_compression"))
+        continue;
       hidden.entries.push_back({{m, p}, primitive["indices"].get<int>()});
       primitive.erase("indices");
     }
@@ -197,8 +203,8 @@ struct LoaderContext {
 
 // tinygltf image callback: keep the encoded bytes of URI images; bufferView images already live
 // in their buffer. Decoding waits until a step needs texels (core/image.cpp).
-bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                  const unsigned char* bytes, int size, void*) {
+bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+                  int size, void*) {
   if (image->bufferView < 0) image->image.assign(bytes, bytes + size);
   image->as_is = true;
   return true;
@@ -260,8 +266,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded, nullptr);
-  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &expand_file_path, &read_whole_file,
-                                  &tinygltf::WriteWholeFile, &context};
+  tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &expand_file_path, &read_whole_file, &tinygltf::WriteWholeFile,
+                                  &context};
   loader.SetFsCallbacks(callbacks);
   std::string err, warn;
   const std::string base_dir = context.folder.string();

@@ -18,7 +18,8 @@ void parallel_for(std::int64_t begin, std::int64_t end, const Body& body) {
   std::vector<std::jthread> workers;
   for (std::int64_t t = 1; t < threads; ++t)
     workers.emplace_back([&, t] {
-      for (std::int64_t i = begin + count * t / threads, stop = begin + count * (t + 1) / threads; i < stop; ++i) body(i);
+      for (std::int64_t i = begin + count * t / threads, stop = begin + count * (t + 1) / threads; i < stop; ++i)
+        body(i);
     });
   for (std::int64_t i = begin, stop = begin + count / threads; i < stop; ++i) body(i);
 }

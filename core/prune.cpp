@@ -13,10 +13,16 @@ using tinygltf::Value;
 
 // Extensions whose references to textures, images and bufferViews prune_unused understands.
 bool references_are_known(const std::string& extension) {
-  static const std::set<std::string> known = {
-      "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform", "KHR_lights_punctual",
-      "KHR_texture_basisu", "EXT_texture_webp", "KHR_materials_variants", "EXT_mesh_gpu_instancing",
-      "KHR_xmp_json_ld", "KHR_materials_pbrSpecularGlossiness"};
+  static const std::set<std::string> known = {"KHR_draco_mesh_compression",
+                                              "KHR_mesh_quantization",
+                                              "KHR_texture_transform",
+                                              "KHR_lights_punctual",
+                                              "KHR_texture_basisu",
+                                              "EXT_texture_webp",
+                                              "KHR_materials_variants",
+                                              "EXT_mesh_gpu_instancing",
+                                              "KHR_xmp_json_ld",
+                                              "KHR_materials_pbrSpecularGlossiness"};
   return known.count(extension) || extension.rfind("KHR_materials_", 0) == 0;
 }
 
@@ -117,7 +123,8 @@ PruneResult prune_unused(Asset& asset) {
     std::vector<int> sources = ints_in(texture.extensions, "source");
     sources.push_back(texture.source);
     for (int source : sources)
-      if (source >= 0 && static_cast<size_t>(source) < image_used.size()) image_used[static_cast<size_t>(source)] = true;
+      if (source >= 0 && static_cast<size_t>(source) < image_used.size())
+        image_used[static_cast<size_t>(source)] = true;
     if (texture.sampler >= 0 && static_cast<size_t>(texture.sampler) < sampler_used.size())
       sampler_used[static_cast<size_t>(texture.sampler)] = true;
   }

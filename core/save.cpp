@@ -167,14 +167,15 @@ void save_asset(Asset& asset, const fs::path& output) {
       std::string wanted = uri.empty() ? fallback : percent_decode(uri);
       // A resource read from outside the input's folder (--allow-outside-uris) is written beside
       // the output under its file name, never outside the output's folder.
-      if (leaves_folder(wanted)) wanted = fs::path(wanted).filename().empty() ? fallback : fs::path(wanted).filename().string();
+      if (leaves_folder(wanted))
+        wanted = fs::path(wanted).filename().empty() ? fallback : fs::path(wanted).filename().string();
       const std::string name = names.claim(wanted);
       files.stage(folder / name, bytes);
       return uri.empty() || name != percent_decode(uri) ? name : uri;
     };
     for (size_t b = 0; b < model.buffers.size(); ++b)
-      buffer_uris[b] = place(model.buffers[b].uri, model.buffers[b].data,
-                             stem + (b ? "_" + std::to_string(b) : "") + ".bin");
+      buffer_uris[b] =
+          place(model.buffers[b].uri, model.buffers[b].data, stem + (b ? "_" + std::to_string(b) : "") + ".bin");
     for (size_t i = 0; i < model.images.size(); ++i) {
       auto& image = model.images[i];
       if (image.bufferView >= 0) continue;
@@ -205,8 +206,9 @@ void save_asset(Asset& asset, const fs::path& output) {
 
   Bytes main_file;
   if (to_glb) {
-    main_file = glb_bytes(document.dump(), model.buffers.empty() ? std::span<const std::uint8_t>{}
-                                                                : std::span<const std::uint8_t>(model.buffers[0].data));
+    main_file =
+        glb_bytes(document.dump(), model.buffers.empty() ? std::span<const std::uint8_t>{}
+                                                         : std::span<const std::uint8_t>(model.buffers[0].data));
   } else {
     const std::string json = document.dump(2) + "\n";
     main_file.assign(json.begin(), json.end());
@@ -224,9 +226,13 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
   if (!asset.binary && fs::weakly_canonical(folder) != fs::weakly_canonical(input_folder)) {
     // A resource outside the input's folder (--allow-outside-uris) cannot keep its URI in a copy
     // elsewhere: save_asset writes it beside the output and rewrites the URI instead.
-    auto outside = [](const std::string& uri) { return !uri.empty() && !is_data_uri(uri) && leaves_folder(percent_decode(uri)); };
-    if (std::any_of(asset.model.buffers.begin(), asset.model.buffers.end(), [&](const auto& b) { return outside(b.uri); }) ||
-        std::any_of(asset.model.images.begin(), asset.model.images.end(), [&](const auto& i) { return outside(i.uri); })) {
+    auto outside = [](const std::string& uri) {
+      return !uri.empty() && !is_data_uri(uri) && leaves_folder(percent_decode(uri));
+    };
+    if (std::any_of(asset.model.buffers.begin(), asset.model.buffers.end(),
+                    [&](const auto& b) { return outside(b.uri); }) ||
+        std::any_of(asset.model.images.begin(), asset.model.images.end(),
+                    [&](const auto& i) { return outside(i.uri); })) {
       Asset copy = asset;
       save_asset(copy, output);
       return;

@@ -1,0 +1,86 @@
+// The body of bench/convert.sh (see there). Node, because the peers need it anyway.
+import { spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+
+const [assetsDir] = process.argv.slice(2);
+const ours = process.env.GLTF_PBR, peer = process.env.GLTF_TRANSFORM, runs = Number(process.env.RUNS || 5);
+const work = fs.mkdtempSync(path.join(os.tmpdir(), 'gltf-pbr-bench-'));
+process.on('exit', () => fs.rmSync(work, { recursive: true, force: true }));
+
+const inputs = [];
+for (const model of fs.readdirSync(assetsDir).sort())
+  for (const variant of ['specgloss', 'specgloss-glb-generated', 'specgloss-draco-generated']) {
+    const dir = path.join(assetsDir, model, variant);
+    if (!fs.existsSync(dir)) continue;
+    for (const f of fs.readdirSync(dir)) if (/\.(gltf|glb)$/.test(f)) inputs.push({ name: variant === 'specgloss' ? model : `${model} (${variant.replace('specgloss-', '').replace('-generated', '')})`, file: path.join(dir, f) });
+  }
+
+// Wall seconds (clock around the whole process) and peak RSS in MB (GNU time, whose own wall
+// clock has only 10 ms resolution).
+function timed(argv) {
+  const start = process.hrtime.bigint();
+  const r = spawnSync('/usr/bin/time', ['-f', '%M', ...argv], { encoding: 'utf8' });
+  const seconds = Number(process.hrtime.bigint() - start) / 1e9;
+  if (r.status !== 0) throw new Error(`${argv.join(' ')} failed:\n${r.stderr}`);
+  return { seconds, mb: Number(r.stderr.trim().split('\n').pop()) / 1024 };
+}
+const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+
+// Bytes of a .gltf/.glb and of every file it references.
+function totalBytes(file) {
+  const data = fs.readFileSync(file);
+  const json = file.endsWith('.glb') ? JSON.parse(data.subarray(20, 20 + data.readUInt32LE(12)).toString()) : JSON.parse(data);
+  let bytes = data.length;
+  for (const item of [...(json.buffers || []), ...(json.images || [])])
+    if (item.uri && !item.uri.startsWith('data:')) bytes += fs.statSync(path.resolve(path.dirname(file), decodeURIComponent(item.uri))).size;
+  return bytes;
+}
+
+function errorSeen(input, output, viewer) {
+  const r = spawnSync(ours, ['compare', input, output, '--viewer', viewer], { encoding: 'utf8', maxBuffer: 1 << 26 });
+  if (r.status !== 0) throw new Error(r.stderr);
+  return JSON.parse(r.stdout).summary;
+}
+
+function measure(tool, input, index) {
+  const out = path.join(work, tool, String(index), path.basename(input));
+  const argv = tool === 'ours' ? [ours, 'convert', input, '-o', out, '-q'] : [peer, 'metalrough', input, out];
+  const samples = [];
+  for (let i = 0; i < runs; i++) {
+    fs.rmSync(path.dirname(out), { recursive: true, force: true });
+    fs.mkdirSync(path.dirname(out), { recursive: true });
+    samples.push(timed(argv));
+  }
+  return {
+    seconds: median(samples.map((s) => s.seconds)), mb: median(samples.map((s) => s.mb)), bytes: totalBytes(out),
+    core: errorSeen(input, out, 'core'), full: errorSeen(input, out, 'full'),
+  };
+}
+
+const f2 = (x) => x.toFixed(2), f1 = (x) => x.toFixed(1), f3 = (x) => x.toFixed(3);
+console.log(`### gltf-pbr convert vs glTF-Transform ${process.env.GLTF_TRANSFORM_VERSION} metalrough (median of ${runs} runs)\n`);
+console.log('Error: ΔE2000 of diffuse weight and F0 against the legacy material (reading A), mean over materials of the per-material mean, and the worst texel; "core" is a viewer without KHR_materials_specular/_ior, "full" one with them.\n');
+console.log('| asset | ours s | peer s | speed-up | ours MB | peer MB | mem ratio | ours bytes | peer bytes | size ratio | core err ours / peer (worst) | full err ours / peer |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
+inputs.forEach(({ name, file }, i) => {
+  const a = measure('ours', file, i), b = measure('peer', file, i);
+  console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f1(b.seconds / a.seconds)}× | ${f1(a.mb)} | ${f1(b.mb)} | ${f2(a.mb / b.mb)} | ${a.bytes} | ${b.bytes} | ${f2(a.bytes / b.bytes)} | ` +
+    `${f2(a.core.meanOfMaterialMeans)} / ${f2(b.core.meanOfMaterialMeans)} (${f1(a.core.worst)} / ${f1(b.core.worst)}) | ${f2(a.full.meanOfMaterialMeans)} / ${f2(b.full.meanOfMaterialMeans)} |`);
+});
+
+// Error against time for each solver setting, from our own report.
+console.log(`\n### Error against time per solver setting (median of ${runs} runs; error from --report, reading A)\n`);
+console.log('| asset | solver | s | solve ms | mean ΔE diffuse | mean ΔE F0 | worst ΔE |');
+console.log('|---|---|---|---|---|---|---|');
+for (const { name, file } of inputs.filter((x) => /^(Avocado|2CylinderEngine|VC|CesiumMilkTruck)$/.test(x.name)))
+  for (const solver of ['fast', 'balanced', 'exact', 'reference']) {
+    const out = path.join(work, 'solver', solver, path.basename(file)), report = path.join(work, `report-${solver}.json`);
+    const times = [];
+    for (let i = 0; i < runs; i++) times.push(timed([ours, 'convert', file, '-o', out, '-q', '--solver', solver, '--report', report]).seconds);
+    const r = JSON.parse(fs.readFileSync(report)).files[0], ms = r.materials;
+    const mean = (key) => ms.reduce((s, m) => s + m.deltaE2000.readingA[key].mean, 0) / ms.length;
+    const worst = Math.max(...ms.map((m) => Math.max(m.deltaE2000.readingA.diffuse.max, m.deltaE2000.readingA.f0.max)));
+    console.log(`| ${name} | ${solver} | ${f2(median(times))} | ${f1(r.timeMs.convert.solve)} | ${f2(mean('diffuse'))} | ${f2(mean('f0'))} | ${f1(worst)} |`);
+  }
