@@ -99,6 +99,22 @@ Fit fit_at(float m, const Objective& o) {
   return fit;
 }
 
+// The final base for metalness m: the unclamped per-channel fit, brought into [0, 1] by scaling
+// the whole colour when a channel exceeds 1 (a saturated diffuse of 1.0 needs 1/0.96; gold's red
+// F0 is 1.022). Clipping that channel alone would shift the hue, which ΔE2000 weighs more than the
+// same loss spread evenly; the scale is 1 at the gamut edge, so the result stays continuous.
+glm::vec3 in_gamut_base(float m, const Objective& o) {
+  const float k = kDielectricDiffuse, one_minus = 1.0f - m;
+  glm::vec3 base;
+  for (int c = 0; c < 3; ++c) {
+    const float d = o.target.diffuse[c], f = o.target.f0[c], wd = o.diffuse_weight[c], wf = o.f0_weight[c];
+    base[c] = std::max(0.0f, (wd * k * one_minus * d + wf * m * (f - kDielectricF0 * one_minus)) /
+                                 (wd * k * k * one_minus * one_minus + wf * m * m));
+  }
+  const float largest = max3(base);
+  return largest > 1.0f ? base / largest : base;
+}
+
 }  // namespace
 
 Reflectance legacy_reflectance(const SpecGloss& legacy, LegacyReading reading) {
@@ -158,7 +174,7 @@ MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
     if (f1.error < best.error) best = f1, best_m = x1;
     if (f2.error < best.error) best = f2, best_m = x2;
   }
-  return {best.base, best_m, std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f)};
+  return {in_gamut_base(best_m, objective), best_m, std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f)};
 }
 
 MetalRough solve_reference(const SpecGloss& legacy) {

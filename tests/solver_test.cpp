@@ -46,14 +46,24 @@ TEST(Solver, EveryMetalOfTheF0TableBecomesMetalnessOneWithBaseF0) {
   for (const Metal& metal : kMetals) {
     const MetalRough r = solve({glm::vec3(0.0f), metal.f0, 0.8f});
     EXPECT_EQ(r.metalness, 1.0f) << metal.name;
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], std::min(metal.f0[c], 1.0f), 1e-5f) << metal.name;
+    // Gold's red above 1 brings the colour into gamut by scaling, keeping its hue.
+    const float scale = std::max(1.0f, std::max(metal.f0.r, std::max(metal.f0.g, metal.f0.b)));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], metal.f0[c] / scale, 1e-5f) << metal.name;
   }
 }
 
-TEST(Solver, GoldsRedAboveOneIsClampedNotNaN) {
+TEST(Solver, GoldsRedAboveOneIsBroughtIntoGamutWithItsHueNotNaN) {
   const MetalRough r = solve({glm::vec3(0.0f), {1.022f, 0.782f, 0.344f}, 1.0f});
   EXPECT_TRUE(finite_and_in_unit_range(r));
   EXPECT_EQ(r.base.r, 1.0f);
+  EXPECT_NEAR(r.base.g / r.base.r, 0.782f / 1.022f, 1e-5f);
+}
+
+TEST(Solver, SaturatedDiffuseKeepsItsHueWhenItLeavesTheGamut) {
+  // A diffuse of 1.0 over a 0 specular needs base 1/0.96: the colour is scaled, not clipped.
+  const MetalRough r = solve({{1.0f, 0.5f, 0.0f}, glm::vec3(0.0f), 1.0f});
+  EXPECT_EQ(r.base.r, 1.0f);
+  EXPECT_NEAR(r.base.g, 0.5f, 1e-4f);
 }
 
 // Sweeps specular upwards in small steps; the solution must move in small steps too.
