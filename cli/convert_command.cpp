@@ -112,14 +112,7 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
     } else if (!result.report.changed() && args.in_place) {
       result.status = "copied";  // nothing to write: the input already is the result
     } else {
-      if (args.in_place) {
-        // The input is the output: write beside it, then rename over it (atomic per file).
-        const fs::path temporary = job.output.parent_path() / (".gltf-pbr-" + job.output.filename().string());
-        save_asset(asset, temporary);
-        fs::rename(temporary, job.output);
-      } else {
-        save_asset(asset, job.output);
-      }
+      save_asset(asset, job.output, /*replace_input=*/args.in_place);
       result.status = "converted";
     }
     result.save_ms = ms(converted, Clock::now());

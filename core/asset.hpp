@@ -42,8 +42,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options = {});
 
 // Writes the asset as .glb or .gltf (by extension of `output`), all files atomically.
 // Buffers and images keep their bytes; a .gltf's external resources are written beside it.
-// Throws InputError or std::runtime_error; leaves nothing behind on failure.
-void save_asset(Asset& asset, const fs::path& output);
+// Input files are never overwritten, except the asset's own file when replace_input is set
+// (--in-place); its resources still are not. Throws InputError or std::runtime_error; leaves
+// nothing behind on failure.
+void save_asset(Asset& asset, const fs::path& output, bool replace_input = false);
 
 // Copies the input file and every external resource it references to `output` unchanged
 // (same format only). Used when a step changed nothing.

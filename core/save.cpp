@@ -130,7 +130,7 @@ Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin)
   return out;
 }
 
-void save_asset(Asset& asset, const fs::path& output) {
+void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
   tinygltf::Model& model = asset.model;
   const bool to_glb = has_extension(output, ".glb");
   const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
@@ -146,7 +146,8 @@ void save_asset(Asset& asset, const fs::path& output) {
   for (const auto& image : model.images)
     if (!image.uri.empty() && !is_data_uri(image.uri))
       inputs.insert(fs::weakly_canonical(input_folder / percent_decode(image.uri)));
-  if (inputs.count(fs::weakly_canonical(output)))
+  const bool output_is_input = fs::weakly_canonical(output) == fs::weakly_canonical(asset.path);
+  if (inputs.count(fs::weakly_canonical(output)) && !(replace_input && output_is_input))
     throw std::runtime_error("refusing to overwrite the input " + output.string());
 
   std::vector<std::string> buffer_uris(model.buffers.size());

@@ -1,1 +1,698 @@
+// Texture baking at the extremes: tiny, odd-sized and mismatched textures, JPEG and palette PNG
+// inputs, alpha, constant results, the reused diffuse, the roughness/metalness channels and
+// KHR_texture_transform. Small spec-gloss assets are built in code, saved with save_asset and
+// loaded back with load_asset, so the real loader path is used.
 #include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <set>
+
+#include "converter/bake.hpp"
+#include "converter/convert.hpp"
+#include "core/color.hpp"
+#include "core/image.hpp"
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::assets_dir;
+using test::files_under;
+using test::ScratchDir;
+
+constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+
+using Texel = std::array<std::uint8_t, 4>;
+
+// 8-bit texels, interleaved, built from a function of (x, y).
+struct Texels {
+  int width = 0, height = 0, channels = 4;
+  std::vector<std::uint8_t> values;
+  Texels(int w, int h, int c, const std::function<Texel(int, int)>& texel) : width(w), height(h), channels(c) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const Texel t = texel(x, y);
+        values.insert(values.end(), t.begin(), t.begin() + c);
+      }
+  }
+  Texel at(int x, int y) const {
+    Texel t{0, 0, 0, 255};
+    const size_t i =
+        (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels);
+    for (int c = 0; c < channels; ++c) t[static_cast<size_t>(c)] = values[i + static_cast<size_t>(c)];
+    return t;
+  }
+};
+
+tinygltf::Value numbers(std::initializer_list<double> values) {
+  tinygltf::Value::Array array;
+  for (double v : values) array.emplace_back(v);
+  return tinygltf::Value(std::move(array));
+}
+
+// A legacy document with one spec-gloss material, built up by the test.
+class SpecGlossModel {
+ public:
+  SpecGlossModel() {
+    model_.asset.version = "2.0";
+    model_.extensionsUsed.push_back(kSpecGloss);
+    tinygltf::Sampler sampler;
+    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    model_.samplers.push_back(sampler);
+  }
+
+  // Adds encoded image bytes and a texture using them; returns the texture index.
+  int add_encoded(Bytes bytes, const std::string& mime_type, const std::string& name) {
+    tinygltf::Image image;
+    image.name = name;
+    image.mimeType = mime_type;
+    image.as_is = true;
+    image.image = std::move(bytes);
+    model_.images.push_back(std::move(image));
+    tinygltf::Texture texture;
+    texture.source = static_cast<int>(model_.images.size()) - 1;
+    texture.sampler = 0;
+    model_.textures.push_back(texture);
+    return static_cast<int>(model_.textures.size()) - 1;
+  }
+  int add_png(const Texels& t, const std::string& name) {
+    return add_encoded(encode_png(t.values, t.width, t.height, t.channels, 6), "image/png", name);
+  }
+
+  SpecGlossModel& diffuse_texture(int texture, const tinygltf::Value::Object& transform = {}) {
+    extension_["diffuseTexture"] = texture_info(texture, transform);
+    return *this;
+  }
+  SpecGlossModel& spec_gloss_texture(int texture, const tinygltf::Value::Object& transform = {}) {
+    extension_["specularGlossinessTexture"] = texture_info(texture, transform);
+    return *this;
+  }
+  SpecGlossModel& factor(const std::string& key, tinygltf::Value value) {
+    extension_[key] = std::move(value);
+    return *this;
+  }
+
+  // Saves the document as `file` (.gltf or .glb) and loads it back.
+  Asset save_and_load(const fs::path& file) {
+    Asset asset;
+    asset.path = file.parent_path() / "built-in-memory.gltf";  // never written
+    asset.model = model_;
+    tinygltf::Material material;
+    material.name = "legacy";
+    material.emissiveFactor = {0.0, 0.0, 0.0};
+    material.extensions[kSpecGloss] = tinygltf::Value(extension_);
+    asset.model.materials.push_back(material);
+    save_asset(asset, file);
+    return load_asset(file);
+  }
+
+ private:
+  tinygltf::Value texture_info(int texture, const tinygltf::Value::Object& transform) {
+    tinygltf::Value::Object info;
+    info["index"] = tinygltf::Value(texture);
+    if (!transform.empty()) {
+      tinygltf::Value::Object extensions;
+      extensions[kTextureTransform] = tinygltf::Value(transform);
+      info["extensions"] = tinygltf::Value(std::move(extensions));
+      if (std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(), kTextureTransform) ==
+          model_.extensionsUsed.end())
+        model_.extensionsUsed.push_back(kTextureTransform);
+    }
+    return tinygltf::Value(std::move(info));
+  }
+
+  tinygltf::Model model_;
+  tinygltf::Value::Object extension_;
+};
+
+// Converts, saves the result as `output` (in a scratch folder, never beside a shared asset) and
+// loads that back.
+Asset convert_save_reload(Asset& asset, const fs::path& output, ConversionReport* report = nullptr) {
+  const ConversionReport r = convert(asset);
+  if (report) *report = r;
+  save_asset(asset, output);
+  return load_asset(output);
+}
+
+Pixels texture_pixels(const Asset& asset, int texture) {
+  const int image = asset.model.textures.at(static_cast<size_t>(texture)).source;
+  return decode_image(encoded_image_bytes(asset.model, image), pointer("images", image));
+}
+
+std::uint8_t to_byte(float unit) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(unit, 0.0f, 1.0f) * 255.0f));
+}
+std::uint8_t byte_at(const Pixels& p, int x, int y, int c) { return to_byte(p.at(x, y, c)); }
+
+// What one texel bakes to: baseColor sRGB RGB + alpha, and metallicRoughness (0, G roughness,
+// B metalness), from the solver itself (the legacy texture encodings of DESIGN.md, "Conversion").
+struct Expected {
+  Texel base_color;
+  std::array<std::uint8_t, 3> metal_rough;
+};
+Expected expected_texel(Texel diffuse, Texel spec_gloss) {
+  SpecGloss legacy;
+  for (int c = 0; c < 3; ++c) {
+    legacy.diffuse[c] = srgb8_to_linear(diffuse[static_cast<size_t>(c)]);
+    legacy.specular[c] = srgb8_to_linear(spec_gloss[static_cast<size_t>(c)]);
+  }
+  legacy.glossiness = spec_gloss[3] / 255.0f;
+  const MetalRough m = solve(legacy);
+  Expected e;
+  for (int c = 0; c < 3; ++c) e.base_color[static_cast<size_t>(c)] = to_byte(linear_to_srgb(m.base[c]));
+  e.base_color[3] = diffuse[3];
+  e.metal_rough = {0, to_byte(1.0f - legacy.glossiness), to_byte(m.metalness)};
+  return e;
+}
+
+// A diffuse that varies smoothly, and a specular-glossiness map that runs from plastic (F0 0.04,
+// sRGB 56) to iron (sRGB ~198) across x, with glossiness down y.
+Texel ramp_diffuse(int x, int y, int w, int h) {
+  return {static_cast<std::uint8_t>(40 + 200 * x / std::max(1, w - 1)),
+          static_cast<std::uint8_t>(30 + 150 * y / std::max(1, h - 1)), 90, 255};
+}
+Texel ramp_spec_gloss(int x, int y, int w, int h) {
+  const auto s = static_cast<std::uint8_t>(56 + 142 * x / std::max(1, w - 1));
+  return {s, s, s, static_cast<std::uint8_t>(255 * y / std::max(1, h - 1))};
+}
+
+// Both baked textures hold, texel for texel, what the solver gives for the inputs (±1 for the
+// rounding of the PNG round trip).
+void expect_baked(const Asset& converted, const Texels& diffuse, const Texels& spec_gloss) {
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  ASSERT_GE(pbr.metallicRoughnessTexture.index, 0);
+  const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+  const Pixels mr = texture_pixels(converted, pbr.metallicRoughnessTexture.index);
+  ASSERT_EQ(base.width, diffuse.width);
+  ASSERT_EQ(base.height, diffuse.height);
+  ASSERT_EQ(mr.width, diffuse.width);
+  ASSERT_EQ(mr.height, diffuse.height);
+  for (int y = 0; y < diffuse.height; ++y)
+    for (int x = 0; x < diffuse.width; ++x) {
+      const Expected e = expected_texel(diffuse.at(x, y), spec_gloss.at(x, y));
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(byte_at(base, x, y, c), e.base_color[static_cast<size_t>(c)], 1) << x << "," << y << " base " << c;
+        EXPECT_NEAR(byte_at(mr, x, y, c), e.metal_rough[static_cast<size_t>(c)], 1) << x << "," << y << " mr " << c;
+      }
+    }
+}
+
+bool no_spec_gloss(const Asset& asset) {
+  for (const auto& material : asset.model.materials)
+    if (material.extensions.count(kSpecGloss)) return false;
+  return std::find(asset.model.extensionsUsed.begin(), asset.model.extensionsUsed.end(), kSpecGloss) ==
+         asset.model.extensionsUsed.end();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sizes
+// ---------------------------------------------------------------------------------------------
+
+TEST(Textures, OneByOneDiffuseTextureBecomesFactors) {
+  ScratchDir scratch;
+  const Texels diffuse(1, 1, 4, [](int, int) { return Texel{200, 120, 40, 255}; });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).factor("specularFactor", numbers({0.5, 0.5, 0.5}));
+  built.factor("glossinessFactor", tinygltf::Value(0.6));
+  Asset asset = built.save_and_load(scratch / "tiny.gltf");
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_EQ(report.materials[0].texels, 1);
+  EXPECT_EQ(report.textures_baked, 0);
+  EXPECT_TRUE(no_spec_gloss(converted));
+  EXPECT_TRUE(converted.model.images.empty());
+  EXPECT_TRUE(converted.model.textures.empty());
+
+  const Expected e = expected_texel(diffuse.at(0, 0), {to_byte(linear_to_srgb(0.5f)), to_byte(linear_to_srgb(0.5f)),
+                                                       to_byte(linear_to_srgb(0.5f)), to_byte(0.6f)});
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  EXPECT_EQ(pbr.baseColorTexture.index, -1);
+  EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1);
+  ASSERT_EQ(pbr.baseColorFactor.size(), 4u);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(pbr.baseColorFactor[static_cast<size_t>(c)], srgb8_to_linear(e.base_color[static_cast<size_t>(c)]),
+                0.01)
+        << c;
+  EXPECT_DOUBLE_EQ(pbr.baseColorFactor[3], 1.0);
+  EXPECT_NEAR(pbr.metallicFactor, e.metal_rough[2] / 255.0, 1.5 / 255);
+  EXPECT_NEAR(pbr.roughnessFactor, 0.4, 1.0 / 255);
+  EXPECT_GT(pbr.metallicFactor, 0.0);  // F0 0.5 is metal-like: not the dielectric fallback
+}
+
+TEST(Textures, NonPowerOfTwoTexturesBakeAtTheirOwnSizeTexelForTexel) {
+  ScratchDir scratch;
+  constexpr int w = 13, h = 7;
+  const Texels diffuse(w, h, 4, [](int x, int y) { return ramp_diffuse(x, y, w, h); });
+  const Texels spec_gloss(w, h, 4, [](int x, int y) { return ramp_spec_gloss(x, y, w, h); });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
+  Asset asset = built.save_and_load(scratch / "npot.gltf");
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].texels, w * h);
+  EXPECT_EQ(report.textures_baked, 2);
+  EXPECT_EQ(report.images_decoded, 2);
+  EXPECT_TRUE(no_spec_gloss(converted));
+  expect_baked(converted, diffuse, spec_gloss);
+  // Both inputs are gone; only the two baked images remain.
+  EXPECT_EQ(converted.model.images.size(), 2u);
+}
+
+TEST(Textures, DiffuseAndSpecGlossOfDifferentSizesBakeAtTheLargerSize) {
+  ScratchDir scratch;
+  struct Case {
+    int diffuse_w, diffuse_h, spec_w, spec_h, want_w, want_h;
+  };
+  for (const Case c : {Case{8, 4, 32, 16, 32, 16}, Case{32, 16, 8, 4, 32, 16}, Case{16, 4, 5, 12, 16, 12}}) {
+    SCOPED_TRACE(std::to_string(c.diffuse_w) + "x" + std::to_string(c.diffuse_h) + " and " + std::to_string(c.spec_w) +
+                 "x" + std::to_string(c.spec_h));
+    const Texels diffuse(c.diffuse_w, c.diffuse_h, 4,
+                         [&](int x, int y) { return ramp_diffuse(x, y, c.diffuse_w, c.diffuse_h); });
+    const Texels spec_gloss(c.spec_w, c.spec_h, 4,
+                            [&](int x, int y) { return ramp_spec_gloss(x, y, c.spec_w, c.spec_h); });
+    SpecGlossModel built;
+    built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
+    Asset asset =
+        built.save_and_load(scratch / (std::to_string(c.diffuse_w) + "-" + std::to_string(c.spec_w)) / "sizes.gltf");
+
+    ConversionReport report;
+    const Asset converted =
+        convert_save_reload(asset, scratch / "converted" / asset.path.parent_path().filename() / "sizes.gltf", &report);
+    EXPECT_EQ(report.materials.at(0).texels, c.want_w * c.want_h);
+    const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+    ASSERT_GE(pbr.baseColorTexture.index, 0);
+    ASSERT_GE(pbr.metallicRoughnessTexture.index, 0);
+    for (int texture : {pbr.baseColorTexture.index, pbr.metallicRoughnessTexture.index}) {
+      const Pixels baked = texture_pixels(converted, texture);
+      EXPECT_EQ(baked.width, c.want_w);
+      EXPECT_EQ(baked.height, c.want_h);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input encodings
+// ---------------------------------------------------------------------------------------------
+
+TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
+  ScratchDir scratch;
+  const fs::path input = assets_dir() / "CesiumMan" / "specgloss" / "CesiumMan.gltf";
+  const auto jpeg = read_file(input.parent_path() / "CesiumMan.jpg");
+  ASSERT_TRUE(jpeg);
+  const Pixels source = decode_image(*jpeg, "CesiumMan.jpg");
+  EXPECT_EQ(source.channels, 3);
+  EXPECT_EQ(source.bits, 8);
+
+  Asset asset = load_asset(input);
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / "CesiumMan.gltf", &report);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_EQ(report.images_decoded, 1);
+  EXPECT_EQ(report.materials[0].texels, static_cast<long long>(source.width) * source.height);
+
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  const int image = converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source;
+  // A lossy source stays lossy (converter/convert.cpp): an opaque JPEG diffuse bakes to JPEG.
+  EXPECT_TRUE(is_jpeg(encoded_image_bytes(converted.model, image)));
+  const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+  EXPECT_EQ(base.width, source.width);
+  EXPECT_EQ(base.height, source.height);
+  EXPECT_EQ(base.channels, 3);  // the JPEG has no alpha, so neither has the baked baseColor
+  EXPECT_DOUBLE_EQ(pbr.baseColorFactor.at(3), 1.0);
+
+  // Glossiness 1 everywhere: roughness 0. Specular 0.1 sits between plastic and metal: the prior
+  // keeps metalness low (DESIGN.md: it rises from 0 at F0 0.04 to 1 at 0.45).
+  float metalness_max = 0;
+  if (pbr.metallicRoughnessTexture.index >= 0) {
+    const Pixels mr = texture_pixels(converted, pbr.metallicRoughnessTexture.index);
+    EXPECT_EQ(mr.width, source.width);
+    for (int y = 0; y < mr.height; ++y)
+      for (int x = 0; x < mr.width; ++x) {
+        ASSERT_EQ(byte_at(mr, x, y, 1), 0) << x << "," << y;
+        metalness_max = std::max(metalness_max, mr.at(x, y, 2));
+      }
+  } else {
+    EXPECT_DOUBLE_EQ(pbr.roughnessFactor, 0.0);
+    metalness_max = static_cast<float>(pbr.metallicFactor);
+  }
+  EXPECT_LT(metalness_max, 0.5f);
+
+  // Against the solver, texel by texel: within what JPEG re-encoding costs. It rings at edges,
+  // so the bounds are on the mean, the bias and the 99th percentile.
+  const std::uint8_t s = to_byte(linear_to_srgb(0.1f));
+  std::vector<int> diffs;
+  double bias = 0;
+  for (int y = 0; y < source.height; y += 3)
+    for (int x = 0; x < source.width; x += 3) {
+      const Texel d{byte_at(source, x, y, 0), byte_at(source, x, y, 1), byte_at(source, x, y, 2), 255};
+      const Expected e = expected_texel(d, {s, s, s, 255});
+      for (int c = 0; c < 3; ++c) {
+        const int diff = byte_at(base, x, y, c) - e.base_color[static_cast<size_t>(c)];
+        bias += diff;
+        diffs.push_back(std::abs(diff));
+      }
+    }
+  std::sort(diffs.begin(), diffs.end());
+  double sum = 0;
+  for (int d : diffs) sum += d;
+  const double n = static_cast<double>(diffs.size());
+  EXPECT_LT(sum / n, 1.5);
+  EXPECT_LT(std::abs(bias / n), 0.5);
+  EXPECT_LE(diffs[diffs.size() * 99 / 100], 20);
+}
+
+// The PLTE entries of a palette PNG (PNG spec, section 11.2.3), read from its chunks.
+std::set<std::array<std::uint8_t, 3>> png_palette(const Bytes& png) {
+  std::set<std::array<std::uint8_t, 3>> palette;
+  auto be32 = [&](size_t at) {
+    return std::uint32_t{png[at]} << 24 | std::uint32_t{png[at + 1]} << 16 | std::uint32_t{png[at + 2]} << 8 |
+           png[at + 3];
+  };
+  for (size_t at = 8; at + 8 <= png.size();) {
+    const std::uint32_t length = be32(at);
+    const std::string type(png.begin() + static_cast<std::ptrdiff_t>(at + 4),
+                           png.begin() + static_cast<std::ptrdiff_t>(at + 8));
+    if (type == "PLTE")
+      for (size_t i = at + 8; i + 3 <= at + 8 + length; i += 3) palette.insert({png[i], png[i + 1], png[i + 2]});
+    at += 12 + length;
+  }
+  return palette;
+}
+
+TEST(Textures, PalettePngsDecodeToPaletteColoursAndConvert) {
+  ScratchDir scratch;
+  for (const char* model : {"BoxTexturedNonPowerOfTwo", "Duck"}) {
+    SCOPED_TRACE(model);
+    const fs::path folder = assets_dir() / model / "specgloss";
+    Asset asset = load_asset(folder / (std::string(model) + ".gltf"));
+    const auto& png = asset.model.images.at(0);
+    const auto bytes = read_file(folder / png.uri);
+    ASSERT_TRUE(bytes);
+    ASSERT_EQ((*bytes)[25], 3) << "colour type 3: a palette PNG";
+    const auto palette = png_palette(*bytes);
+    ASSERT_FALSE(palette.empty());
+
+    const Pixels decoded = decode_image(*bytes, png.uri);
+    EXPECT_TRUE(decoded.channels == 3 || decoded.channels == 4) << decoded.channels;
+    EXPECT_EQ(decoded.bits, 8);
+    std::set<std::array<std::uint8_t, 3>> seen;
+    for (int y = 0; y < decoded.height; ++y)
+      for (int x = 0; x < decoded.width; ++x) {
+        const std::array<std::uint8_t, 3> rgb{byte_at(decoded, x, y, 0), byte_at(decoded, x, y, 1),
+                                              byte_at(decoded, x, y, 2)};
+        seen.insert(rgb);
+        ASSERT_TRUE(palette.count(rgb)) << x << "," << y << " is not a palette colour";
+      }
+    EXPECT_GT(seen.size(), 2u);
+
+    ConversionReport report;
+    const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+    EXPECT_EQ(report.materials.at(0).outcome, "metalness");
+    EXPECT_TRUE(no_spec_gloss(converted));
+    const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+    ASSERT_GE(pbr.baseColorTexture.index, 0);
+    const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+    EXPECT_EQ(base.width, decoded.width);
+    EXPECT_EQ(base.height, decoded.height);
+  }
+}
+
+// 16-bit PNG input is not covered: no shared asset holds one, and the image module writes only
+// 8-bit PNG (tests do not link OpenImageIO themselves).
+
+// ---------------------------------------------------------------------------------------------
+// Alpha and constants
+// ---------------------------------------------------------------------------------------------
+
+TEST(Textures, DiffuseAlphaBecomesBaseColorAlphaTexelForTexel) {
+  ScratchDir scratch;
+  constexpr int w = 9, h = 6;
+  const Texels diffuse(w, h, 4, [](int x, int y) {
+    return Texel{static_cast<std::uint8_t>(20 * x), 140, static_cast<std::uint8_t>(30 * y),
+                 static_cast<std::uint8_t>(255 - 4 * (x + w * y))};
+  });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).factor("specularFactor", numbers({0.3, 0.3, 0.3}));
+  Asset asset = built.save_and_load(scratch / "alpha.gltf");
+
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename());
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+  ASSERT_EQ(base.channels, 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) EXPECT_EQ(byte_at(base, x, y, 3), diffuse.at(x, y)[3]) << x << "," << y;
+  EXPECT_DOUBLE_EQ(pbr.baseColorFactor.at(3), 1.0);
+}
+
+// The alpha a viewer sees: the texture's (1 when it has none) times the factor's.
+double seen_alpha(const Pixels& base, int x, int y, const std::vector<double>& factor) {
+  const double texel = base.channels == 2 || base.channels == 4 ? base.at(x, y, base.channels - 1) : 1.0;
+  return texel * factor.at(3);
+}
+
+TEST(Textures, DiffuseAlphaFactorAppliesOnceWhetherAlphaVariesOrNot) {
+  ScratchDir scratch;
+  // Varying alpha (RGBA), and an opaque RGB diffuse whose only alpha is the factor's.
+  for (const int channels : {4, 3}) {
+    SCOPED_TRACE(channels);
+    const Texels diffuse(4, 4, channels, [](int x, int y) {
+      return Texel{static_cast<std::uint8_t>(40 * x), 60, static_cast<std::uint8_t>(50 * y),
+                   static_cast<std::uint8_t>(60 + 10 * (x + 4 * y))};
+    });
+    SpecGlossModel built;
+    built.diffuse_texture(built.add_png(diffuse, "diffuse"))
+        .factor("diffuseFactor", numbers({1.0, 1.0, 1.0, 0.5}))
+        .factor("specularFactor", numbers({0.3, 0.3, 0.3}));
+    const fs::path folder = scratch / ("rgb" + std::string(channels == 4 ? "a" : ""));
+    Asset asset = built.save_and_load(folder / "alpha-factor.gltf");
+
+    const Asset converted = convert_save_reload(asset, folder / "converted" / "alpha-factor.gltf");
+    const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+    ASSERT_GE(pbr.baseColorTexture.index, 0);
+    const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        EXPECT_NEAR(seen_alpha(base, x, y, pbr.baseColorFactor), 0.5 * diffuse.at(x, y)[3] / 255.0, 1.0 / 255)
+            << x << "," << y;
+  }
+}
+
+TEST(Textures, ConstantBakedTexturesBecomeFactorsAndNoImageIsWritten) {
+  ScratchDir scratch;
+  const Texel diffuse_texel{180, 90, 30, 255}, spec_gloss_texel{120, 120, 120, 200};
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(Texels(4, 4, 4, [&](int, int) { return diffuse_texel; }), "diffuse"))
+      .spec_gloss_texture(built.add_png(Texels(4, 4, 4, [&](int, int) { return spec_gloss_texel; }), "specGloss"));
+  Asset asset = built.save_and_load(scratch / "constant.gltf");
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  EXPECT_EQ(report.textures_baked, 0);
+  EXPECT_EQ(report.images_removed, 2);
+  EXPECT_TRUE(converted.model.images.empty());
+  EXPECT_TRUE(converted.model.textures.empty());
+  EXPECT_TRUE(converted.model.samplers.empty());
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  EXPECT_EQ(pbr.baseColorTexture.index, -1);
+  EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1);
+
+  const Expected e = expected_texel(diffuse_texel, spec_gloss_texel);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(pbr.baseColorFactor.at(static_cast<size_t>(c)), srgb8_to_linear(e.base_color[static_cast<size_t>(c)]),
+                1e-6);
+  EXPECT_NEAR(pbr.metallicFactor, e.metal_rough[2] / 255.0, 1e-9);
+  EXPECT_NEAR(pbr.roughnessFactor, e.metal_rough[1] / 255.0, 1e-9);
+  EXPECT_GT(pbr.metallicFactor, 0.0);
+  // Only the .gltf was written: no image file beside it.
+  EXPECT_EQ(files_under(scratch / "converted").size(), 1u);
+}
+
+TEST(Textures, ConstantDiffuseAtDielectricF0BecomesAFactorRatherThanAReusedTexture) {
+  ScratchDir scratch;
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(Texels(3, 3, 3,
+                                             [](int, int) {
+                                               return Texel{150, 100, 50, 255};
+                                             }),
+                                      "diffuse"))
+      .factor("specularFactor", numbers({0.04, 0.04, 0.04}));
+  Asset asset = built.save_and_load(scratch / "constant-dielectric.gltf");
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  EXPECT_EQ(pbr.baseColorTexture.index, -1);
+  EXPECT_TRUE(converted.model.images.empty());
+  EXPECT_EQ(report.textures_reused, 0);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(pbr.baseColorFactor.at(static_cast<size_t>(c)),
+                srgb8_to_linear(std::array<std::uint8_t, 3>{150, 100, 50}[static_cast<size_t>(c)]), 1e-6);
+  EXPECT_DOUBLE_EQ(pbr.metallicFactor, 0.0);
+}
+
+TEST(Textures, DielectricDiffuseAtF0004ReusesTheDiffuseImageByteForByte) {
+  ScratchDir scratch;
+  constexpr int w = 6, h = 5;
+  const Texels diffuse(w, h, 4, [](int x, int y) { return ramp_diffuse(x, y, w, h); });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse"))
+      .factor("specularFactor", numbers({0.04, 0.04, 0.04}))
+      .factor("glossinessFactor", tinygltf::Value(0.7));
+  Asset asset = built.save_and_load(scratch / "dielectric.gltf");
+  const auto original = encoded_image_bytes(asset.model, 0);
+  const Bytes original_bytes(original.begin(), original.end());
+  const auto original_file = read_file(scratch / asset.model.images.at(0).uri);
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  EXPECT_EQ(report.textures_reused, 1);
+  EXPECT_EQ(report.textures_baked, 0);  // no baseColor image, and a constant metallicRoughness
+  ASSERT_EQ(converted.model.images.size(), 1u);
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  const auto reused = encoded_image_bytes(
+      converted.model, converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source);
+  EXPECT_EQ(Bytes(reused.begin(), reused.end()), original_bytes);
+  EXPECT_EQ(read_file(scratch / "converted" / converted.model.images.at(0).uri), original_file);
+  EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1);
+  EXPECT_DOUBLE_EQ(pbr.metallicFactor, 0.0);
+  EXPECT_NEAR(pbr.roughnessFactor, 0.3, 1.0 / 255);
+  for (double v : pbr.baseColorFactor) EXPECT_DOUBLE_EQ(v, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Channels and mapping
+// ---------------------------------------------------------------------------------------------
+
+TEST(Textures, GlossinessZeroAndOneGiveRoughness255And0InGreenAndMetalnessInBlue) {
+  ScratchDir scratch;
+  const std::uint8_t plastic = 56;  // sRGB of F0 0.04
+  const Texel iron{to_byte(linear_to_srgb(0.562f)), to_byte(linear_to_srgb(0.565f)), to_byte(linear_to_srgb(0.578f)),
+                   0};
+  // Columns: plastic on grey diffuse, iron on black diffuse. Rows: glossiness 0, then 1.
+  const Texels diffuse(2, 2, 3, [](int x, int) { return x == 0 ? Texel{128, 128, 128, 255} : Texel{0, 0, 0, 255}; });
+  const Texels spec_gloss(2, 2, 4, [&](int x, int y) {
+    Texel t = x == 0 ? Texel{plastic, plastic, plastic, 0} : iron;
+    t[3] = y == 0 ? 0 : 255;
+    return t;
+  });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
+  Asset asset = built.save_and_load(scratch / "channels.gltf");
+
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename());
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.metallicRoughnessTexture.index, 0);
+  const Pixels mr = texture_pixels(converted, pbr.metallicRoughnessTexture.index);
+  ASSERT_EQ(mr.width, 2);
+  ASSERT_EQ(mr.height, 2);
+  ASSERT_GE(mr.channels, 3);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 2; ++x) {
+      SCOPED_TRACE(std::to_string(x) + "," + std::to_string(y));
+      EXPECT_EQ(byte_at(mr, x, y, 0), 0);                 // R unused
+      EXPECT_EQ(byte_at(mr, x, y, 1), y == 0 ? 255 : 0);  // G roughness = 1 - glossiness
+      EXPECT_EQ(byte_at(mr, x, y, 2), x == 0 ? 0 : 255);  // B metalness: plastic 0, iron 1
+    }
+  EXPECT_DOUBLE_EQ(pbr.metallicFactor, 1.0);
+  EXPECT_DOUBLE_EQ(pbr.roughnessFactor, 1.0);
+  // Iron's baseColor is its F0, plastic's its diffuse.
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(byte_at(base, 0, 0, c), 128, 1);
+    EXPECT_NEAR(byte_at(base, 1, 1, c), iron[static_cast<size_t>(c)], 1);
+  }
+}
+
+tinygltf::Value::Object texture_transform(double rotation) {
+  tinygltf::Value::Object transform;
+  transform["offset"] = numbers({0.25, 0.5});
+  transform["scale"] = numbers({2.5, 0.75});
+  transform["rotation"] = tinygltf::Value(rotation);
+  return transform;
+}
+
+TEST(Textures, SharedTextureTransformIsCopiedOntoBothBakedTextures) {
+  ScratchDir scratch;
+  constexpr int w = 8, h = 8;
+  const Texels diffuse(w, h, 4, [](int x, int y) { return ramp_diffuse(x, y, w, h); });
+  const Texels spec_gloss(w, h, 4, [](int x, int y) { return ramp_spec_gloss(x, y, w, h); });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse"), texture_transform(0.3))
+      .spec_gloss_texture(built.add_png(spec_gloss, "specGloss"), texture_transform(0.3));
+  Asset asset = built.save_and_load(scratch / "transform.gltf");
+
+  ConversionReport report;
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_TRUE(no_spec_gloss(converted));
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  ASSERT_GE(pbr.metallicRoughnessTexture.index, 0);
+  const tinygltf::Value expected(texture_transform(0.3));
+  for (const tinygltf::TextureInfo* info : {&pbr.baseColorTexture, &pbr.metallicRoughnessTexture}) {
+    ASSERT_TRUE(info->extensions.count(kTextureTransform));
+    EXPECT_TRUE(info->extensions.at(kTextureTransform) == expected);
+    EXPECT_EQ(info->texCoord, 0);
+  }
+  EXPECT_NE(std::find(converted.model.extensionsUsed.begin(), converted.model.extensionsUsed.end(), kTextureTransform),
+            converted.model.extensionsUsed.end());
+  expect_baked(converted, diffuse, spec_gloss);  // baked in texture space, texel for texel
+}
+
+TEST(Textures, DifferentTextureTransformsLeaveTheMaterialLegacyUndecoded) {
+  ScratchDir scratch;
+  const Texels diffuse(4, 4, 4, [](int x, int y) { return ramp_diffuse(x, y, 4, 4); });
+  const Texels spec_gloss(4, 4, 4, [](int x, int y) { return ramp_spec_gloss(x, y, 4, 4); });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse"), texture_transform(0.3))
+      .spec_gloss_texture(built.add_png(spec_gloss, "specGloss"), texture_transform(0.6));
+  Asset asset = built.save_and_load(scratch / "transforms.gltf");
+
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 1u);
+  EXPECT_EQ(report.materials[0].outcome, "legacy");
+  EXPECT_EQ(report.images_decoded, 0);
+  EXPECT_FALSE(report.warnings.empty());
+  EXPECT_TRUE(asset.model.materials.at(0).extensions.count(kSpecGloss));
+  EXPECT_EQ(asset.model.images.size(), 2u);
+}
+
+TEST(Textures, GlbInputKeepsBakedImagesInsideTheBinChunk) {
+  ScratchDir scratch;
+  constexpr int w = 5, h = 3;
+  const Texels diffuse(w, h, 4, [](int x, int y) { return ramp_diffuse(x, y, w, h); });
+  const Texels spec_gloss(w, h, 4, [](int x, int y) { return ramp_spec_gloss(x, y, w, h); });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
+  Asset asset = built.save_and_load(scratch / "textured.glb");
+  ASSERT_TRUE(asset.binary);
+  for (const auto& image : asset.model.images) EXPECT_GE(image.bufferView, 0);
+
+  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename());
+  EXPECT_TRUE(converted.binary);
+  EXPECT_EQ(files_under(scratch / "converted").size(), 1u);  // the .glb stands alone
+  for (const auto& image : converted.model.images) {
+    EXPECT_GE(image.bufferView, 0);
+    EXPECT_TRUE(image.uri.empty());
+  }
+  expect_baked(converted, diffuse, spec_gloss);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
