@@ -42,9 +42,6 @@ bool same_mapping(const tinygltf::TextureInfo& a, const tinygltf::TextureInfo& b
   return a.texCoord == b.texCoord && transform(a) == transform(b);
 }
 
-// Round-trips a float through its 8-bit sRGB or linear encoding, as a factor is stored exactly.
-double to_double(float v) { return static_cast<double>(v); }
-
 class Converter {
  public:
   Converter(Asset& asset, const ConvertOptions& options) : asset_(asset), model_(asset.model), options_(options) {}
@@ -106,7 +103,7 @@ class Converter {
                                                                        : nullptr;
     if (!mapping) {  // factors only, at full precision
       const MetalRough& f = baked.factor_solution;
-      pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, to_double(legacy.diffuse_factor.a)};
+      pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, static_cast<double>(legacy.diffuse_factor.a)};
       pbr.metallicFactor = f.metalness;
       pbr.roughnessFactor = f.roughness;
       return;
@@ -118,7 +115,7 @@ class Converter {
                              srgb8_to_linear(t.base_color[2]), t.base_color[3] / 255.0};
     } else if (baked.reuse_diffuse) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
-      pbr.baseColorFactor = {1.0, 1.0, 1.0, to_double(legacy.diffuse_factor.a)};
+      pbr.baseColorFactor = {1.0, 1.0, 1.0, static_cast<double>(legacy.diffuse_factor.a)};
       ++report_.textures_reused;
     } else {
       pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
@@ -158,11 +155,12 @@ class Converter {
       specular["specularColorTexture"] = tinygltf::Value(std::move(info));
       // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
       const Bake& rough = bake_roughness(legacy);
-      if (rough.texels.metal_rough_constant)
+      if (rough.texels.metal_rough_constant) {
         pbr.roughnessFactor = rough.texels.metal_rough[1] / 255.0;
-      else
-        pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture),
+      } else {
+        pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
+      }
     }
     material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
     tinygltf::Value::Object ior;

@@ -573,6 +573,83 @@ TEST(Textures, DielectricDiffuseAtF0004ReusesTheDiffuseImageByteForByte) {
   for (double v : pbr.baseColorFactor) EXPECT_DOUBLE_EQ(v, 1.0);
 }
 
+// A 16-bit RGB PNG written by hand (PNG spec: IHDR bit depth 16, colour type 2; zlib stream of
+// stored deflate blocks, RFC 1950/1951; CRC-32 per chunk), since the image module writes 8-bit only.
+Bytes sixteen_bit_png(int width, int height, const std::function<std::array<std::uint16_t, 3>(int, int)>& texel) {
+  auto crc32 = [](const Bytes& data, size_t from) {
+    std::uint32_t crc = 0xFFFFFFFFu;
+    for (size_t i = from; i < data.size(); ++i) {
+      crc ^= data[i];
+      for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+  };
+  auto put32 = [](Bytes& out, std::uint32_t v) {
+    for (int k = 3; k >= 0; --k) out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  };
+  Bytes png = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  auto chunk = [&](const char* type, const Bytes& data) {
+    put32(png, static_cast<std::uint32_t>(data.size()));
+    const size_t start = png.size();
+    png.insert(png.end(), type, type + 4);
+    png.insert(png.end(), data.begin(), data.end());
+    put32(png, crc32(png, start));
+  };
+  Bytes header;
+  put32(header, static_cast<std::uint32_t>(width));
+  put32(header, static_cast<std::uint32_t>(height));
+  header.insert(header.end(), {16, 2, 0, 0, 0});
+  Bytes raw;  // each row: filter byte 0, then big-endian 16-bit RGB
+  for (int y = 0; y < height; ++y) {
+    raw.push_back(0);
+    for (int x = 0; x < width; ++x)
+      for (std::uint16_t v : texel(x, y)) raw.insert(raw.end(), {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)});
+  }
+  EXPECT_LT(raw.size(), 65536u);  // one stored block
+  Bytes zlib = {0x78, 0x01, 0x01, static_cast<std::uint8_t>(raw.size()), static_cast<std::uint8_t>(raw.size() >> 8),
+                static_cast<std::uint8_t>(~raw.size()), static_cast<std::uint8_t>(~raw.size() >> 8)};
+  zlib.insert(zlib.end(), raw.begin(), raw.end());
+  std::uint32_t a = 1, b = 0;  // Adler-32
+  for (std::uint8_t byte : raw) a = (a + byte) % 65521, b = (b + a) % 65521;
+  put32(zlib, (b << 16) | a);
+  chunk("IHDR", header);
+  chunk("IDAT", zlib);
+  chunk("IEND", {});
+  return png;
+}
+
+TEST(Textures, SixteenBitPngDiffuseIsReadAtFullPrecision) {
+  ScratchDir scratch;
+  constexpr int w = 8, h = 4;
+  // Values between 8-bit steps: an 8-bit reading would round them away.
+  auto texel = [](int x, int y) {
+    return std::array<std::uint16_t, 3>{static_cast<std::uint16_t>(20000 + 4099 * x + 77),
+                                        static_cast<std::uint16_t>(9000 + 5003 * y + 129),
+                                        static_cast<std::uint16_t>(40000 + 311 * (x + y))};
+  };
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_encoded(sixteen_bit_png(w, h, texel), "image/png", "diffuse16"))
+      .factor("specularFactor", numbers({0.3, 0.3, 0.3}));
+  Asset asset = built.save_and_load(scratch / "sixteen.gltf");
+  const Pixels decoded = decode_image(encoded_image_bytes(asset.model, 0), "diffuse16");
+  ASSERT_EQ(decoded.bits, 16);
+  EXPECT_NEAR(decoded.at(3, 2, 0), texel(3, 2)[0] / 65535.0f, 1e-6f);
+
+  const Asset converted = convert_save_reload(asset, scratch / "out" / "sixteen.gltf");
+  const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+  ASSERT_GE(pbr.baseColorTexture.index, 0);
+  const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
+  ASSERT_EQ(base.width, w);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 diffuse;
+      for (int c = 0; c < 3; ++c) diffuse[c] = srgb_to_linear(texel(x, y)[static_cast<size_t>(c)] / 65535.0f);
+      const MetalRough expected = solve({diffuse, glm::vec3(0.3f), 1.0f});
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(byte_at(base, x, y, c), to_byte(linear_to_srgb(expected.base[c]))) << x << "," << y << " c" << c;
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Channels and mapping
 // ---------------------------------------------------------------------------------------------
