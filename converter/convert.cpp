@@ -210,11 +210,11 @@ class Converter {
     inputs.specular_factor = legacy.specular_factor;
     inputs.glossiness_factor = legacy.glossiness_factor;
     if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
-      // Factors only: solve at full precision; the 1x1 bake gives the error of the stored factors.
+      // Factors only: one solve at full precision, stored as factors (a single "texel").
       SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
       const auto start = Clock::now();
       bake.factor_solution = solve(factors, options_.solver);
-      bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
+      bake.texels.width = bake.texels.height = 1;
       ErrorAccumulator a, b;
       const Reflectance converted = core_reflectance(bake.factor_solution);
       a.add(legacy_reflectance(factors, LegacyReading::A), converted);
