@@ -1,1 +1,77 @@
+// Saving: container round trips keep every byte that matters, and a failed save leaves nothing.
 #include <gtest/gtest.h>
+
+#include "core/asset.hpp"
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::assets_dir;
+using test::ScratchDir;
+
+std::vector<std::uint8_t> accessor_bytes(const tinygltf::Model& model, size_t accessor) {
+  const auto& view = model.bufferViews.at(static_cast<size_t>(model.accessors.at(accessor).bufferView));
+  const auto& data = model.buffers.at(static_cast<size_t>(view.buffer)).data;
+  return {data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+          data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength)};
+}
+
+// Materials as the document defines them: tinygltf's deprecated `values`/`additionalValues` maps
+// are derived on parse and differ with the writer's choice of defaults, not with the content.
+std::vector<tinygltf::Material> materials(const tinygltf::Model& model) {
+  std::vector<tinygltf::Material> out = model.materials;
+  for (auto& m : out) m.values.clear(), m.additionalValues.clear();
+  return out;
+}
+
+void expect_same_content(const Asset& a, const Asset& b) {
+  ASSERT_EQ(a.model.accessors.size(), b.model.accessors.size());
+  for (size_t i = 0; i < a.model.accessors.size(); ++i)
+    EXPECT_EQ(accessor_bytes(a.model, i), accessor_bytes(b.model, i)) << "accessor " << i;
+  ASSERT_EQ(a.model.images.size(), b.model.images.size());
+  for (size_t i = 0; i < a.model.images.size(); ++i) {
+    const auto x = encoded_image_bytes(a.model, static_cast<int>(i)), y = encoded_image_bytes(b.model, static_cast<int>(i));
+    EXPECT_TRUE(std::equal(x.begin(), x.end(), y.begin(), y.end())) << "image " << i;
+  }
+  EXPECT_EQ(materials(a.model), materials(b.model));
+  EXPECT_EQ(a.model.meshes, b.model.meshes);
+  EXPECT_EQ(a.model.nodes, b.model.nodes);
+  EXPECT_EQ(a.model.extensionsUsed, b.model.extensionsUsed);
+}
+
+TEST(SaveRoundTrip, GltfToGlbToGltfKeepsAccessorAndImageBytes) {
+  ScratchDir scratch;
+  const fs::path input = assets_dir() / "Duck" / "specgloss" / "Duck.gltf";
+  Asset original = load_asset(input);
+  save_asset(original, scratch / "glb" / "Duck.glb");
+  Asset glb = load_asset(scratch / "glb" / "Duck.glb");
+  EXPECT_TRUE(glb.binary);
+  EXPECT_EQ(glb.model.buffers.size(), 1u);
+  for (const auto& image : glb.model.images) EXPECT_GE(image.bufferView, 0) << "a GLB stands alone";
+  save_asset(glb, scratch / "gltf" / "Duck.gltf");
+  const Asset back = load_asset(scratch / "gltf" / "Duck.gltf");
+  expect_same_content(load_asset(input), glb);
+  expect_same_content(glb, back);
+}
+
+TEST(SaveRoundTrip, UntouchedGltfSavedElsewhereKeepsItsResourceFilesByteForByte) {
+  ScratchDir scratch;
+  const fs::path folder = assets_dir() / "BoxTextured" / "specgloss";
+  Asset asset = load_asset(folder / "BoxTextured.gltf");
+  save_asset(asset, scratch / "BoxTextured.gltf");
+  EXPECT_EQ(read_file(scratch / "BoxTextured0.bin"), read_file(folder / "BoxTextured0.bin"));
+  EXPECT_EQ(read_file(scratch / "CesiumLogoFlat.png"), read_file(folder / "CesiumLogoFlat.png"));
+  expect_same_content(load_asset(folder / "BoxTextured.gltf"), load_asset(scratch / "BoxTextured.gltf"));
+}
+
+TEST(SaveRoundTrip, FailedSaveLeavesNoFileBehind) {
+  ScratchDir scratch;
+  Asset asset = load_asset(assets_dir() / "Box" / "specgloss" / "Box.gltf");
+  test::write_text(scratch / "not-a-folder", "a file where the output folder should be");
+  EXPECT_ANY_THROW(save_asset(asset, scratch / "not-a-folder" / "Box.gltf"));
+  EXPECT_EQ(test::files_under(scratch.path()).size(), 1u);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
