@@ -92,6 +92,11 @@ Bytes encode_jpeg_with_oiio(std::span<const std::uint8_t> texels, int width, int
 }  // namespace gltf_pbr
 
 extern "C" __attribute__((visibility("default"))) const gltf_pbr::ImageCodec* gltf_pbr_image_codec() {
+  // Our callers already run one image per core (core/parallel.hpp). OpenImageIO's own thread pool
+  // would oversubscribe the cores and leave idle threads alive at exit, where LeakSanitizer's
+  // tracer has crashed suspending them on CI machines.
+  static const bool single_threaded = OIIO_NAMESPACE::attribute("threads", 1);
+  (void)single_threaded;
   static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode_with_oiio, &gltf_pbr::resample_with_oiio,
                                           &gltf_pbr::encode_png_with_oiio, &gltf_pbr::encode_jpeg_with_oiio};
   return &codec;
