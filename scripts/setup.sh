@@ -11,7 +11,7 @@ jobs=$(nproc)
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
 packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev libdraco-dev libopenimageio-dev
-          libglm-dev libcli11-dev libgtest-dev)
+          libglm-dev libcli11-dev libgtest-dev libyaml-cpp-dev libcgal-dev libbenchmark-dev)
 # The tests check converted files with the Khronos validator from npm; keep an existing node.
 if [ "$mode" = test ] && ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
 missing=()

@@ -1,0 +1,89 @@
+#include "core/report.hpp"
+
+#include <algorithm>
+#include <tuple>
+#include <unordered_map>
+
+namespace gltf_pbr {
+
+const char* severity_name(Severity severity) {
+  switch (severity) {
+    case Severity::Error: return "error";
+    case Severity::Warning: return "warning";
+    case Severity::Information: return "info";
+    case Severity::Hint: return "hint";
+  }
+  return "error";
+}
+
+std::size_t Report::count(Severity severity) const {
+  return static_cast<std::size_t>(
+      std::count_if(messages.begin(), messages.end(), [&](const Issue& issue) { return issue.severity == severity; }));
+}
+
+namespace {
+std::string fold_key(const Issue& issue) {
+  std::string key = issue.code;
+  key += '\x1f';
+  key += std::to_string(static_cast<int>(issue.severity));
+  key += '\x1f';
+  key += issue.pointer;
+  key += '\x1f';
+  key += issue.offset ? std::to_string(*issue.offset) : "-";
+  key += '\x1f';
+  key += issue.message;
+  return key;
+}
+}  // namespace
+
+void apply_policy(const IssuePolicy& policy, Report& report) {
+  std::vector<Issue> kept;
+  kept.reserve(report.messages.size());
+  std::unordered_map<std::string, std::size_t> first_of;
+  for (Issue& issue : report.messages) {
+    if (!policy.only.empty() ? !policy.only.contains(issue.code) : policy.ignore.contains(issue.code)) continue;
+    if (auto found = policy.severity_override.find(issue.code); found != policy.severity_override.end())
+      issue.severity = found->second;
+    auto [slot, inserted] = first_of.try_emplace(fold_key(issue), kept.size());
+    if (!inserted) {
+      kept[slot->second].count += issue.count;
+      continue;
+    }
+    kept.push_back(std::move(issue));
+  }
+  if (policy.max_issues != 0 && kept.size() > policy.max_issues) {
+    kept.resize(policy.max_issues);
+    report.truncated = true;
+  }
+  report.messages = std::move(kept);
+}
+
+nlohmann::ordered_json report_to_json(const Report& report) {
+  nlohmann::ordered_json messages = nlohmann::ordered_json::array();
+  for (const Issue& issue : report.messages) {
+    nlohmann::ordered_json message;
+    message["code"] = issue.code;
+    message["message"] = issue.message;
+    message["severity"] = static_cast<int>(issue.severity);
+    if (issue.offset)
+      message["offset"] = *issue.offset;
+    else
+      message["pointer"] = issue.pointer;
+    if (issue.count > 1) message["count"] = issue.count;
+    messages.push_back(std::move(message));
+  }
+  nlohmann::ordered_json json;
+  json["uri"] = report.uri;
+  json["mimeType"] = report.mime_type;
+  json["validatorVersion"] = std::string("gltf-pbr ") + GLTF_PBR_VERSION;
+  json["issues"] = {{"numErrors", report.count(Severity::Error)},
+                    {"numWarnings", report.count(Severity::Warning)},
+                    {"numInfos", report.count(Severity::Information)},
+                    {"numHints", report.count(Severity::Hint)},
+                    {"messages", std::move(messages)},
+                    {"truncated", report.truncated}};
+  if (!report.info.is_null()) json["info"] = report.info;
+  return json;
+}
+
+}  // namespace gltf_pbr

@@ -1,0 +1,60 @@
+// The validation report: the Khronos glTF-Validator's report model (validation.schema.json), which
+// every validator step (structure, materials, textures, meshes) appends to and every output format
+// (JSON, text, SARIF) reads.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace gltf_pbr {
+
+// The Khronos numbering: 0 error, 1 warning, 2 information, 3 hint.
+enum class Severity : int { Error = 0, Warning = 1, Information = 2, Hint = 3 };
+
+const char* severity_name(Severity severity);  // "error", "warning", "info", "hint"
+
+struct Issue {
+  std::string code;     // Khronos code, or ours with a prefix: PBR_*, IMAGE_*, MESH_*
+  std::string message;  // one sentence, as the reference words it where the code is its own
+  Severity severity = Severity::Error;
+  std::string pointer;                  // JSON pointer (RFC 6901) into the document
+  std::optional<std::uint64_t> offset;  // byte offset into a GLB, for container issues (no pointer)
+  std::uint64_t count = 1;              // identical repeats folded into this one (our addition)
+};
+
+struct Report {
+  std::string uri;        // as given on the command line, relative paths kept relative
+  std::string mime_type;  // "model/gltf+json" or "model/gltf-binary"
+  std::vector<Issue> messages;
+  bool truncated = false;
+  // Counts, resources, extensions. Left null (and omitted from JSON) when the document could not
+  // be read far enough to fill it, as the reference does.
+  nlohmann::ordered_json info;
+
+  void add(Issue issue) { messages.push_back(std::move(issue)); }
+  std::size_t count(Severity severity) const;
+};
+
+// What the user config (Khronos YAML config shape: max-issues, ignore, only, override) does to a
+// report's messages.
+struct IssuePolicy {
+  std::uint64_t max_issues = 0;  // 0: unlimited
+  std::set<std::string> ignore;
+  std::set<std::string> only;  // when non-empty, every other code is dropped
+  std::map<std::string, Severity> severity_override;
+};
+
+// Drops ignored codes (or all but `only`), applies severity overrides, folds identical repeats
+// (same code, severity, message and location) into one message with a count, and truncates at
+// max_issues, setting `truncated`. Order is kept: a folded message stays where it first occurred.
+void apply_policy(const IssuePolicy& policy, Report& report);
+
+// The report as the Khronos validator writes it (validatorVersion: ours). A folded message carries
+// "count" only when it is above 1, so unfolded reports stay schema-identical to the reference.
+nlohmann::ordered_json report_to_json(const Report& report);
+
+}  // namespace gltf_pbr

@@ -1,0 +1,197 @@
+#include "rules/rule_set.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "core/files.hpp"
+
+namespace gltf_pbr {
+
+const std::vector<std::pair<std::string, std::string>>& embedded_rule_files();  // rules/embed.cmake
+
+namespace {
+
+Severity parse_severity(const std::string& text, const std::string& file, const std::string& pointer) {
+  if (text == "0" || text == "error") return Severity::Error;
+  if (text == "1" || text == "warning") return Severity::Warning;
+  if (text == "2" || text == "info" || text == "information") return Severity::Information;
+  if (text == "3" || text == "hint") return Severity::Hint;
+  throw InputError(file, pointer, "severity must be 0-3 or error, warning, info, hint; got '" + text + "'");
+}
+
+std::string escape_pointer_token(const std::string& token) {
+  std::string escaped;
+  for (char c : token) {
+    if (c == '~')
+      escaped += "~0";
+    else if (c == '/')
+      escaped += "~1";
+    else
+      escaped += c;
+  }
+  return escaped;
+}
+
+}  // namespace
+
+double Rule::threshold(const std::string& name) const {
+  auto found = thresholds.find(name);
+  if (found == thresholds.end()) check_failed("rule has threshold", code + " has no threshold '" + name + "'", file.c_str());
+  return found->second;
+}
+
+const Rule* RuleSet::find(const std::string& code) const {
+  auto found = rules_.find(code);
+  return found == rules_.end() ? nullptr : &found->second;
+}
+
+const Rule& RuleSet::at(const std::string& code) const {
+  const Rule* rule = find(code);
+  if (!rule) check_failed("rule exists", "no rule " + code, __FILE__);
+  return *rule;
+}
+
+Rule& RuleSet::mutable_rule(const std::string& code) {
+  auto found = rules_.find(code);
+  if (found == rules_.end()) check_failed("rule exists", "no rule " + code, __FILE__);
+  return found->second;
+}
+
+bool RuleSet::enabled(const std::string& code) const {
+  const Rule* rule = find(code);
+  return rule && rule->enabled;
+}
+
+void RuleSet::add_from_json(const std::string& file_name, const std::string& text) {
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError(file_name, "", std::string("not valid JSON: ") + error.what());
+  }
+  if (!document.is_object() || !document.contains("rules") || !document["rules"].is_array())
+    throw InputError(file_name, "/rules", "expected an array of rules");
+  const auto& list = document["rules"];
+  for (std::size_t index = 0; index < list.size(); ++index) {
+    const std::string pointer = "/rules/" + std::to_string(index);
+    const auto& entry = list[index];
+    if (!entry.is_object() || !entry.contains("code") || !entry["code"].is_string())
+      throw InputError(file_name, pointer, "a rule needs a string 'code'");
+    Rule rule;
+    rule.file = file_name;
+    rule.code = entry["code"];
+    if (rules_.contains(rule.code)) throw InputError(file_name, pointer + "/code", rule.code + " is defined twice");
+    const auto& severity = entry.value("severity", nlohmann::json("error"));
+    rule.severity = parse_severity(severity.is_number() ? std::to_string(severity.get<int>()) : severity.get<std::string>(),
+                                   file_name, pointer + "/severity");
+    rule.enabled = entry.value("enabled", true);
+    if (entry.contains("thresholds")) {
+      for (const auto& [name, value] : entry["thresholds"].items()) {
+        if (!value.is_number())
+          throw InputError(file_name, pointer + "/thresholds/" + escape_pointer_token(name), "a threshold must be a number");
+        rule.thresholds[name] = value.get<double>();
+      }
+    }
+    rule.message = entry.value("message", "");
+    rule.explanation = entry.value("explanation", "");
+    rule.source = entry.value("source", "");
+    rules_.emplace(rule.code, std::move(rule));
+  }
+}
+
+const RuleSet& builtin_rules() {
+  static const RuleSet rules = [] {
+    RuleSet set;
+    for (const auto& [name, text] : embedded_rule_files()) set.add_from_json("rules/" + name, text);
+    return set;
+  }();
+  return rules;
+}
+
+void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules, IssuePolicy& policy) {
+  const std::string file = config_file.string();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::BadFile&) {
+    throw InputError(file, "", "cannot read the config file");
+  } catch (const YAML::Exception& error) {
+    throw InputError(file, "", std::string("not valid YAML: ") + error.what());
+  }
+  if (root.IsNull()) return;
+  if (!root.IsMap()) throw InputError(file, "", "expected a mapping at the top level");
+
+  auto codes = [&](const char* key) {
+    std::set<std::string> result;
+    const YAML::Node list = root[key];
+    if (!list) return result;
+    if (!list.IsSequence()) throw InputError(file, std::string("/") + key, "expected a list of issue codes");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].IsScalar()) throw InputError(file, "/" + std::string(key) + "/" + std::to_string(i), "expected an issue code");
+      result.insert(list[i].as<std::string>());
+    }
+    return result;
+  };
+
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    const std::string pointer = "/" + escape_pointer_token(key);
+    const YAML::Node& value = entry.second;
+    if (key == "max-issues") {
+      long long count = -1;
+      try {
+        count = value.as<long long>();
+      } catch (const YAML::Exception&) {
+      }
+      if (count < 0) throw InputError(file, pointer, "max-issues must be a whole number, 0 for unlimited");
+      policy.max_issues = static_cast<std::uint64_t>(count);
+    } else if (key == "ignore") {
+      policy.ignore = codes("ignore");
+    } else if (key == "only") {
+      policy.only = codes("only");
+    } else if (key == "override") {
+      if (!value.IsMap()) throw InputError(file, pointer, "expected a map of issue code to severity");
+      for (const auto& item : value) {
+        const std::string code = item.first.as<std::string>();
+        policy.severity_override[code] =
+            parse_severity(item.second.as<std::string>(), file, pointer + "/" + escape_pointer_token(code));
+      }
+    } else if (key == "thresholds") {
+      if (!value.IsMap()) throw InputError(file, pointer, "expected a map of rule code to {name: number}");
+      for (const auto& item : value) {
+        const std::string code = item.first.as<std::string>();
+        const std::string code_pointer = pointer + "/" + escape_pointer_token(code);
+        if (!rules.find(code)) throw InputError(file, code_pointer, "no rule has the code " + code);
+        Rule& rule = rules.mutable_rule(code);
+        if (!item.second.IsMap()) throw InputError(file, code_pointer, "expected a map of threshold name to number");
+        for (const auto& threshold : item.second) {
+          const std::string name = threshold.first.as<std::string>();
+          const std::string name_pointer = code_pointer + "/" + escape_pointer_token(name);
+          if (!rule.thresholds.contains(name)) {
+            std::string known;
+            for (const auto& [known_name, unused] : rule.thresholds) known += (known.empty() ? "" : ", ") + known_name;
+            throw InputError(file, name_pointer, code + " has no threshold '" + name + "' (it has: " + known + ")");
+          }
+          try {
+            rule.thresholds[name] = threshold.second.as<double>();
+          } catch (const YAML::Exception&) {
+            throw InputError(file, name_pointer, "a threshold must be a number");
+          }
+        }
+      }
+    } else {
+      throw InputError(file, pointer, "unknown key (expected max-issues, ignore, only, override or thresholds)");
+    }
+  }
+  if (!policy.ignore.empty() && !policy.only.empty())
+    throw InputError(file, "/only", "'only' cannot be used along with 'ignore'");
+  // Checks whose every code is silenced need not run.
+  for (const auto& [code, rule] : rules.all()) {
+    const bool silenced = policy.only.empty() ? policy.ignore.contains(code) : !policy.only.contains(code);
+    if (silenced) rules.mutable_rule(code).enabled = false;
+  }
+}
+
+}  // namespace gltf_pbr

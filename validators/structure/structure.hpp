@@ -1,0 +1,24 @@
+// Structure validation: the Khronos glTF-Validator's issue codes (rules/structure.json), computed
+// from the raw bytes of a .gltf or .glb, so that documents tinygltf would refuse still get a full
+// report.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <span>
+
+#include "core/report.hpp"
+#include "rules/rule_set.hpp"
+
+namespace gltf_pbr {
+
+struct StructureOptions {
+  bool validate_resources = true;  // read external buffers and images, and check their data
+  bool decode_draco = true;        // run the data checks inside KHR_draco_mesh_compression
+};
+
+// Fills report.mime_type, report.messages (in the reference validator's order, with its pointers
+// or byte offsets and severities) and report.info. `file` resolves relative URIs.
+void validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
+                        const StructureOptions& options, Report& report);
+
+}  // namespace gltf_pbr

@@ -1,0 +1,58 @@
+#include "validators/validate.hpp"
+
+#include "core/asset.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
+#include "validators/materials/materials.hpp"
+#include "validators/mesh/mesh_checks.hpp"
+#include "validators/structure/structure.hpp"
+
+namespace gltf_pbr {
+
+namespace {
+bool wants(const ValidateOptions& options, const char* step) { return options.steps.contains(step); }
+}  // namespace
+
+Report validate_file(const std::filesystem::path& file, const std::string& uri, const RuleSet& rules,
+                     const IssuePolicy& policy, const ValidateOptions& options) {
+  Report report;
+  report.uri = uri;
+  const std::optional<Bytes> read = read_file(file);
+  if (!read) {
+    report.add({"IO_ERROR", "Cannot read the file.", Severity::Error, "", {}, 1});
+    return report;
+  }
+  const Bytes& bytes = *read;
+
+  bool structure_errors = false;
+  if (wants(options, "structure")) {
+    validate_structure(file, bytes, rules, StructureOptions{}, report);
+    structure_errors = report.count(Severity::Error) > 0;
+  } else {
+    const bool glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
+    report.mime_type = glb ? "model/gltf-binary" : "model/gltf+json";
+  }
+
+  const bool needs_document = wants(options, "materials") || wants(options, "textures") || wants(options, "meshes");
+  if (needs_document) {
+    try {
+      const Asset asset = load_asset(file, LoadOptions{options.allow_outside_uris});
+      if (wants(options, "materials") || wants(options, "textures")) {
+        MaterialCheckOptions material_options;
+        material_options.materials = wants(options, "materials");
+        material_options.textures = wants(options, "textures");
+        material_options.heatmaps_dir = options.heatmaps_dir;
+        validate_materials(asset, rules, material_options, report);
+      }
+      if (wants(options, "meshes"))
+        validate_meshes(asset, rules, MeshCheckOptions{options.self_intersections}, report);
+    } catch (const InputError& error) {
+      // The structure step has already said why the document is unreadable; say it once.
+      if (!structure_errors) report.add({"IO_ERROR", error.reason, Severity::Error, error.pointer, {}, 1});
+    }
+  }
+  apply_policy(policy, report);
+  return report;
+}
+
+}  // namespace gltf_pbr

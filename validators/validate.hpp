@@ -1,0 +1,35 @@
+// `gltf-pbr validate`: runs the chosen steps over one file into one Khronos-schema report.
+//   structure  the Khronos validator's codes, on the raw bytes (validators/structure/)
+//   materials  PBR_* plausibility of every material, factors and texels (validators/materials/)
+//   textures   IMAGE_* checks of normal maps, constant images, channel use, sizes (validators/materials/)
+//   meshes     MESH_* geometry checks with CGAL, Draco included (validators/mesh/)
+// Each step does only the work its enabled rules need: images are decoded only for texel rules,
+// Draco meshes only for data and mesh checks.
+#pragma once
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "core/report.hpp"
+#include "rules/rule_set.hpp"
+
+namespace gltf_pbr {
+
+inline const std::set<std::string>& all_validation_steps() {
+  static const std::set<std::string> steps{"structure", "materials", "textures", "meshes"};
+  return steps;
+}
+
+struct ValidateOptions {
+  std::set<std::string> steps = all_validation_steps();
+  std::filesystem::path heatmaps_dir;  // empty: no heat-map images
+  bool allow_outside_uris = false;
+  bool self_intersections = true;      // the costliest mesh check
+};
+
+// Validates `file`; `uri` is how the report names it (the path as the user gave it). Never throws
+// for bad input: problems become issues in the report.
+Report validate_file(const std::filesystem::path& file, const std::string& uri, const RuleSet& rules,
+                     const IssuePolicy& policy, const ValidateOptions& options);
+
+}  // namespace gltf_pbr
