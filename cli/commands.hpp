@@ -10,5 +10,6 @@ enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2 };
 // another subcommand was given.
 std::function<int()> add_convert_command(CLI::App& app);
 std::function<int()> add_compare_command(CLI::App& app);
+std::function<int()> add_validate_command(CLI::App& app);
 
 }  // namespace gltf_pbr::cli

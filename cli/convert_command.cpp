@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/inputs.hpp"
 #include "cli/report.hpp"
 #include "core/asset.hpp"
 
@@ -29,32 +30,9 @@ struct Job {
   fs::path input, output;
 };
 
-bool is_gltf_file(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".gltf" || ext == ".glb";
-}
-
 // Expands inputs (files, directories searched recursively) into jobs with output paths.
 std::vector<Job> plan_jobs(const ConvertArgs& args) {
-  std::vector<std::pair<fs::path, fs::path>> files;  // (file, path relative to the output folder)
-  for (const fs::path input : args.inputs) {
-    std::error_code ec;
-    if (fs::is_directory(input, ec)) {
-      std::vector<fs::path> found;
-      for (const auto& entry : fs::recursive_directory_iterator(input, ec))
-        if (entry.is_regular_file() && is_gltf_file(entry.path())) found.push_back(entry.path());
-      std::sort(found.begin(), found.end());
-      for (const auto& f : found)
-        files.emplace_back(
-            f, input.filename().empty() ? f.lexically_relative(input) : input.filename() / f.lexically_relative(input));
-    } else if (fs::is_regular_file(input, ec)) {
-      files.emplace_back(input, input.filename());
-    } else {
-      throw CLI::ValidationError("input", input.string() + ": no such file or directory");
-    }
-  }
-  if (files.empty()) throw CLI::ValidationError("input", "no .gltf or .glb files found");
+  std::vector<InputFile> files = find_gltf_files(args.inputs);
   const fs::path output = args.output;
   const bool single_file_output =
       files.size() == 1 && !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
@@ -73,24 +51,6 @@ std::vector<Job> plan_jobs(const ConvertArgs& args) {
   }
   return jobs;
 }
-
-class Progress {
- public:
-  Progress(size_t total, bool enabled) : total_(total), enabled_(enabled && ::isatty(STDERR_FILENO)) {}
-  void done(const std::string& line) {
-    std::lock_guard lock(mutex_);
-    ++count_;
-    if (enabled_) std::fprintf(stderr, "\r\033[K");
-    std::fputs(line.c_str(), stderr);
-    if (enabled_ && count_ < total_) std::fprintf(stderr, "[%zu/%zu] converting...", count_, total_);
-    std::fflush(stderr);
-  }
-
- private:
-  size_t total_, count_ = 0;
-  bool enabled_;
-  std::mutex mutex_;
-};
 
 FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -137,7 +97,7 @@ int run(const ConvertArgs& args) {
   const std::vector<Job> jobs = plan_jobs(args);
 
   std::vector<FileResult> results(jobs.size());
-  Progress progress(jobs.size(), !args.quiet);
+  Progress progress(jobs.size(), !args.quiet, "converting");
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t i; (i = next++) < jobs.size();) {

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const auto run_convert = gltf_pbr::cli::add_convert_command(app);
   const auto run_compare = gltf_pbr::cli::add_compare_command(app);
+  const auto run_validate = gltf_pbr::cli::add_validate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
   }
   // Each runner returns -1 unless its subcommand was the one given.
-  for (const auto& run : {run_convert, run_compare})
+  for (const auto& run : {run_convert, run_compare, run_validate})
     if (const int code = run(); code >= 0) return code;
   return gltf_pbr::cli::kBadUsage;
 }

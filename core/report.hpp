@@ -34,6 +34,8 @@ struct Report {
   // Counts, resources, extensions. Left null (and omitted from JSON) when the document could not
   // be read far enough to fill it, as the reference does.
   nlohmann::ordered_json info;
+  std::vector<std::string> material_names;  // for people: the name of /materials/N, when read
+
 
   void add(Issue issue) { messages.push_back(std::move(issue)); }
   std::size_t count(Severity severity) const;

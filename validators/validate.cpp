@@ -37,6 +37,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   if (needs_document) {
     try {
       const Asset asset = load_asset(file, LoadOptions{options.allow_outside_uris});
+      for (const auto& material : asset.model.materials) report.material_names.push_back(material.name);
       if (wants(options, "materials") || wants(options, "textures")) {
         MaterialCheckOptions material_options;
         material_options.materials = wants(options, "materials");

@@ -1,0 +1,199 @@
+// `gltf-pbr validate`: many files in parallel, one Khronos-schema report per file plus a summary,
+// as JSON, text or SARIF; --fail-on turns findings into the exit code.
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/inputs.hpp"
+#include "cli/validation_formats.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
+#include "validators/validate.hpp"
+
+namespace gltf_pbr::cli {
+namespace {
+
+struct ValidateArgs {
+  std::vector<std::string> inputs;
+  std::string output, format = "text", config, fail_on = "error", heatmaps;
+  std::vector<std::string> only;
+  bool allow_outside = false, quiet = false, no_self_intersections = false;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+};
+
+Severity parse_fail_on(const std::string& name) {
+  if (name == "warning") return Severity::Warning;
+  if (name == "info") return Severity::Information;
+  if (name == "hint") return Severity::Hint;
+  return Severity::Error;
+}
+
+bool fails(const Report& report, Severity fail_on) {
+  for (const Issue& issue : report.messages)
+    if (static_cast<int>(issue.severity) <= static_cast<int>(fail_on)) return true;
+  return false;
+}
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  AtomicWriteSet files;
+  files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  files.commit();
+}
+
+nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity fail_on) {
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  std::size_t totals[4] = {0, 0, 0, 0}, failing = 0;
+  for (const Report& report : reports) {
+    nlohmann::ordered_json entry{{"uri", report.uri}};
+    for (int s = 0; s < 4; ++s) totals[s] += report.count(static_cast<Severity>(s));
+    entry["numErrors"] = report.count(Severity::Error);
+    entry["numWarnings"] = report.count(Severity::Warning);
+    entry["numInfos"] = report.count(Severity::Information);
+    entry["numHints"] = report.count(Severity::Hint);
+    entry["failed"] = fails(report, fail_on);
+    failing += fails(report, fail_on);
+    files.push_back(std::move(entry));
+  }
+  return {{"files", reports.size()},
+          {"failing", failing},
+          {"failOn", severity_name(fail_on)},
+          {"numErrors", totals[0]},
+          {"numWarnings", totals[1]},
+          {"numInfos", totals[2]},
+          {"numHints", totals[3]},
+          {"reports", std::move(files)}};
+}
+
+int run(const ValidateArgs& args) {
+  RuleSet rules = builtin_rules();
+  IssuePolicy policy;
+  if (!args.config.empty()) apply_user_config(args.config, rules, policy);
+  ValidateOptions options;
+  if (!args.only.empty()) {
+    options.steps.clear();
+    for (const std::string& step : args.only) options.steps.insert(step);
+  }
+  options.heatmaps_dir = args.heatmaps;
+  options.allow_outside_uris = args.allow_outside;
+  options.self_intersections = !args.no_self_intersections;
+  const Severity fail_on = parse_fail_on(args.fail_on);
+
+  const std::vector<InputFile> files = find_gltf_files(args.inputs);
+  const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
+  std::vector<Report> reports(files.size());
+  Progress progress(files.size(), !args.quiet, "validating");
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i; (i = next++) < files.size();) {
+      reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, options);
+      const Report& report = reports[i];
+      if (!args.quiet || fails(report, fail_on)) {
+        std::ostringstream line;
+        line << report.uri << ": " << report.count(Severity::Error) << " errors, " << report.count(Severity::Warning)
+             << " warnings, " << report.count(Severity::Information) << " infos, " << report.count(Severity::Hint)
+             << " hints\n";
+        progress.done(line.str());
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 0; t < std::min<std::size_t>(args.jobs, files.size()); ++t) threads.emplace_back(worker);
+  for (auto& thread : threads) thread.join();
+
+  const nlohmann::ordered_json summary = summary_json(reports, fail_on);
+  if (args.format == "sarif") {
+    const std::string text = sarif_log(reports, rules).dump(2) + "\n";
+    if (args.output.empty())
+      std::fputs(text.c_str(), stdout);
+    else
+      write_atomically(args.output, text);
+  } else if (args.format == "json") {
+    if (args.output.empty()) {
+      // One report as the Khronos validator prints it; several with the summary around them.
+      nlohmann::ordered_json all;
+      if (reports.size() == 1) {
+        all = report_to_json(reports.front());
+      } else {
+        all = summary;
+        all["reports"] = nlohmann::ordered_json::array();
+        for (const Report& report : reports) all["reports"].push_back(report_to_json(report));
+      }
+      std::fputs((all.dump(2) + "\n").c_str(), stdout);
+    } else {
+      // A folder: <input path>.report.json per file, as the reference names them, and summary.json.
+      for (std::size_t i = 0; i < files.size(); ++i) {
+        fs::path target = fs::path(args.output) / files[i].relative;
+        target += ".report.json";
+        write_atomically(target, report_to_json(reports[i]).dump(2) + "\n");
+      }
+      write_atomically(fs::path(args.output) / "summary.json", summary.dump(2) + "\n");
+    }
+  } else {
+    std::string text;
+    for (const Report& report : reports) text += report_text(report, colour);
+    if (args.output.empty())
+      std::fputs(text.c_str(), stdout);
+    else
+      write_atomically(args.output, text);
+  }
+  if (!args.quiet)
+    std::fprintf(stderr, "%zu files: %zu with issues at or above %s\n", reports.size(),
+                 summary["failing"].get<std::size_t>(), severity_name(fail_on));
+  return summary["failing"].get<std::size_t>() > 0 ? kSomeFilesFailed : kAllDone;
+}
+
+}  // namespace
+
+std::function<int()> add_validate_command(CLI::App& app) {
+  auto args = std::make_shared<ValidateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "validate",
+      "Validate glTF files: structure (the Khronos glTF-Validator's issue codes), physically implausible\n"
+      "materials (PBR_*: F0, albedo, metalness, from factors and texel by texel), textures (IMAGE_*) and\n"
+      "meshes (MESH_*, CGAL; Draco meshes included). Rules are data (rules/*.json, built in); --config\n"
+      "overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage.");
+  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
+  cmd->add_option("-f,--format", args->format,
+                  "text: for people, grouped by material; json: the Khronos validator's report schema; sarif: "
+                  "SARIF 2.1.0 for code scanning")
+      ->check(CLI::IsMember({"text", "json", "sarif"}))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", args->output,
+                  "write to this file (text, sarif) or folder (json: one <input>.report.json per file + "
+                  "summary.json) instead of stdout");
+  cmd->add_option("--config", args->config,
+                  "YAML or JSON config in the Khronos validator's shape: max-issues, ignore, only, override "
+                  "(code: 0-3); and thresholds: {CODE: {name: number}}");
+  cmd->add_option("--only", args->only, "run only these steps")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"structure", "materials", "textures", "meshes"}));
+  cmd->add_option("--fail-on", args->fail_on, "lowest severity that makes the exit code 1")
+      ->check(CLI::IsMember({"error", "warning", "info", "hint"}))
+      ->capture_default_str();
+  cmd->add_option("--heatmaps", args->heatmaps, "write one PNG per failing texture showing where it fails");
+  cmd->add_flag("--no-self-intersections", args->no_self_intersections,
+                "skip the self-intersection mesh check (the costliest)");
+  cmd->add_option("-j,--jobs", args->jobs, "files validated in parallel (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
+  return [cmd, args]() -> int {
+    if (!cmd->parsed()) return -1;
+    try {
+      return run(*args);
+    } catch (const CLI::ValidationError& e) {
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", e.what());
+      return kBadUsage;
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", e.what());
+      return kBadUsage;
+    }
+  };
+}
+
+}  // namespace gltf_pbr::cli
