@@ -6,7 +6,8 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "gltf-pbr: turns legacy KHR_materials_pbrSpecularGlossiness glTF materials into physically based\n"
-      "albedo + metalness (core pbrMetallicRoughness) and reports the error each material took on."};
+      "albedo + metalness (core pbrMetallicRoughness) and reports the error each material took on;\n"
+      "validates glTF structure, material plausibility, textures and meshes."};
   app.set_version_flag("--version", "gltf-pbr 0.1.0");
   app.require_subcommand(1);
   const auto run_convert = gltf_pbr::cli::add_convert_command(app);

@@ -1,0 +1,180 @@
+// The report model and the user config: what --config does to a report, and the Khronos schema.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.hpp"
+#include "core/report.hpp"
+#include "rules/rule_set.hpp"
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+Issue issue(const std::string& code, const std::string& pointer, Severity severity = Severity::Error,
+            const std::string& message = "m") {
+  return Issue{code, message, severity, pointer, std::nullopt, 1};
+}
+
+RuleSet two_rules() {
+  RuleSet rules;
+  rules.add_from_json("rules/test.json", R"({"rules": [
+    {"code": "PBR_A", "severity": "warning", "thresholds": {"min": 0.02, "max": 0.08},
+     "explanation": "a", "source": "s"},
+    {"code": "PBR_B", "severity": 2}]})");
+  return rules;
+}
+
+fs::path write_config(const test::ScratchDir& dir, const std::string& text) {
+  const fs::path path = dir / "config.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(IssuePolicy, IdenticalRepeatsFoldIntoOneMessageWithACountWhereTheyFirstOccurred) {
+  Report report;
+  report.add(issue("A", "/materials/0"));
+  report.add(issue("B", "/materials/1"));
+  report.add(issue("A", "/materials/0"));
+  report.add(issue("A", "/materials/2"));  // another place: not identical
+  report.add(issue("A", "/materials/0"));
+  apply_policy({}, report);
+  ASSERT_EQ(report.messages.size(), 3u);
+  EXPECT_EQ(report.messages[0].code, "A");
+  EXPECT_EQ(report.messages[0].count, 3u);
+  EXPECT_EQ(report.messages[1].code, "B");
+  EXPECT_EQ(report.messages[2].pointer, "/materials/2");
+  EXPECT_EQ(report.messages[2].count, 1u);
+}
+
+TEST(IssuePolicy, IgnoreOnlyOverrideAndMaxIssuesActAsTheKhronosConfigDoes) {
+  Report report;
+  for (int i = 0; i < 4; ++i) report.add(issue("A", "/a/" + std::to_string(i)));
+  report.add(issue("B", "/b", Severity::Warning));
+  Report ignored = report, only = report, overridden = report, truncated = report;
+
+  apply_policy(IssuePolicy{0, {"A"}, {}, {}}, ignored);
+  ASSERT_EQ(ignored.messages.size(), 1u);
+  EXPECT_EQ(ignored.messages[0].code, "B");
+
+  apply_policy(IssuePolicy{0, {}, {"A"}, {}}, only);
+  EXPECT_EQ(only.messages.size(), 4u);
+  EXPECT_EQ(only.count(Severity::Warning), 0u);
+
+  apply_policy(IssuePolicy{0, {}, {}, {{"B", Severity::Error}}}, overridden);
+  EXPECT_EQ(overridden.count(Severity::Error), 5u);
+
+  apply_policy(IssuePolicy{2, {}, {}, {}}, truncated);
+  EXPECT_EQ(truncated.messages.size(), 2u);
+  EXPECT_TRUE(truncated.truncated);
+}
+
+TEST(ReportJson, FollowsTheKhronosSchemaWithPointerOrOffsetAndCountOnlyWhenFolded) {
+  Report report;
+  report.uri = "a.glb";
+  report.mime_type = "model/gltf-binary";
+  report.add(issue("A", "/x", Severity::Warning));
+  report.add(Issue{"GLB_CHUNK_TOO_BIG", "m", Severity::Error, "", 20, 1});
+  report.add(issue("C", "/y", Severity::Hint));
+  report.messages[0].count = 4;
+  const auto json = report_to_json(report);
+  EXPECT_EQ(json["uri"], "a.glb");
+  EXPECT_EQ(json["mimeType"], "model/gltf-binary");
+  EXPECT_EQ(json["issues"]["numErrors"], 1);
+  EXPECT_EQ(json["issues"]["numWarnings"], 1);
+  EXPECT_EQ(json["issues"]["numInfos"], 0);
+  EXPECT_EQ(json["issues"]["numHints"], 1);
+  EXPECT_EQ(json["issues"]["truncated"], false);
+  const auto& messages = json["issues"]["messages"];
+  EXPECT_EQ(messages[0]["count"], 4);
+  EXPECT_EQ(messages[0]["pointer"], "/x");
+  EXPECT_EQ(messages[1]["offset"], 20);
+  EXPECT_FALSE(messages[1].contains("pointer"));
+  EXPECT_FALSE(messages[2].contains("count"));
+  EXPECT_FALSE(json.contains("info"));  // never filled: omitted, as the reference does
+}
+
+TEST(RuleSet, ReadsSeverityByNameOrNumberThresholdsAndRefusesDuplicates) {
+  RuleSet rules = two_rules();
+  EXPECT_EQ(rules.at("PBR_A").severity, Severity::Warning);
+  EXPECT_EQ(rules.at("PBR_B").severity, Severity::Information);
+  EXPECT_DOUBLE_EQ(rules.at("PBR_A").threshold("max"), 0.08);
+  EXPECT_THROW(rules.add_from_json("rules/again.json", R"({"rules": [{"code": "PBR_A"}]})"), InputError);
+  try {
+    rules.add_from_json("rules/bad.json", R"({"rules": [{"code": "PBR_C", "thresholds": {"max": "high"}}]})");
+    FAIL() << "a string threshold was accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.pointer, "/rules/0/thresholds/max");
+  }
+}
+
+TEST(RuleSet, EveryBuiltInRuleHasAnExplanationAndASource) {
+  for (const auto& [code, rule] : builtin_rules().all()) {
+    if (rule.file == "rules/structure.json") continue;  // the Khronos catalogue: message templates
+    EXPECT_FALSE(rule.explanation.empty()) << code;
+    EXPECT_FALSE(rule.source.empty()) << code;
+  }
+}
+
+TEST(UserConfig, KhronosShapeSetsThePolicyAndThresholdsChangeTheRules) {
+  test::ScratchDir dir;
+  RuleSet rules = two_rules();
+  IssuePolicy policy;
+  apply_user_config(write_config(dir, "max-issues: 10\n"
+                                      "ignore:\n  - PBR_B\n"
+                                      "override:\n  PBR_A: 0\n  OTHER: hint\n"
+                                      "thresholds:\n  PBR_A: {min: 0.01}\n"),
+                    rules, policy);
+  EXPECT_EQ(policy.max_issues, 10u);
+  EXPECT_TRUE(policy.ignore.contains("PBR_B"));
+  EXPECT_EQ(policy.severity_override.at("PBR_A"), Severity::Error);
+  EXPECT_EQ(policy.severity_override.at("OTHER"), Severity::Hint);
+  EXPECT_DOUBLE_EQ(rules.at("PBR_A").threshold("min"), 0.01);
+  EXPECT_DOUBLE_EQ(rules.at("PBR_A").threshold("max"), 0.08);
+  EXPECT_TRUE(rules.enabled("PBR_A"));
+  EXPECT_FALSE(rules.enabled("PBR_B"));  // ignored checks do not run
+}
+
+TEST(UserConfig, BadConfigsNameTheFileThePointerAndTheReason) {
+  test::ScratchDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"max-issues: -3\n", "/max-issues"},
+      {"ignore: PBR_A\n", "/ignore"},
+      {"override:\n  PBR_A: 7\n", "/override/PBR_A"},
+      {"thresholds:\n  PBR_Z: {min: 1}\n", "/thresholds/PBR_Z"},
+      {"thresholds:\n  PBR_A: {lowest: 1}\n", "/thresholds/PBR_A/lowest"},
+      {"thresholds:\n  PBR_A: {min: low}\n", "/thresholds/PBR_A/min"},
+      {"ignore: [PBR_A]\nonly: [PBR_B]\n", "/only"},
+      {"colour: red\n", "/colour"},
+  };
+  for (const auto& [text, pointer] : cases) {
+    RuleSet rules = two_rules();
+    IssuePolicy policy;
+    const fs::path path = write_config(dir, text);
+    try {
+      apply_user_config(path, rules, policy);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.file, path.string()) << text;
+      EXPECT_EQ(error.pointer, pointer) << text;
+      EXPECT_FALSE(error.reason.empty());
+    }
+  }
+}
+
+TEST(UserConfig, TheKhronosExampleConfigIsAccepted) {
+  RuleSet rules = two_rules();
+  IssuePolicy policy;
+  // Its example has both ignore and only, which its own comment forbids; drop `only`.
+  const std::string example = test::read_text(test::shared_dir() / "validator-suite/reference/config-example.yaml");
+  test::ScratchDir dir;
+  const std::size_t only_at = example.find("# List of only");
+  const std::size_t override_at = example.find("# Map of overridden");
+  apply_user_config(write_config(dir, example.substr(0, only_at) + example.substr(override_at)), rules, policy);
+  EXPECT_EQ(policy.max_issues, 10u);
+  EXPECT_TRUE(policy.ignore.contains("UNEXPECTED_PROPERTY"));
+  EXPECT_EQ(policy.severity_override.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE"), Severity::Error);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
