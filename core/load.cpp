@@ -1,5 +1,6 @@
 // Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
 // pointer and the reason; tinygltf then builds the document with images kept encoded.
+#include <optional>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -120,11 +121,40 @@ class FailurePointer : public nlohmann::json_sax<nlohmann::json> {
   std::vector<Level> levels_;
 };
 
+// glTF needs a few levels; extras may nest more. tinygltf converts values recursively, so a
+// hostile file nested 100 000 deep would overflow the stack: refuse it first, in one cheap pass.
+constexpr int kMaxJsonDepth = 512;
+
+// The byte offset where nesting first exceeds kMaxJsonDepth, if it does.
+std::optional<size_t> too_deep_at(const std::string& json_text) {
+  int depth = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < json_text.size(); ++i) {
+    const char c = json_text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) return i;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return std::nullopt;
+}
+
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
 // of buffers and images, and that the JSON parses at all.
 nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin,
                                const LoadOptions& options) {
   const std::string file = asset.path.string();
+  if (const auto offset = too_deep_at(json_text))
+    throw InputError(file, "byte " + std::to_string((asset.binary ? 20 : 0) + *offset),
+                     "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(json_text);

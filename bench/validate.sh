@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Benchmark of `gltf-pbr validate` against the Khronos glTF-Validator (npm gltf-validator, installed
+# into a cache folder by peers.sh), in one run on this machine:
+#   - the whole ../shared/validator-suite in one process,
+#   - every file in ../shared/assets,
+#   - synthetic GLBs of 1M vertices / 2M triangles and 4M / 8M (generated into the cache folder).
+# Prints markdown: median wall time of RUNS runs, peak memory, and our / peer ratios.
+#   bench/validate.sh [SHARED_DIR]        (RUNS=3 by default)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$here/.."
+shared="$(cd "${1:-$root/../shared}" && pwd)"
+command -v /usr/bin/time >/dev/null || { apt-get install -y -qq time >/dev/null; }
+eval "$("$here/peers.sh")"
+cmake -S "$root" -B "$root/build-bench" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGLTF_PBR_TESTS=OFF >/dev/null
+cmake --build "$root/build-bench" >/dev/null
+large="${GLTF_PBR_CACHE:-$HOME/.cache/gltf-pbr}/bench"
+mkdir -p "$large"
+[ -f "$large/grid-1M.glb" ] || node "$here/make_grid_glb.mjs" 1000 "$large/grid-1M.glb"
+[ -f "$large/grid-4M.glb" ] || node "$here/make_grid_glb.mjs" 2000 "$large/grid-4M.glb"
+GLTF_PBR="$root/build-bench/gltf-pbr" GLTF_PBR_NODE_MODULES="$GLTF_PBR_NODE_MODULES" \
+  GLTF_VALIDATOR_VERSION="$GLTF_VALIDATOR_VERSION" RUNS="${RUNS:-3}" \
+  node "$here/validate.mjs" "$shared" "$large"
