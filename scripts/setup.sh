@@ -14,6 +14,8 @@ packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev li
           libglm-dev libcli11-dev libgtest-dev libyaml-cpp-dev libcgal-dev libbenchmark-dev)
 # The tests check converted files with the Khronos validator from npm; keep an existing node.
 if [ "$mode" = test ] && ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
+# The fuzzer needs clang and its libFuzzer runtime.
+if [ "$mode" = test ]; then packages+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${packages[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p"); done
 if [ "${#missing[@]}" -gt 0 ]; then
@@ -36,8 +38,12 @@ if [ "$mode" = demo ]; then
 else
   build build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLTF_PBR_TESTS=ON
   ctest --test-dir build --output-on-failure -j "$jobs"
-  # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer. LeakSanitizer's tracer now
-  # and then crashes at exit (signal 11) while OpenImageIO's pool threads are alive: one retry.
+  # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
   build build-sanitize -DCMAKE_BUILD_TYPE=Debug -DGLTF_PBR_SANITIZE=ON -DGLTF_PBR_TESTS=ON
-  ASAN_OPTIONS=detect_leaks=1 ctest --test-dir build-sanitize --output-on-failure -j "$jobs" --repeat until-pass:2
+  ASAN_OPTIONS=detect_leaks=1 ctest --test-dir build-sanitize --output-on-failure -j "$jobs"
+  # Load + validate under libFuzzer for a bounded time, seeded from the Khronos suite.
+  cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+    -DGLTF_PBR_FUZZ=ON -DGLTF_PBR_TESTS=OFF >/dev/null
+  cmake --build build-fuzz -j "$jobs" --target fuzz-validate
+  bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-validate "${GLTF_PBR_FUZZ_SECONDS:-120}"
 fi
