@@ -22,6 +22,9 @@ using test::files_under;
 using test::read_text;
 using test::ScratchDir;
 using test::write_text;
+using test::CliResult;
+using test::quoted;
+using test::run_cli;
 
 constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
 const std::string kExtensionPointer = std::string("/materials/0/extensions/") + kSpecGloss;
@@ -74,26 +77,6 @@ InputError convert_error(const fs::path& path) {
   InputError e = input_error([&] { convert(asset); });
   EXPECT_EQ(e.file, path.string());
   return e;
-}
-
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
-
-struct CliResult {
-  int exit_code = -1;
-  std::string err;
-};
-
-// Runs `gltf-pbr <arguments>`, stdout discarded, stderr captured in a file beside (not in) the
-// folders the tests inspect.
-CliResult run_cli(const std::string& arguments, const ScratchDir& scratch) {
-  const fs::path err_file = scratch / "cli-stderr.txt";
-  const std::string command = quoted(GLTF_PBR_CLI) + " " + arguments + " >/dev/null 2>" + quoted(err_file);
-  const int status = std::system(command.c_str());
-  CliResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.err = read_text(err_file);
-  fs::remove(err_file);
-  return result;
 }
 
 std::vector<fs::path> temporaries_under(const fs::path& folder) {

@@ -2,6 +2,9 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -46,6 +49,29 @@ inline void write_text(const fs::path& path, const std::string& text) {
   AtomicWriteSet files;
   files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
   files.commit();
+}
+
+inline std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs `gltf-pbr <arguments>` with stdout and stderr captured in files beside (not in) the folders
+// the tests inspect.
+inline CliResult run_cli(const std::string& arguments, const ScratchDir& scratch) {
+  const fs::path out_file = scratch / "cli-stdout.txt", err_file = scratch / "cli-stderr.txt";
+  const std::string command =
+      quoted(GLTF_PBR_CLI) + " " + arguments + " >" + quoted(out_file) + " 2>" + quoted(err_file);
+  const int status = std::system(command.c_str());
+  CliResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = read_text(out_file);
+  result.err = read_text(err_file);
+  fs::remove(out_file);
+  fs::remove(err_file);
+  return result;
 }
 
 }  // namespace gltf_pbr::test

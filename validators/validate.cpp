@@ -11,6 +11,17 @@ namespace gltf_pbr {
 
 namespace {
 bool wants(const ValidateOptions& options, const char* step) { return options.steps.contains(step); }
+
+// core/load names a place in the file as a JSON pointer or, for GLB and JSON syntax errors, as
+// "byte N": the report's offset.
+Issue load_failure_issue(const InputError& error) {
+  Issue issue{"IO_ERROR", error.reason, Severity::Error, error.pointer, std::nullopt, 1};
+  if (error.pointer.rfind("byte ", 0) == 0) {
+    issue.offset = std::stoull(error.pointer.substr(5));
+    issue.pointer.clear();
+  }
+  return issue;
+}
 }  // namespace
 
 Report validate_file(const std::filesystem::path& file, const std::string& uri, const RuleSet& rules,
@@ -49,7 +60,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
         validate_meshes(asset, rules, MeshCheckOptions{options.self_intersections}, report);
     } catch (const InputError& error) {
       // The structure step has already said why the document is unreadable; say it once.
-      if (!structure_errors) report.add({"IO_ERROR", error.reason, Severity::Error, error.pointer, {}, 1});
+      if (!structure_errors) report.add(load_failure_issue(error));
     }
   }
   apply_policy(policy, report);

@@ -1,0 +1,109 @@
+// `gltf-pbr validate` end to end: the three formats, the folder of reports, --fail-on, --config.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::quoted;
+using test::run_cli;
+
+fs::path box() { return test::assets_dir() / "Box/specgloss/Box.gltf"; }
+fs::path malformed(const test::ScratchDir& scratch) {
+  const fs::path file = scratch / "inputs/malformed.gltf";
+  fs::create_directories(file.parent_path());
+  test::write_text(file, R"({"asset": {"version": "2.0"}, "materials": [)");
+  return file;
+}
+
+TEST(ValidateCli, JsonReportFollowsTheKhronosSchemaAndErrorsSetExitCodeOne) {
+  test::ScratchDir scratch;
+  const auto result = run_cli("validate -q -f json " + quoted(malformed(scratch)), scratch);
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["uri"], malformed(scratch).string());
+  EXPECT_EQ(report["mimeType"], "model/gltf+json");
+  EXPECT_GE(report["issues"]["numErrors"].get<int>(), 1);
+  EXPECT_EQ(report["issues"]["messages"].size(),
+            report["issues"]["numErrors"].get<std::size_t>() + report["issues"]["numWarnings"].get<std::size_t>() +
+                report["issues"]["numInfos"].get<std::size_t>() + report["issues"]["numHints"].get<std::size_t>());
+  for (const auto& message : report["issues"]["messages"]) {
+    EXPECT_TRUE(message.contains("code") && message.contains("message") && message.contains("severity"));
+    EXPECT_NE(message.contains("pointer"), message.contains("offset")) << message;
+  }
+}
+
+TEST(ValidateCli, AFolderOfInputsGivesOneReportPerFileAndASummary) {
+  test::ScratchDir scratch;
+  malformed(scratch);
+  fs::copy(test::assets_dir() / "Box/specgloss", scratch / "inputs/box");
+  const fs::path out = scratch / "reports";
+  const auto result = run_cli("validate -q -f json -o " + quoted(out) + " " + quoted(scratch / "inputs"), scratch);
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_TRUE(fs::exists(out / "inputs/malformed.gltf.report.json"));
+  EXPECT_TRUE(fs::exists(out / "inputs/box/Box.gltf.report.json"));
+  const auto summary = nlohmann::json::parse(test::read_text(out / "summary.json"));
+  EXPECT_EQ(summary["files"], 2);
+  EXPECT_EQ(summary["failing"], 1);
+}
+
+TEST(ValidateCli, SarifHasOneResultPerMessageWithRuleIdsAndLocations) {
+  test::ScratchDir scratch;
+  const fs::path input = malformed(scratch);
+  const auto json = run_cli("validate -q -f json " + quoted(input), scratch);
+  const auto sarif_run = run_cli("validate -q -f sarif " + quoted(input), scratch);
+  EXPECT_EQ(sarif_run.exit_code, 1);
+  const auto report = nlohmann::json::parse(json.out);
+  const auto sarif = nlohmann::json::parse(sarif_run.out);
+  EXPECT_EQ(sarif["version"], "2.1.0");
+  const auto& results = sarif["runs"][0]["results"];
+  ASSERT_EQ(results.size(), report["issues"]["messages"].size());
+  const auto& rules = sarif["runs"][0]["tool"]["driver"]["rules"];
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    EXPECT_EQ(results[i]["ruleId"], report["issues"]["messages"][i]["code"]);
+    EXPECT_EQ(rules[results[i]["ruleIndex"].get<std::size_t>()]["id"], results[i]["ruleId"]);
+    EXPECT_EQ(results[i]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"], input.string());
+  }
+}
+
+TEST(ValidateCli, FailOnSetsTheThresholdAndIgnoredCodesDoNotCount) {
+  test::ScratchDir scratch;
+  const fs::path input = malformed(scratch);
+  const auto report = nlohmann::json::parse(run_cli("validate -q -f json " + quoted(input), scratch).out);
+  std::string ignore;
+  for (const auto& message : report["issues"]["messages"]) ignore += "  - " + message["code"].get<std::string>() + "\n";
+  const fs::path config = scratch / "lint.yaml";
+  test::write_text(config, "ignore:\n" + ignore);
+  const auto quiet = run_cli("validate -q -f json --config " + quoted(config) + " " + quoted(input), scratch);
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.out;
+  EXPECT_EQ(nlohmann::json::parse(quiet.out)["issues"]["messages"].size(), 0u);
+
+  const fs::path demote = scratch / "demote.yaml";
+  std::string overrides = "override:\n";
+  for (const auto& message : report["issues"]["messages"])
+    overrides += "  " + message["code"].get<std::string>() + ": hint\n";
+  test::write_text(demote, overrides);
+  EXPECT_EQ(run_cli("validate -q --config " + quoted(demote) + " " + quoted(input), scratch).exit_code, 0);
+  EXPECT_EQ(run_cli("validate -q --fail-on hint --config " + quoted(demote) + " " + quoted(input), scratch).exit_code,
+            1);
+}
+
+TEST(ValidateCli, TextGroupsByMaterialAndBadUsageIsExitCodeTwo) {
+  test::ScratchDir scratch;
+  const auto text = run_cli("validate -q " + quoted(box()), scratch);
+  EXPECT_NE(text.out.find(box().string()), std::string::npos);
+  EXPECT_EQ(text.out.find("\033["), std::string::npos) << "colour codes in a pipe";
+  EXPECT_EQ(run_cli("validate -q --only nothing " + quoted(box()), scratch).exit_code, 2);
+  EXPECT_EQ(run_cli("validate -q " + quoted(scratch / "missing.gltf"), scratch).exit_code, 2);
+  const fs::path config = scratch / "bad.yaml";
+  test::write_text(config, "max-issues: many\n");
+  const auto bad = run_cli("validate -q --config " + quoted(config) + " " + quoted(box()), scratch);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("/max-issues"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace gltf_pbr
