@@ -1,5 +1,509 @@
-// SCAFFOLD: replaced by the material checks (issue 3).
+// PBR_* plausibility of every material, from factors and texel by texel from textures, against the
+// ranges of rules/materials.json (DESIGN.md, "Plausibility ranges").
 #include "validators/materials/materials.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <set>
+
+#include "core/color.hpp"
+#include "core/error.hpp"
+#include "core/image.hpp"
+#include "core/material_model.hpp"
+#include "validators/materials/f0_reference.hpp"
+#include "validators/materials/material_checks.hpp"
+
 namespace gltf_pbr {
-void validate_materials(const Asset&, const RuleSet&, const MaterialCheckOptions&, Report&) {}
+namespace {
+
+// Where a texel fails, in the heat map (documented in materials.hpp).
+enum class HeatKind { None, TooDark, TooBright, OutOfRange };
+
+enum PbrCheck {
+  kDielectricF0TooLow,
+  kDielectricF0TooHigh,
+  kDielectricSpecularChromatic,
+  kMetalF0TooDark,
+  kF0AboveOne,
+  kAlbedoTooDark,
+  kAlbedoTooBright,
+  kMetalWithDiffuse,
+  kEnergyNotConserved,
+  kPartialMetalness,
+  kRoughnessZero,
+  kPbrCheckCount
+};
+
+struct CheckSpec {
+  const char* code;
+  HeatKind heat;
+};
+constexpr std::array<CheckSpec, kPbrCheckCount> kChecks{{
+    {"PBR_DIELECTRIC_F0_TOO_LOW", HeatKind::TooDark},
+    {"PBR_DIELECTRIC_F0_TOO_HIGH", HeatKind::TooBright},
+    {"PBR_DIELECTRIC_SPECULAR_CHROMATIC", HeatKind::OutOfRange},
+    {"PBR_METAL_F0_TOO_DARK", HeatKind::TooDark},
+    {"PBR_F0_ABOVE_ONE", HeatKind::None},  // real (gold): information, not painted as a failure
+    {"PBR_ALBEDO_TOO_DARK", HeatKind::TooDark},
+    {"PBR_ALBEDO_TOO_BRIGHT", HeatKind::TooBright},
+    {"PBR_METAL_WITH_DIFFUSE", HeatKind::OutOfRange},
+    {"PBR_ENERGY_NOT_CONSERVED", HeatKind::TooBright},
+    {"PBR_PARTIAL_METALNESS", HeatKind::OutOfRange},
+    {"PBR_ROUGHNESS_ZERO", HeatKind::OutOfRange},
+}};
+static_assert(kPbrCheckCount <= 16, "the per-texel failure mask is 16 bits");
+
+// A texel is judged as a metal from metalness 0.5 up (the midpoint; the blend in between is
+// PBR_PARTIAL_METALNESS's concern). For legacy materials the estimated metalness crosses 0.5 at
+// mean F0 ~0.245, between the brightest gem (0.22) and the darkest metal (0.45).
+constexpr float kMetalFrom = 0.5f;
+// Below this F0 the hue of a dielectric specular is 8-bit quantisation noise, not a colour.
+constexpr float kChromaticFloor = 0.01f;
+// Float rounding of factor products (0.85 + 0.15 must not exceed 1).
+constexpr float kSumTolerance = 1e-4f;
+
+float mean3(glm::vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
+float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+float min3(glm::vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
+// ITU-R BT.709 relative luminance of linear sRGB.
+float luminance(glm::vec3 v) { return glm::dot(v, glm::vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+glm::vec3 energy_sum(const SurfaceSample& s) { return s.stored_diffuse + glm::min(s.f0, glm::vec3(1.0f)); }
+
+struct Limits {
+  float min_f0 = 0, max_gem_f0 = 0, max_saturation = 0, min_metal_f0 = 0, max_f0 = 0, min_luminance = 0,
+        max_luminance = 0, max_metal_diffuse = 0, max_sum = 0, min_partial = 0, max_partial = 0;
+};
+
+Limits limits_from(const RuleSet& rules, const std::array<bool, kPbrCheckCount>& enabled) {
+  Limits l;
+  auto get = [&](int check, const char* name) {
+    return enabled[static_cast<size_t>(check)]
+               ? static_cast<float>(rules.at(kChecks[static_cast<size_t>(check)].code).threshold(name))
+               : 0.0f;
+  };
+  l.min_f0 = get(kDielectricF0TooLow, "min_f0");
+  l.max_gem_f0 = get(kDielectricF0TooHigh, "max_gem_f0");
+  l.max_saturation = get(kDielectricSpecularChromatic, "max_saturation");
+  l.min_metal_f0 = get(kMetalF0TooDark, "min_mean_f0");
+  l.max_f0 = get(kF0AboveOne, "max_f0");
+  l.min_luminance = get(kAlbedoTooDark, "min_luminance");
+  l.max_luminance = get(kAlbedoTooBright, "max_luminance");
+  l.max_metal_diffuse = get(kMetalWithDiffuse, "max_diffuse_luminance");
+  l.max_sum = get(kEnergyNotConserved, "max_sum");
+  l.min_partial = get(kPartialMetalness, "min_metalness");
+  l.max_partial = get(kPartialMetalness, "max_metalness");
+  return l;
+}
+
+// Whether `check` fails at this sample; `badness` grows with how far it fails, so the worst
+// texel is the one with the largest badness.
+bool fails(int check, const SurfaceSample& s, bool legacy, const Limits& l, float* badness) {
+  const bool metal = s.metalness >= kMetalFrom;
+  switch (check) {
+    case kDielectricF0TooLow:
+      *badness = -mean3(s.dielectric_f0);
+      return !metal && mean3(s.dielectric_f0) < l.min_f0;
+    case kDielectricF0TooHigh:
+      *badness = mean3(s.dielectric_f0);
+      return !metal && mean3(s.dielectric_f0) > l.max_gem_f0;
+    case kDielectricSpecularChromatic: {
+      const float top = max3(s.dielectric_f0);
+      const float saturation = top > 0.0f ? (top - min3(s.dielectric_f0)) / top : 0.0f;
+      *badness = saturation;
+      return !metal && top >= kChromaticFloor && saturation > l.max_saturation;
+    }
+    case kMetalF0TooDark:
+      *badness = -mean3(s.metal_f0);
+      return metal && mean3(s.metal_f0) < l.min_metal_f0;
+    case kF0AboveOne:
+      *badness = max3(s.f0);
+      return max3(s.f0) > l.max_f0;
+    case kAlbedoTooDark:
+      *badness = -luminance(s.albedo);
+      return !metal && luminance(s.albedo) < l.min_luminance;
+    case kAlbedoTooBright:
+      *badness = luminance(s.albedo);
+      return !metal && luminance(s.albedo) > l.max_luminance;
+    case kMetalWithDiffuse:
+      // Only the legacy model stores a metal's diffuse; in metal-rough, diffuse on a metal texel
+      // comes from partial metalness, which PBR_PARTIAL_METALNESS reports.
+      *badness = luminance(s.c_diff);
+      return legacy && metal && luminance(s.c_diff) > l.max_metal_diffuse;
+    case kEnergyNotConserved: {
+      // F0 above 1 on its own is measured gold (PBR_F0_ABOVE_ONE); what the diffuse adds is not.
+      const float sum = max3(energy_sum(s));
+      *badness = sum;
+      return sum > l.max_sum + kSumTolerance;
+    }
+    case kPartialMetalness:
+      *badness = 0.5f - std::abs(s.metalness - 0.5f);
+      return !legacy && s.metalness > l.min_partial && s.metalness < l.max_partial;
+    case kRoughnessZero:
+      *badness = 0.0f;
+      return s.roughness <= 0.0f;
+  }
+  return false;
+}
+
+// The textures each check reads, per model; the others are not decoded for it.
+std::vector<TextureRole> roles_read(int check, bool legacy) {
+  using R = TextureRole;
+  if (legacy) {
+    switch (check) {
+      case kAlbedoTooDark:
+      case kAlbedoTooBright:
+      case kMetalWithDiffuse:
+      case kEnergyNotConserved:
+        return {R::Diffuse, R::SpecularGlossiness};
+      default:
+        return {R::SpecularGlossiness};  // F0, the metal estimate and glossiness
+    }
+  }
+  switch (check) {
+    case kDielectricF0TooLow:
+    case kDielectricF0TooHigh:
+    case kDielectricSpecularChromatic:
+      return {R::MetallicRoughness, R::Specular, R::SpecularColor};
+    case kMetalF0TooDark:
+    case kAlbedoTooDark:
+    case kAlbedoTooBright:
+      return {R::MetallicRoughness, R::BaseColor};
+    case kPartialMetalness:
+    case kRoughnessZero:
+      return {R::MetallicRoughness};
+    default:
+      return {R::MetallicRoughness, R::BaseColor, R::Specular, R::SpecularColor};
+  }
+}
+
+std::string texture_or_factor(const MaterialInputs& m, TextureRole role, const char* factor) {
+  if (m.texture(role).present()) return m.texture(role).pointer;
+  auto it = m.factor_pointers.find(factor);
+  return it != m.factor_pointers.end() ? it->second : m.pointer;
+}
+
+// The JSON pointer of what drives a check's value: the texture when there is one, else the factor.
+std::string pointer_for(int check, const MaterialInputs& m) {
+  using R = TextureRole;
+  if (m.model == MaterialModel::SpecGloss) {
+    switch (check) {
+      case kAlbedoTooDark:
+      case kAlbedoTooBright:
+      case kMetalWithDiffuse:
+        return texture_or_factor(m, R::Diffuse, "diffuseFactor");
+      case kRoughnessZero:
+        return texture_or_factor(m, R::SpecularGlossiness, "glossinessFactor");
+      case kEnergyNotConserved:
+        // The specular is what makes diffuse + F0 exceed 1, unless only the diffuse varies.
+        if (!m.texture(R::SpecularGlossiness).present() && m.texture(R::Diffuse).present())
+          return m.texture(R::Diffuse).pointer;
+        return texture_or_factor(m, R::SpecularGlossiness, "specularFactor");
+      default:  // F0 checks
+        return texture_or_factor(m, R::SpecularGlossiness, "specularFactor");
+    }
+  }
+  switch (check) {
+    case kDielectricF0TooLow:
+    case kDielectricF0TooHigh:
+    case kDielectricSpecularChromatic:
+      if (m.texture(R::SpecularColor).present()) return m.texture(R::SpecularColor).pointer;
+      if (m.texture(R::Specular).present()) return m.texture(R::Specular).pointer;
+      if (m.has_specular && m.specular_color != glm::vec3(1.0f)) return m.factor_pointers.at("specularColorFactor");
+      if (m.has_specular && (m.specular != 1.0f || !m.has_ior)) return m.factor_pointers.at("specularFactor");
+      if (m.has_ior) return m.factor_pointers.at("ior");
+      return m.pointer;
+    case kPartialMetalness:
+      return texture_or_factor(m, R::MetallicRoughness, "metallicFactor");
+    case kRoughnessZero:
+      return texture_or_factor(m, R::MetallicRoughness, "roughnessFactor");
+    default:
+      return texture_or_factor(m, R::BaseColor, "baseColorFactor");
+  }
+}
+
+std::string srgb8_of(float linear) {
+  return std::to_string(static_cast<int>(std::lround(linear_to_srgb(linear) * 255.0f)));
+}
+
+// What the worst sample looked like, naming the reference F0 it most resembles.
+std::string describe_sample(int check, const SurfaceSample& s, bool legacy) {
+  switch (check) {
+    case kDielectricF0TooLow:
+    case kDielectricF0TooHigh:
+    case kDielectricSpecularChromatic:
+      return describe_f0(s.dielectric_f0);
+    case kMetalF0TooDark:
+      return describe_f0(s.metal_f0);
+    case kAlbedoTooDark:
+    case kAlbedoTooBright:
+      return "albedo " + format_rgb(s.albedo) + ", luminance " + format_number(luminance(s.albedo), 3) + " (sRGB " +
+             srgb8_of(luminance(s.albedo)) + ")";
+    case kMetalWithDiffuse:
+      return "diffuse weight " + format_rgb(s.c_diff) + " (luminance " + format_number(luminance(s.c_diff), 3) +
+             ") beside " + describe_f0(s.metal_f0);
+    case kEnergyNotConserved:
+      return (legacy ? "diffuse " + format_rgb(s.albedo) : "c_diff " + format_rgb(s.c_diff)) + " + F0 " +
+             format_rgb(s.f0) + " = " + format_rgb(energy_sum(s)) + "; " + describe_f0(s.f0);
+    case kPartialMetalness:
+      return "metalness " + format_number(s.metalness, 2) + ", " + describe_f0(s.f0);
+    case kRoughnessZero:
+      return std::string(legacy ? "glossiness 1" : "roughness 0") + ", " + describe_f0(s.f0);
+    default:
+      return describe_f0(s.f0);
+  }
+}
+
+std::vector<std::string> threshold_arguments(int check, const Rule& rule) {
+  auto t = [&](const char* name) { return format_number(rule.threshold(name), 3); };
+  switch (check) {
+    case kDielectricF0TooLow:
+      return {t("min_f0")};
+    case kDielectricF0TooHigh:
+      return {t("max_gem_f0")};
+    case kDielectricSpecularChromatic:
+      return {t("max_saturation")};
+    case kMetalF0TooDark:
+      return {t("min_mean_f0")};
+    case kF0AboveOne:
+      return {t("max_f0")};
+    case kAlbedoTooDark:
+      return {t("min_luminance")};
+    case kAlbedoTooBright:
+      return {t("max_luminance")};
+    case kMetalWithDiffuse:
+      return {t("max_diffuse_luminance")};
+    case kEnergyNotConserved:
+      return {t("max_sum")};
+    case kPartialMetalness:
+      return {t("min_metalness"), t("max_metalness"), format_number(rule.threshold("max_coverage_percent"), 1)};
+    default:
+      return {};
+  }
+}
+
+struct Finding {
+  std::uint64_t failing = 0;
+  float worst_badness = -INFINITY;
+  SurfaceSample worst;
+};
+
+// Heat-map colours (documented in materials.hpp): passing texels are a dimmed grey of the albedo
+// so the failures stand out; a texel that fails several ways shows the first of out of range,
+// too bright, too dark.
+constexpr std::array<std::uint8_t, 3> kTooDarkColour{0, 0, 255};
+constexpr std::array<std::uint8_t, 3> kTooBrightColour{255, 0, 0};
+constexpr std::array<std::uint8_t, 3> kOutOfRangeColour{255, 255, 0};
+
+void write_heat_map(const fs::path& file, int width, int height, const std::vector<std::uint16_t>& masks,
+                    const std::vector<std::uint8_t>& greys, std::uint16_t reported) {
+  std::vector<std::uint8_t> rgb(masks.size() * 3);
+  for (size_t i = 0; i < masks.size(); ++i) {
+    bool dark = false, bright = false, out = false;
+    for (int check = 0; check < kPbrCheckCount; ++check) {
+      if (!(masks[i] & reported & (1u << check))) continue;
+      const HeatKind kind = kChecks[static_cast<size_t>(check)].heat;
+      dark |= kind == HeatKind::TooDark;
+      bright |= kind == HeatKind::TooBright;
+      out |= kind == HeatKind::OutOfRange;
+    }
+    std::array<std::uint8_t, 3> colour{greys[i], greys[i], greys[i]};
+    if (out)
+      colour = kOutOfRangeColour;
+    else if (bright)
+      colour = kTooBrightColour;
+    else if (dark)
+      colour = kTooDarkColour;
+    std::copy(colour.begin(), colour.end(), rgb.begin() + static_cast<std::ptrdiff_t>(i * 3));
+  }
+  try {
+    const Bytes png = encode_png(rgb, width, height, 3, 6);
+    fs::create_directories(file.parent_path());
+    AtomicWriteSet files;
+    files.stage(file, png);
+    files.commit();
+  } catch (const std::exception& error) {
+    // The heat-map folder is the user's input: an unwritable one is their error, named.
+    throw InputError(file.string(), "", std::string("cannot write the heat map: ") + error.what());
+  }
+}
+
+}  // namespace
+
+std::string fill_message(const Rule& rule, const std::vector<std::string>& arguments) {
+  std::string text;
+  const std::string& pattern = rule.message;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] == '%' && i + 1 < pattern.size() && pattern[i + 1] >= '1' && pattern[i + 1] <= '9') {
+      const size_t argument = static_cast<size_t>(pattern[i + 1] - '1');
+      if (argument < arguments.size()) {
+        text += arguments[argument];
+        ++i;
+        continue;
+      }
+    }
+    text += pattern[i];
+  }
+  return text;
+}
+
+void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,
+               const std::string& pointer, Report& report) {
+  const Rule& rule = rules.at(code);
+  report.add({code, fill_message(rule, arguments), rule.severity, pointer, {}, 1});
+}
+
+const Pixels* TexelSource::get(int image, const RuleSet& rules, Report& report) {
+  if (failed_.contains(image)) return nullptr;
+  try {
+    return &decoded_.get(image);
+  } catch (const std::exception& error) {
+    failed_.insert(image);
+    if (rules.enabled("IMAGE_UNDECODABLE"))
+      add_issue(rules, "IMAGE_UNDECODABLE", {error.what()}, pointer("images", image), report);
+    return nullptr;
+  }
+}
+
+void check_material_plausibility(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options,
+                                 TexelSource& images, Report& report) {
+  std::array<bool, kPbrCheckCount> enabled{};
+  for (int check = 0; check < kPbrCheckCount; ++check)
+    enabled[static_cast<size_t>(check)] = rules.enabled(kChecks[static_cast<size_t>(check)].code);
+  const Limits limits = limits_from(rules, enabled);
+
+  const auto& model = asset.model;
+  for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
+    // KHR_materials_unlit: the base colour is shown as is, no reflectance model to judge.
+    if (model.materials[static_cast<size_t>(index)].extensions.contains("KHR_materials_unlit")) continue;
+    const MaterialInputs material = read_material_inputs(model, index);
+    const bool legacy = material.model == MaterialModel::SpecGloss;
+    if (legacy && rules.enabled("PBR_LEGACY_SPEC_GLOSS"))
+      add_issue(rules, "PBR_LEGACY_SPEC_GLOSS", {},
+                material.pointer + "/extensions/KHR_materials_pbrSpecularGlossiness", report);
+
+    // Decode only the textures that an enabled check of this model reads.
+    std::array<bool, kTextureRoleCount> role_needed{};
+    bool any_check = false;
+    for (int check = 0; check < kPbrCheckCount; ++check) {
+      if (!enabled[static_cast<size_t>(check)]) continue;
+      any_check = true;
+      for (TextureRole role : roles_read(check, legacy)) role_needed[static_cast<size_t>(role)] = true;
+    }
+    if (!any_check) continue;
+    std::array<const Pixels*, kTextureRoleCount> pixels{};
+    const Pixels* grid = nullptr;
+    int grid_texture = -1;
+    bool undecodable = false;
+    for (int role = 0; role < kTextureRoleCount; ++role) {
+      const MaterialTexture& texture = material.textures[static_cast<size_t>(role)];
+      if (!role_needed[static_cast<size_t>(role)] || !texture.present()) continue;
+      pixels[static_cast<size_t>(role)] = images.get(texture.image, rules, report);
+      const Pixels* p = pixels[static_cast<size_t>(role)];
+      undecodable |= !p;
+      if (p && (!grid || static_cast<long>(p->width) * p->height > static_cast<long>(grid->width) * grid->height))
+        grid = p, grid_texture = texture.texture;
+    }
+
+    // Judging the factors alone would be wrong where a texture multiplies them; IMAGE_UNDECODABLE
+    // has said that these texels went unchecked.
+    if (undecodable) continue;
+
+    // Texels of textures read through different texCoord sets or KHR_texture_transform meet at
+    // different UVs on the mesh; combined at equal UV they are not what renders. Say so.
+    std::string mapping_note;
+    {
+      std::set<int> tex_coords;
+      bool transformed = false;
+      for (int role = 0; role < kTextureRoleCount; ++role) {
+        if (!pixels[static_cast<size_t>(role)]) continue;
+        tex_coords.insert(material.textures[static_cast<size_t>(role)].tex_coord);
+        transformed |= material.textures[static_cast<size_t>(role)].transformed;
+      }
+      if (tex_coords.size() > 1 || transformed)
+        mapping_note =
+            " (its textures use different texCoord sets or KHR_texture_transform: texels were combined at equal UV, "
+            "not as the mesh maps them)";
+    }
+
+    // Factor-only: one sample. Textured: every texel of the largest texture, the others sampled
+    // at the same UV (nearest texel), as the converter bakes (DESIGN.md, "Textures").
+    const int width = grid ? grid->width : 1, height = grid ? grid->height : 1;
+    const size_t total = static_cast<size_t>(width) * static_cast<size_t>(height);
+    const bool heat_maps = !options.heatmaps_dir.empty() && grid;
+    std::vector<std::uint16_t> masks(heat_maps ? total : 0);
+    std::vector<std::uint8_t> greys(heat_maps ? total : 0);
+    std::array<Finding, kPbrCheckCount> findings;
+    TexelInputs texels;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(width),
+                           (static_cast<float>(y) + 0.5f) / static_cast<float>(height));
+        for (int role = 0; role < kTextureRoleCount; ++role) {
+          const Pixels* p = pixels[static_cast<size_t>(role)];
+          if (!p) continue;
+          texels.raw[static_cast<size_t>(role)] =
+              p->width == width && p->height == height ? texel_rgba(*p, x, y) : nearest_texel(*p, uv);
+        }
+        const SurfaceSample sample = evaluate_surface(material, texels);
+        std::uint16_t mask = 0;
+        for (int check = 0; check < kPbrCheckCount; ++check) {
+          if (!enabled[static_cast<size_t>(check)]) continue;
+          float badness = 0.0f;
+          if (!fails(check, sample, legacy, limits, &badness)) continue;
+          Finding& finding = findings[static_cast<size_t>(check)];
+          ++finding.failing;
+          mask = static_cast<std::uint16_t>(mask | (1u << check));
+          if (badness > finding.worst_badness) finding.worst_badness = badness, finding.worst = sample;
+        }
+        if (heat_maps) {
+          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+          masks[i] = mask;
+          greys[i] = static_cast<std::uint8_t>(std::lround(linear_to_srgb(luminance(sample.albedo)) * 127.0f));
+        }
+      }
+
+    std::uint16_t reported = 0;
+    for (int check = 0; check < kPbrCheckCount; ++check) {
+      const Finding& finding = findings[static_cast<size_t>(check)];
+      if (!enabled[static_cast<size_t>(check)] || finding.failing == 0) continue;
+      const char* code = kChecks[static_cast<size_t>(check)].code;
+      const Rule& rule = rules.at(code);
+      const double coverage = 100.0 * static_cast<double>(finding.failing) / static_cast<double>(total);
+      // A large share is what makes partial metalness wrong; every other check reports from a
+      // small share up, so that scattered bad texels do not drown in the texture.
+      const bool report_it = check == kPartialMetalness ? coverage > rule.threshold("max_coverage_percent")
+                                                        : coverage >= rule.threshold("min_coverage_percent");
+      if (!report_it) continue;
+      reported = static_cast<std::uint16_t>(reported | (1u << check));
+      std::string detail = describe_sample(check, finding.worst, legacy);
+      const std::string where = pointer_for(check, material);
+      // A value that comes from a factor fails everywhere or nowhere: no coverage to state.
+      const bool from_factor = !where.ends_with("Texture") && finding.failing == total;
+      if (total > 1 && !from_factor)
+        detail = format_number(coverage, 2) + "% of " + std::to_string(total) + " texels (" + std::to_string(width) +
+                 "x" + std::to_string(height) + "), the worst: " + detail + mapping_note;
+      std::vector<std::string> arguments{detail};
+      for (std::string& argument : threshold_arguments(check, rule)) arguments.push_back(std::move(argument));
+      add_issue(rules, code, arguments, where, report);
+    }
+    if (heat_maps && reported) {
+      const std::string stem = asset.path.stem().string();
+      write_heat_map(options.heatmaps_dir / (stem + "-material" + std::to_string(index) + "-texture" +
+                                             std::to_string(grid_texture) + ".png"),
+                     width, height, masks, greys, reported);
+    }
+  }
+}
+
+void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report) {
+  TexelSource images(asset.model);  // shared: each image is decoded at most once per file
+  if (options.materials) check_material_plausibility(asset, rules, options, images, report);
+  if (options.textures) check_material_textures(asset, rules, images, report);
+}
+
 }  // namespace gltf_pbr

@@ -10,11 +10,23 @@
 namespace gltf_pbr {
 
 struct MaterialCheckOptions {
-  bool materials = true;               // PBR_* rules, factors and texels
-  bool textures = true;                // IMAGE_* rules
-  std::filesystem::path heatmaps_dir;  // empty: no heat maps
+  bool materials = true;  // PBR_* rules, factors and texels
+  bool textures = true;   // IMAGE_* rules
+  // Empty: no heat maps. Else, for every textured material with a reported PBR_* texel rule, one
+  // 8-bit RGB PNG "<file stem>-material<M>-texture<T>.png" at the size of texture T (the largest
+  // texture the material's checks read; the others are sampled at the same UV):
+  //   blue   (0, 0, 255)     too dark: dielectric F0 too low, metal F0 too dark, albedo too dark
+  //   red    (255, 0, 0)     too bright: dielectric F0 too high, albedo too bright, energy > 1
+  //   yellow (255, 255, 0)   out of range: chromatic dielectric specular, metal with diffuse,
+  //                          partial metalness, roughness 0
+  //   grey   (v, v, v), v <= 127: passing texel, the albedo's sRGB luminance halved
+  // Only the reported rules are painted; where several fail, out of range wins over too bright
+  // over too dark. PBR_F0_ABOVE_ONE (gold is real) is never painted.
+  std::filesystem::path heatmaps_dir;
 };
 
+// Every material is evaluated under its own model (core/material_model.hpp). An image is decoded
+// only when an enabled texel rule reads it, and at most once per call.
 void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report);
 
 }  // namespace gltf_pbr

@@ -1,0 +1,300 @@
+#include "core/material_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+
+#include "core/color.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+constexpr const char* kSpecGlossExtension = "KHR_materials_pbrSpecularGlossiness";
+constexpr const char* kSpecularExtension = "KHR_materials_specular";
+constexpr const char* kIorExtension = "KHR_materials_ior";
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+
+// glTF 2.0 Appendix B: the dielectric F0 of ior 1.5.
+constexpr float kCoreDielectricF0 = 0.04f;
+// The converter solver's metalness prior (converter/solver.hpp): 0 at plastic, 1 at the darkest
+// metal of Hoffman's table (titanium, mean 0.496; Unity's validator uses 0.45).
+constexpr float kDarkestMetalF0 = 0.45f;
+
+float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+float mean3(glm::vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
+
+float smoothstep01(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+std::string escape_pointer_token(const std::string& token) {
+  std::string escaped;
+  for (char c : token) {
+    if (c == '~')
+      escaped += "~0";
+    else if (c == '/')
+      escaped += "~1";
+    else
+      escaped += c;
+  }
+  return escaped;
+}
+
+bool finite_number(const tinygltf::Value& value) {
+  return value.IsNumber() && std::isfinite(value.GetNumberAsDouble());
+}
+
+// Reads a factor from an extension object; records its pointer (the factor when written, else the
+// extension object, where its default applies).
+class ExtensionReader {
+ public:
+  ExtensionReader(const tinygltf::Value& object, std::string pointer, MaterialInputs& out)
+      : object_(object), pointer_(std::move(pointer)), out_(out) {}
+
+  void number(const char* key, float* value) {
+    const tinygltf::Value& v = object_.Get(key);
+    const bool written = object_.IsObject() && object_.Has(key) && finite_number(v);
+    if (written) *value = static_cast<float>(v.GetNumberAsDouble());
+    out_.factor_pointers[key] = written ? pointer_ + "/" + key : pointer_;
+  }
+  void numbers(const char* key, float* values, int count) {
+    const tinygltf::Value& v = object_.Get(key);
+    bool written = object_.IsObject() && object_.Has(key) && v.IsArray() && static_cast<int>(v.ArrayLen()) == count;
+    for (int i = 0; written && i < count; ++i) written = finite_number(v.Get(i));
+    if (written)
+      for (int i = 0; i < count; ++i) values[i] = static_cast<float>(v.Get(i).GetNumberAsDouble());
+    out_.factor_pointers[key] = written ? pointer_ + "/" + key : pointer_;
+  }
+  void texture(const char* key, TextureRole role, const tinygltf::Model& model) {
+    const tinygltf::Value& info = object_.Get(key);
+    if (!info.IsObject() || !info.Get("index").IsInt()) return;
+    MaterialTexture& t = out_.textures[static_cast<size_t>(role)];
+    t.texture = info.Get("index").GetNumberAsInt();
+    t.tex_coord = info.Get("texCoord").IsInt() ? info.Get("texCoord").GetNumberAsInt() : 0;
+    t.transformed = info.Get("extensions").IsObject() && info.Get("extensions").Has(kTextureTransform);
+    t.pointer = pointer_ + "/" + key;
+    if (t.texture >= 0 && static_cast<size_t>(t.texture) < model.textures.size()) {
+      const int source = model.textures[static_cast<size_t>(t.texture)].source;
+      if (source >= 0 && static_cast<size_t>(source) < model.images.size()) t.image = source;
+    }
+  }
+
+ private:
+  const tinygltf::Value& object_;
+  std::string pointer_;
+  MaterialInputs& out_;
+};
+
+void read_core_texture(const tinygltf::Model& model, const tinygltf::TextureInfo& info, std::string pointer,
+                       MaterialTexture& out) {
+  if (info.index < 0) return;
+  out.texture = info.index;
+  out.tex_coord = info.texCoord;
+  out.transformed = info.extensions.contains(kTextureTransform);
+  out.pointer = std::move(pointer);
+  if (static_cast<size_t>(info.index) < model.textures.size()) {
+    const int source = model.textures[static_cast<size_t>(info.index)].source;
+    if (source >= 0 && static_cast<size_t>(source) < model.images.size()) out.image = source;
+  }
+}
+
+}  // namespace
+
+const char* texture_role_name(TextureRole role) {
+  switch (role) {
+    case TextureRole::BaseColor:
+      return "baseColorTexture";
+    case TextureRole::MetallicRoughness:
+      return "metallicRoughnessTexture";
+    case TextureRole::Diffuse:
+      return "diffuseTexture";
+    case TextureRole::SpecularGlossiness:
+      return "specularGlossinessTexture";
+    case TextureRole::Specular:
+      return "specularTexture";
+    case TextureRole::SpecularColor:
+      return "specularColorTexture";
+  }
+  return "?";
+}
+
+bool MaterialInputs::textured() const {
+  return std::any_of(textures.begin(), textures.end(), [](const MaterialTexture& t) { return t.present(); });
+}
+
+MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
+  const tinygltf::Material& material = model.materials.at(static_cast<size_t>(index));
+  MaterialInputs in;
+  in.index = index;
+  in.name = material.name;
+  in.pointer = pointer("materials", index);
+
+  // Core factors: tinygltf keeps no presence flag, so a factor that differs from its default was
+  // written; one that equals it is named by its parent object.
+  const auto& pbr = material.pbrMetallicRoughness;
+  const std::string pbr_pointer = in.pointer + "/pbrMetallicRoughness";
+  if (pbr.baseColorFactor.size() == 4)
+    for (int c = 0; c < 4; ++c) in.base_color[c] = static_cast<float>(pbr.baseColorFactor[static_cast<size_t>(c)]);
+  in.metallic = static_cast<float>(pbr.metallicFactor);
+  in.roughness = static_cast<float>(pbr.roughnessFactor);
+  if (!std::isfinite(in.metallic)) in.metallic = 1.0f;
+  if (!std::isfinite(in.roughness)) in.roughness = 1.0f;
+  for (int c = 0; c < 4; ++c)
+    if (!std::isfinite(in.base_color[c])) in.base_color[c] = 1.0f;
+  in.factor_pointers["baseColorFactor"] =
+      in.base_color == glm::vec4(1.0f) ? pbr_pointer : pbr_pointer + "/baseColorFactor";
+  in.factor_pointers["metallicFactor"] = in.metallic == 1.0f ? pbr_pointer : pbr_pointer + "/metallicFactor";
+  in.factor_pointers["roughnessFactor"] = in.roughness == 1.0f ? pbr_pointer : pbr_pointer + "/roughnessFactor";
+  read_core_texture(model, pbr.baseColorTexture, pbr_pointer + "/baseColorTexture",
+                    in.textures[static_cast<size_t>(TextureRole::BaseColor)]);
+  read_core_texture(model, pbr.metallicRoughnessTexture, pbr_pointer + "/metallicRoughnessTexture",
+                    in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)]);
+
+  const std::string extensions_pointer = in.pointer + "/extensions/";
+  if (auto it = material.extensions.find(kSpecGlossExtension); it != material.extensions.end()) {
+    // The archived extension replaces the core model in the viewers that support it; the core
+    // material is only its fallback.
+    in.model = MaterialModel::SpecGloss;
+    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecGlossExtension), in);
+    reader.numbers("diffuseFactor", &in.diffuse[0], 4);
+    reader.numbers("specularFactor", &in.legacy_specular[0], 3);
+    reader.number("glossinessFactor", &in.glossiness);
+    reader.texture("diffuseTexture", TextureRole::Diffuse, model);
+    reader.texture("specularGlossinessTexture", TextureRole::SpecularGlossiness, model);
+    // The fallback's textures are not what this model shades.
+    in.textures[static_cast<size_t>(TextureRole::BaseColor)] = {};
+    in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)] = {};
+    return in;
+  }
+  if (auto it = material.extensions.find(kIorExtension); it != material.extensions.end()) {
+    in.has_ior = true;
+    ExtensionReader(it->second, extensions_pointer + kIorExtension, in).number("ior", &in.ior);
+  }
+  if (auto it = material.extensions.find(kSpecularExtension); it != material.extensions.end()) {
+    in.has_specular = true;
+    ExtensionReader reader(it->second, extensions_pointer + kSpecularExtension, in);
+    reader.number("specularFactor", &in.specular);
+    reader.numbers("specularColorFactor", &in.specular_color[0], 3);
+    reader.texture("specularTexture", TextureRole::Specular, model);
+    reader.texture("specularColorTexture", TextureRole::SpecularColor, model);
+  }
+  return in;
+}
+
+float srgb_texel_to_linear(float encoded) {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+    return t;
+  }();
+  const float code = encoded * 255.0f;
+  const float rounded = std::round(code);
+  if (std::abs(code - rounded) < 1e-3f && rounded >= 0.0f && rounded <= 255.0f)
+    return table[static_cast<size_t>(rounded)];
+  return srgb_to_linear(encoded);
+}
+
+namespace {
+glm::vec3 srgb_rgb(glm::vec4 texel) {
+  return {srgb_texel_to_linear(texel.r), srgb_texel_to_linear(texel.g), srgb_texel_to_linear(texel.b)};
+}
+}  // namespace
+
+SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texels, bool core_only) {
+  SurfaceSample s;
+  if (m.model == MaterialModel::SpecGloss) {
+    // Archived KHR_materials_pbrSpecularGlossiness: factors multiply the linearised texels;
+    // c_diff = diffuse * (1 - max(specular)), F0 = specular, alpha = (1 - glossiness)^2.
+    const glm::vec3 diffuse = glm::vec3(m.diffuse) * srgb_rgb(texels[TextureRole::Diffuse]);
+    const glm::vec3 specular = m.legacy_specular * srgb_rgb(texels[TextureRole::SpecularGlossiness]);
+    const float glossiness = m.glossiness * texels[TextureRole::SpecularGlossiness].a;
+    // A specular above 1 (gold) must not make the diffuse weight negative.
+    s.c_diff = diffuse * std::max(0.0f, 1.0f - max3(specular));
+    s.f0 = specular;
+    s.roughness = 1.0f - glossiness;
+    s.metalness = smoothstep01((mean3(specular) - kCoreDielectricF0) / (kDarkestMetalF0 - kCoreDielectricF0));
+    s.albedo = diffuse;
+    s.dielectric_f0 = specular;
+    s.metal_f0 = specular;
+    s.stored_diffuse = diffuse;
+    return s;
+  }
+  // glTF 2.0 Appendix B: F0 = mix(dielectric F0, base, metalness); the dielectric diffuse is
+  // weighted by 1 - F, at normal incidence 1 - max(dielectric F0) (KHR_materials_specular: the
+  // diffuse is scaled by 1 - specular * max(F)).
+  const glm::vec3 base = glm::vec3(m.base_color) * srgb_rgb(texels[TextureRole::BaseColor]);
+  const glm::vec4 metal_rough = texels[TextureRole::MetallicRoughness];
+  s.metalness = m.metallic * metal_rough.b;
+  s.roughness = m.roughness * metal_rough.g;
+  glm::vec3 dielectric_f0(kCoreDielectricF0);
+  if (!core_only && (m.has_ior || m.has_specular)) {
+    // KHR_materials_ior: F0 = ((ior - 1) / (ior + 1))^2. KHR_materials_specular:
+    // F0 = min(F0(ior) * specularColor, 1) * specular.
+    const float r = (m.ior - 1.0f) / (m.ior + 1.0f);
+    dielectric_f0 = glm::vec3(r * r);
+    if (m.has_specular) {
+      const glm::vec3 color = m.specular_color * srgb_rgb(texels[TextureRole::SpecularColor]);
+      const float weight = m.specular * texels[TextureRole::Specular].a;
+      dielectric_f0 = glm::min(dielectric_f0 * color, glm::vec3(1.0f)) * weight;
+    }
+  }
+  s.c_diff = base * (1.0f - s.metalness) * std::max(0.0f, 1.0f - max3(dielectric_f0));
+  s.f0 = glm::mix(dielectric_f0, base, s.metalness);
+  s.albedo = base;
+  s.dielectric_f0 = dielectric_f0;
+  s.metal_f0 = base;
+  s.stored_diffuse = s.c_diff;
+  return s;
+}
+
+const Pixels& DecodedImages::get(int image) {
+  auto it = images_.find(image);
+  if (it == images_.end())
+    it = images_.emplace(image, decode_image(encoded_image_bytes(model_, image), pointer("images", image))).first;
+  return it->second;
+}
+
+glm::vec4 texel_rgba(const Pixels& p, int x, int y) {
+  glm::vec4 v(1.0f);
+  for (int c = 0; c < 3; ++c) v[c] = p.at(x, y, p.channels >= 3 ? c : 0);
+  if (p.channels == 2 || p.channels == 4) v.a = p.at(x, y, p.channels - 1);
+  return v;
+}
+
+glm::vec4 nearest_texel(const Pixels& p, glm::vec2 uv) {
+  auto wrap = [](float t) { return t - std::floor(t); };
+  const int x = std::min(p.width - 1, static_cast<int>(wrap(uv.x) * static_cast<float>(p.width)));
+  const int y = std::min(p.height - 1, static_cast<int>(wrap(uv.y) * static_cast<float>(p.height)));
+  return texel_rgba(p, x, y);
+}
+
+std::array<int, 2> encoded_image_size(std::span<const std::uint8_t> b) {
+  auto be16 = [&](size_t i) { return (b[i] << 8) | b[i + 1]; };
+  auto be32 = [&](size_t i) {
+    return static_cast<int>((static_cast<std::uint32_t>(b[i]) << 24) | (static_cast<std::uint32_t>(b[i + 1]) << 16) |
+                            (static_cast<std::uint32_t>(b[i + 2]) << 8) | b[i + 3]);
+  };
+  // PNG (ISO/IEC 15948 5.2, 11.2.2): signature, then the IHDR chunk with width and height.
+  static constexpr std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() >= 24 && std::equal(kPng, kPng + 8, b.begin())) return {be32(16), be32(20)};
+  // JPEG (ITU T.81 B.2): walk the marker segments to the first start-of-frame (SOF0-SOF15 except
+  // DHT C4, JPG C8, DAC CC), which holds height then width.
+  if (b.size() >= 4 && b[0] == 0xff && b[1] == 0xd8) {
+    size_t i = 2;
+    while (i + 9 < b.size()) {
+      if (b[i] != 0xff) return {0, 0};
+      const std::uint8_t marker = b[i + 1];
+      if (marker == 0xff) {
+        ++i;
+        continue;
+      }
+      if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc)
+        return {be16(i + 7), be16(i + 5)};
+      i += 2 + static_cast<size_t>(be16(i + 2));
+    }
+  }
+  return {0, 0};
+}
+
+}  // namespace gltf_pbr

@@ -1,0 +1,75 @@
+// The effective material (core/material_model.hpp): colour spaces and channels of every texture
+// role, each model's reflectance, and the pointers it names.
+#include "core/material_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/color.hpp"
+#include "material_test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::AssetBuilder;
+
+TEST(MaterialModel, LegacyTexturesAreSrgbInRgbAndLinearInAlpha) {
+  AssetBuilder builder;
+  builder.spec_gloss(glm::vec4(1.0f), glm::vec3(1.0f), 1.0);
+  MaterialInputs material = read_material_inputs(builder.asset().model, 0);
+  ASSERT_EQ(material.model, MaterialModel::SpecGloss);
+  TexelInputs texels;
+  texels[TextureRole::Diffuse] = glm::vec4(0.5f, 0.5f, 0.5f, 0.3f);
+  texels[TextureRole::SpecularGlossiness] = glm::vec4(0.2f, 0.2f, 0.2f, 0.25f);
+  const SurfaceSample s = evaluate_surface(material, texels);
+  const float specular = srgb_to_linear(0.2f);
+  EXPECT_FLOAT_EQ(s.f0.r, specular);
+  EXPECT_FLOAT_EQ(s.albedo.g, srgb_to_linear(0.5f));
+  EXPECT_FLOAT_EQ(s.c_diff.b, srgb_to_linear(0.5f) * (1.0f - specular));  // c_diff = diffuse (1 - max(spec))
+  EXPECT_FLOAT_EQ(s.roughness, 0.75f);                                    // 1 - glossiness, glossiness linear
+}
+
+TEST(MaterialModel, MetallicRoughnessReadsGreenAndBlueLinearly) {
+  AssetBuilder builder;
+  builder.metal_rough(glm::vec4(0.8f, 0.6f, 0.4f, 1.0f), 0.5, 0.8);
+  const MaterialInputs material = read_material_inputs(builder.asset().model, 0);
+  TexelInputs texels;
+  texels[TextureRole::BaseColor] = glm::vec4(0.5f, 1.0f, 1.0f, 1.0f);
+  texels[TextureRole::MetallicRoughness] = glm::vec4(0.9f, 0.5f, 0.25f, 1.0f);
+  const SurfaceSample s = evaluate_surface(material, texels);
+  EXPECT_FLOAT_EQ(s.roughness, 0.4f);
+  EXPECT_FLOAT_EQ(s.metalness, 0.125f);
+  const float base_r = 0.8f * srgb_to_linear(0.5f);
+  EXPECT_FLOAT_EQ(s.f0.r, 0.04f + (base_r - 0.04f) * 0.125f);      // mix(0.04, base, m)
+  EXPECT_NEAR(s.c_diff.g, 0.6f * (1.0f - 0.125f) * 0.96f, 1e-6f);  // base (1 - m)(1 - 0.04)
+  EXPECT_EQ(material.factor_pointers.at("metallicFactor"), "/materials/0/pbrMetallicRoughness/metallicFactor");
+}
+
+TEST(MaterialModel, SpecularExtensionUsesSrgbColourAndLinearAlphaWeight) {
+  AssetBuilder builder;
+  tinygltf::Value::Object specular;
+  specular["specularFactor"] = tinygltf::Value(0.5);
+  auto& written = builder.metal_rough(glm::vec4(0.5f, 0.5f, 0.5f, 1.0f), 0.0, 0.5);
+  written.extensions["KHR_materials_specular"] = tinygltf::Value(specular);
+  const MaterialInputs material = read_material_inputs(builder.asset().model, 0);
+  EXPECT_EQ(material.factor_pointers.at("specularFactor"),
+            "/materials/0/extensions/KHR_materials_specular/specularFactor");
+  EXPECT_EQ(material.factor_pointers.at("specularColorFactor"), "/materials/0/extensions/KHR_materials_specular");
+  TexelInputs texels;
+  texels[TextureRole::SpecularColor] = glm::vec4(0.5f, 1.0f, 1.0f, 0.1f);  // alpha unused
+  texels[TextureRole::Specular] = glm::vec4(0.1f, 0.1f, 0.1f, 0.5f);       // RGB unused
+  const SurfaceSample s = evaluate_surface(material, texels);
+  // F0 = min(0.04 * colour, 1) * specular, with ior 1.5's 0.04.
+  EXPECT_NEAR(s.dielectric_f0.r, 0.04f * srgb_to_linear(0.5f) * 0.25f, 1e-6f);
+  EXPECT_NEAR(s.dielectric_f0.g, 0.04f * 0.25f, 1e-6f);
+  // A core-only viewer ignores the extension: F0 0.04.
+  EXPECT_FLOAT_EQ(evaluate_surface(material, texels, /*core_only=*/true).dielectric_f0.r, 0.04f);
+}
+
+TEST(MaterialModel, EncodedImageSizeReadsPngHeader) {
+  const Bytes png = encode_png(std::vector<std::uint8_t>(13 * 7 * 3, 9), 13, 7, 3, 1);
+  EXPECT_EQ(encoded_image_size(png), (std::array<int, 2>{13, 7}));
+  EXPECT_EQ(encoded_image_size(std::vector<std::uint8_t>{1, 2, 3}), (std::array<int, 2>{0, 0}));
+}
+
+}  // namespace
+}  // namespace gltf_pbr

@@ -1,0 +1,226 @@
+// IMAGE_* checks of the images that materials use: normal-map texels, constant images, empty used
+// channels of metallicRoughness images, resolution without detail, and power-of-two sizes.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "core/material_model.hpp"
+#include "validators/materials/f0_reference.hpp"
+#include "validators/materials/material_checks.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+int source_of(const tinygltf::Model& model, int texture) {
+  if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return -1;
+  const int source = model.textures[static_cast<size_t>(texture)].source;
+  return source >= 0 && static_cast<size_t>(source) < model.images.size() ? source : -1;
+}
+
+std::string size_text(const Pixels& p) { return std::to_string(p.width) + "x" + std::to_string(p.height); }
+
+std::string coverage_text(std::uint64_t failing, std::uint64_t total) {
+  return format_number(100.0 * static_cast<double>(failing) / static_cast<double>(total), 2) + "% of " +
+         std::to_string(total) + " texels";
+}
+
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// glTF 2.0 spec 3.9.3: a normal texel t decodes to n = 2t - 1, a tangent-space unit vector with z > 0.
+void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& rules, Report& report) {
+  if (p.channels < 3) return;  // not an RGB normal map; nothing to decode
+  const bool check_length = rules.enabled("IMAGE_NORMAL_NOT_UNIT");
+  const bool check_z = rules.enabled("IMAGE_NORMAL_BACK_FACING");
+  const float max_length_error =
+      check_length ? static_cast<float>(rules.at("IMAGE_NORMAL_NOT_UNIT").threshold("max_length_error")) : 0.0f;
+  std::uint64_t not_unit = 0, back_facing = 0;
+  float worst_length = 1.0f, lowest_z = 1.0f;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      const glm::vec3 n(2.0f * p.at(x, y, 0) - 1.0f, 2.0f * p.at(x, y, 1) - 1.0f, 2.0f * p.at(x, y, 2) - 1.0f);
+      const float length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+      if (std::abs(length - 1.0f) > max_length_error) {
+        ++not_unit;
+        if (std::abs(length - 1.0f) > std::abs(worst_length - 1.0f)) worst_length = length;
+      }
+      if (n.z < 0.0f) {
+        ++back_facing;
+        lowest_z = std::min(lowest_z, n.z);
+      }
+    }
+  const std::uint64_t total = static_cast<std::uint64_t>(p.width) * static_cast<std::uint64_t>(p.height);
+  auto share = [&](std::uint64_t failing) { return 100.0 * static_cast<double>(failing) / static_cast<double>(total); };
+  if (check_length && not_unit > 0 &&
+      share(not_unit) >= rules.at("IMAGE_NORMAL_NOT_UNIT").threshold("min_coverage_percent"))
+    add_issue(rules, "IMAGE_NORMAL_NOT_UNIT",
+              {coverage_text(not_unit, total) + ", the worst length " + format_number(worst_length, 3),
+               format_number(max_length_error, 2)},
+              where, report);
+  if (check_z && back_facing > 0 &&
+      share(back_facing) >= rules.at("IMAGE_NORMAL_BACK_FACING").threshold("min_coverage_percent"))
+    add_issue(rules, "IMAGE_NORMAL_BACK_FACING",
+              {coverage_text(back_facing, total) + ", the lowest z " + format_number(lowest_z, 3)}, where, report);
+}
+
+// Per-channel minimum and maximum, in 8-bit units.
+struct ChannelRange {
+  std::array<float, 4> low{255, 255, 255, 255}, high{0, 0, 0, 0};
+};
+ChannelRange channel_range(const Pixels& p) {
+  ChannelRange r;
+  const size_t channels = static_cast<size_t>(p.channels);
+  for (size_t i = 0; i < p.values.size(); ++i) {
+    const size_t c = i % channels;
+    const float v = p.values[i] * 255.0f;
+    r.low[c] = std::min(r.low[c], v);
+    r.high[c] = std::max(r.high[c], v);
+  }
+  return r;
+}
+
+// True when a 2x2 box-filtered half-size image, upsampled bilinearly back, reproduces all but
+// `max_outlier_percent` of the texels within `max_error_8bit` in every channel.
+bool half_size_reproduces(const Pixels& p, double max_error_8bit, double max_outlier_percent) {
+  const int hw = p.width / 2, hh = p.height / 2, channels = p.channels;
+  std::vector<float> half(static_cast<size_t>(hw) * static_cast<size_t>(hh) * static_cast<size_t>(channels));
+  auto half_at = [&](int x, int y, int c) -> float& {
+    return half[(static_cast<size_t>(y) * static_cast<size_t>(hw) + static_cast<size_t>(x)) *
+                    static_cast<size_t>(channels) +
+                static_cast<size_t>(c)];
+  };
+  for (int y = 0; y < hh; ++y)
+    for (int x = 0; x < hw; ++x)
+      for (int c = 0; c < channels; ++c)
+        half_at(x, y, c) = 0.25f * (p.at(2 * x, 2 * y, c) + p.at(2 * x + 1, 2 * y, c) + p.at(2 * x, 2 * y + 1, c) +
+                                    p.at(2 * x + 1, 2 * y + 1, c));
+  const std::uint64_t total = static_cast<std::uint64_t>(p.width) * static_cast<std::uint64_t>(p.height);
+  const auto allowed = static_cast<std::uint64_t>(max_outlier_percent / 100.0 * static_cast<double>(total));
+  std::uint64_t outliers = 0;
+  for (int y = 0; y < p.height; ++y) {
+    // Texel centres of the full image in half-image texel coordinates, clamped at the edges.
+    const float fy = std::clamp((static_cast<float>(y) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hh - 1));
+    const int y0 = static_cast<int>(fy), y1 = std::min(y0 + 1, hh - 1);
+    const float ty = fy - static_cast<float>(y0);
+    for (int x = 0; x < p.width; ++x) {
+      const float fx = std::clamp((static_cast<float>(x) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hw - 1));
+      const int x0 = static_cast<int>(fx), x1 = std::min(x0 + 1, hw - 1);
+      const float tx = fx - static_cast<float>(x0);
+      for (int c = 0; c < channels; ++c) {
+        const float top = half_at(x0, y0, c) + tx * (half_at(x1, y0, c) - half_at(x0, y0, c));
+        const float bottom = half_at(x0, y1, c) + tx * (half_at(x1, y1, c) - half_at(x0, y1, c));
+        const float value = top + ty * (bottom - top);
+        if (std::abs(value - p.at(x, y, c)) * 255.0f > max_error_8bit) {
+          if (++outliers > allowed) return false;
+          break;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+void check_material_textures(const Asset& asset, const RuleSet& rules, TexelSource& images, Report& report) {
+  const auto& model = asset.model;
+  // Images by use: the first textureInfo pointer of each (for the message), normal maps and
+  // metallicRoughness images of metal-rough materials separately.
+  std::map<int, std::string> used_images, normal_maps, metal_rough_maps;
+  auto note = [&](std::map<int, std::string>& uses, int texture, const std::string& where) {
+    const int image = source_of(model, texture);
+    if (image >= 0) uses.emplace(image, where);
+  };
+  for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
+    const tinygltf::Material& material = model.materials[static_cast<size_t>(index)];
+    const MaterialInputs inputs = read_material_inputs(model, index);
+    for (const MaterialTexture& texture : inputs.textures)
+      if (texture.present()) note(used_images, texture.texture, texture.pointer);
+    const std::string base = pointer("materials", index);
+    const auto& pbr = material.pbrMetallicRoughness;
+    // A legacy material's core fallback is what core-only viewers show: its images are used too.
+    note(used_images, pbr.baseColorTexture.index, base + "/pbrMetallicRoughness/baseColorTexture");
+    note(used_images, pbr.metallicRoughnessTexture.index, base + "/pbrMetallicRoughness/metallicRoughnessTexture");
+    note(used_images, material.normalTexture.index, base + "/normalTexture");
+    note(used_images, material.occlusionTexture.index, base + "/occlusionTexture");
+    note(used_images, material.emissiveTexture.index, base + "/emissiveTexture");
+    note(normal_maps, material.normalTexture.index, base + "/normalTexture");
+    if (inputs.model == MaterialModel::MetalRough && inputs.texture(TextureRole::MetallicRoughness).present())
+      metal_rough_maps.emplace(inputs.texture(TextureRole::MetallicRoughness).image,
+                               inputs.texture(TextureRole::MetallicRoughness).pointer);
+  }
+
+  if (rules.enabled("IMAGE_NORMAL_NOT_UNIT") || rules.enabled("IMAGE_NORMAL_BACK_FACING"))
+    for (const auto& [image, where] : normal_maps)
+      if (const Pixels* p = images.get(image, rules, report)) check_normal_map(*p, where, rules, report);
+
+  if (rules.enabled("IMAGE_CHANNEL_EMPTY")) {
+    const float max_value = static_cast<float>(rules.at("IMAGE_CHANNEL_EMPTY").threshold("max_value_8bit"));
+    for (const auto& [image, where] : metal_rough_maps) {
+      const Pixels* p = images.get(image, rules, report);
+      if (!p || p->channels < 3) continue;
+      const ChannelRange range = channel_range(*p);
+      // glTF 2.0 3.9.2: G roughness, B metalness. R (occlusion in ORM packing) or A with content
+      // beside an empty used channel points to a packing for another layout.
+      std::string elsewhere;
+      if (range.high[0] > max_value) elsewhere = "R";
+      if (p->channels == 4 && range.high[3] < 255.0f - max_value) elsewhere += elsewhere.empty() ? "A" : " and A";
+      const std::string hint =
+          elsewhere.empty() ? "" : " while " + elsewhere + " has content (packed for another layout?)";
+      if (range.high[1] <= max_value) add_issue(rules, "IMAGE_CHANNEL_EMPTY", {"G (roughness)", hint}, where, report);
+      if (range.high[2] <= max_value) add_issue(rules, "IMAGE_CHANNEL_EMPTY", {"B (metalness)", hint}, where, report);
+    }
+  }
+
+  const bool check_constant = rules.enabled("IMAGE_CONSTANT");
+  const bool check_detail = rules.enabled("IMAGE_LARGER_THAN_NEEDED");
+  if (check_constant || check_detail) {
+    for (const auto& [image, where] : used_images) {
+      const Pixels* p = images.get(image, rules, report);
+      if (!p) continue;
+      const std::string image_pointer = pointer("images", image);
+      bool constant = false;
+      if (check_constant) {
+        const Rule& rule = rules.at("IMAGE_CONSTANT");
+        const ChannelRange range = channel_range(*p);
+        constant = true;
+        std::string value;
+        for (int c = 0; c < p->channels; ++c) {
+          constant &= range.high[static_cast<size_t>(c)] - range.low[static_cast<size_t>(c)] <=
+                      rule.threshold("max_range_8bit");
+          value += (c ? ", " : "") +
+                   std::to_string(static_cast<int>(
+                       std::lround(0.5f * (range.high[static_cast<size_t>(c)] + range.low[static_cast<size_t>(c)]))));
+        }
+        if (constant)
+          add_issue(rules, "IMAGE_CONSTANT",
+                    {size_text(*p) + " of 8-bit (" + value + "), used by " + where,
+                     format_number(rule.threshold("max_range_8bit"), 0)},
+                    image_pointer, report);
+      }
+      if (check_detail && !constant) {
+        const Rule& rule = rules.at("IMAGE_LARGER_THAN_NEEDED");
+        const double min_size = rule.threshold("min_size");
+        if (p->width >= min_size && p->height >= min_size &&
+            half_size_reproduces(*p, rule.threshold("max_error_8bit"), rule.threshold("max_outlier_percent")))
+          add_issue(rules, "IMAGE_LARGER_THAN_NEEDED",
+                    {size_text(*p) + ", used by " + where + "; " + std::to_string(p->width / 2) + "x" +
+                     std::to_string(p->height / 2) + " would do"},
+                    image_pointer, report);
+      }
+    }
+  }
+
+  // Sizes come from the PNG/JPEG header: this check decodes nothing.
+  if (rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
+    for (const auto& [image, where] : used_images) {
+      const auto size = encoded_image_size(encoded_image_bytes(model, image));
+      if (size[0] > 0 && size[1] > 0 && (!power_of_two(size[0]) || !power_of_two(size[1])))
+        add_issue(rules, "IMAGE_NOT_POWER_OF_TWO",
+                  {std::to_string(size[0]) + "x" + std::to_string(size[1]) + " (used by " + where + ")"},
+                  pointer("images", image), report);
+    }
+}
+
+}  // namespace gltf_pbr
