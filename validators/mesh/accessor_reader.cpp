@@ -125,23 +125,35 @@ std::optional<FloatArray> read_float_accessor(const tinygltf::Model& model, int 
   }
   FloatArray out;
   out.components = components;
-  out.values.assign(accessor.count * static_cast<std::size_t>(components), 0.0f);  // no bufferView: zeros (3.6.2.3)
   const std::size_t element_size = static_cast<std::size_t>(components * size);
+  const std::uint8_t* data = nullptr;
+  std::size_t stride = 0;
   if (accessor.bufferView >= 0) {
-    std::size_t stride = 0;
-    const std::uint8_t* data = view_elements(model, accessor.bufferView, accessor.byteOffset, accessor.count,
-                                             element_size, stride, problem);
+    // Bounds first, so a bogus count fails here instead of in a huge allocation.
+    data =
+        view_elements(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size, stride, problem);
     if (!data) return std::nullopt;
+  } else if (accessor.count > (std::size_t{1} << 28)) {
+    // Without a bufferView an accessor is zeros plus its sparse values (glTF 2.0 section 3.6.2.3)
+    // and no buffer bounds its count: 2^28 elements caps what a hostile file makes us allocate.
+    problem = "accessor without bufferView has more than 2^28 elements";
+    return std::nullopt;
+  }
+  out.values.assign(accessor.count * static_cast<std::size_t>(components), 0.0f);
+  if (data) {
     for (std::size_t i = 0; i < accessor.count; ++i)
       for (int c = 0; c < components; ++c)
-        out.values[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)] =
-            component_as_float(data + i * stride + static_cast<std::size_t>(c * size), accessor.componentType,
-                               accessor.normalized);
+        out.values[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)] = component_as_float(
+            data + i * stride + static_cast<std::size_t>(c * size), accessor.componentType, accessor.normalized);
   }
   if (accessor.sparse.isSparse) {
     // Sparse substitution (glTF 2.0 section 3.6.2.3): tightly packed indices and values.
     const auto& sparse = accessor.sparse;
-    const std::size_t sparse_count = static_cast<std::size_t>(std::max(sparse.count, 0));
+    if (sparse.count < 0 || sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0) {
+      problem = "sparse count or byteOffset is negative";
+      return std::nullopt;
+    }
+    const std::size_t sparse_count = static_cast<std::size_t>(sparse.count);
     const int index_size = component_size(sparse.indices.componentType);
     std::size_t index_stride = 0, value_stride = 0;
     const std::uint8_t* indices =
@@ -157,8 +169,8 @@ std::optional<FloatArray> read_float_accessor(const tinygltf::Model& model, int 
     }
     for (std::size_t s = 0; s < sparse_count; ++s) {
       // Sparse data is tightly packed, whatever the bufferView's stride says.
-      const std::uint32_t target = component_as_index(indices + s * static_cast<std::size_t>(index_size),
-                                                      sparse.indices.componentType);
+      const std::uint32_t target =
+          component_as_index(indices + s * static_cast<std::size_t>(index_size), sparse.indices.componentType);
       if (target >= accessor.count) {
         problem = "sparse index is out of range";
         return std::nullopt;

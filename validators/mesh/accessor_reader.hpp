@@ -2,12 +2,12 @@
 // types and sparse substitution handled (glTF 2.0 sections 3.6.2 and 3.11).
 // Core has no accessor reader yet; this one could move to core/ when a second step needs it.
 #pragma once
+#include <tiny_gltf.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <tiny_gltf.h>
 
 namespace gltf_pbr::mesh {
 
@@ -18,7 +18,7 @@ struct FloatArray {
 };
 
 // The accessor's elements as floats; integer types are normalized to [0,1] or [-1,1] when the
-// accessor says `normalized` (glTF 2.0 section 3.11, "Animations" table of dequantization).
+// accessor says `normalized` (the dequantization equations of glTF 2.0 section 3.11).
 // Returns nothing with `problem` set when the accessor does not fit its buffer: the structure
 // step reports that with the Khronos code, so the mesh checks only skip the primitive.
 std::optional<FloatArray> read_float_accessor(const tinygltf::Model& model, int accessor_index, std::string& problem);
