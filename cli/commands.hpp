@@ -11,5 +11,6 @@ enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2 };
 std::function<int()> add_convert_command(CLI::App& app);
 std::function<int()> add_compare_command(CLI::App& app);
 std::function<int()> add_validate_command(CLI::App& app);
+std::function<int()> add_preview_command(CLI::App& app);
 
 }  // namespace gltf_pbr::cli

@@ -11,13 +11,14 @@
 #include "cli/inputs.hpp"
 #include "cli/report.hpp"
 #include "core/asset.hpp"
+#include "preview/preview.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
 
 struct ConvertArgs {
   std::vector<std::string> inputs;
-  std::string output, format, report, target = "metalness", solver = "balanced";
+  std::string output, format, report, target = "metalness", solver = "balanced", preview;
   bool in_place = false, allow_outside = false, quiet = false, verbose = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   double specular_tolerance = 2.0;
@@ -28,6 +29,7 @@ struct ConvertArgs {
 
 struct Job {
   fs::path input, output;
+  fs::path preview;  // folder for this file's before/after images; empty: none
 };
 
 // Expands inputs (files, directories searched recursively) into jobs with output paths.
@@ -47,7 +49,9 @@ std::vector<Job> plan_jobs(const ConvertArgs& args) {
       target = output / relative;
       if (!args.format.empty()) target.replace_extension("." + args.format);
     }
-    jobs.push_back({file, target});
+    fs::path preview_folder;
+    if (!args.preview.empty()) preview_folder = fs::path(args.preview) / fs::path(relative).replace_extension();
+    jobs.push_back({file, target, preview_folder});
   }
   return jobs;
 }
@@ -63,6 +67,8 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
     Asset asset = load_asset(job.input, {args.allow_outside});
     const auto loaded = Clock::now();
     result.load_ms = ms(start, loaded);
+    // The preview draws the legacy asset beside its conversion: keep the original only then.
+    const std::optional<Asset> original = job.preview.empty() ? std::nullopt : std::optional<Asset>(asset);
     result.report = convert(asset, options);
     const auto converted = Clock::now();
     const bool same_format = asset.binary == (job.output.extension() == ".glb");
@@ -76,6 +82,12 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
       result.status = "converted";
     }
     result.save_ms = ms(converted, Clock::now());
+    if (original) {
+      preview::PreviewOptions preview_options;
+      preview_options.convert = options;
+      const preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
+      preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview);
+    }
   } catch (const InputError& e) {
     result.error = e;
   } catch (const std::exception& e) {
@@ -154,6 +166,8 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--specular-tolerance", args->specular_tolerance, "ΔE2000 (p95) the metalness fit may miss by")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd->add_option("--preview", args->preview,
+                  "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
   cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")
       ->check(CLI::PositiveNumber);

@@ -79,6 +79,12 @@ int run(const ValidateArgs& args) {
     for (const std::string& step : args.only) options.steps.insert(step);
   }
   options.heatmaps_dir = args.heatmaps;
+  if (!args.heatmaps.empty()) {
+    std::error_code error;
+    fs::create_directories(args.heatmaps, error);
+    if (error || !fs::is_directory(args.heatmaps))
+      throw CLI::ValidationError("--heatmaps", args.heatmaps + ": cannot create the folder (" + error.message() + ")");
+  }
   options.allow_outside_uris = args.allow_outside;
   options.self_intersections = !args.no_self_intersections;
   const Severity fail_on = parse_fail_on(args.fail_on);

@@ -52,6 +52,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
         material_options.materials = wants(options, "materials");
         material_options.textures = wants(options, "textures");
         material_options.heatmaps_dir = options.heatmaps_dir;
+        material_options.power_of_two = !(wants(options, "structure") && rules.enabled("IMAGE_NPOT_DIMENSIONS"));
         validate_materials(asset, rules, material_options, report);
       }
       if (wants(options, "meshes"))

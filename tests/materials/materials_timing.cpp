@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     Report this_run;
     const long decodes_before = work_counters().images_decoded.load();
     const auto start = std::chrono::steady_clock::now();
-    validate_materials(asset, builtin_rules(), MaterialCheckOptions{true, false, {}}, this_run);
+    validate_materials(asset, builtin_rules(), MaterialCheckOptions{.materials = true, .textures = false}, this_run);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     std::printf("run %d: %.1f ms, %ld images decoded\n", run, ms,
                 work_counters().images_decoded.load() - decodes_before);
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
 
   Report textures;
   const auto start = std::chrono::steady_clock::now();
-  validate_materials(asset, builtin_rules(), MaterialCheckOptions{false, true, {}}, textures);
+  validate_materials(asset, builtin_rules(), MaterialCheckOptions{.materials = false, .textures = true}, textures);
   std::printf("IMAGE checks (decode included): %.1f ms\n",
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   for (const auto& issue : textures.messages)

@@ -37,6 +37,7 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
                                  TexelSource& images, Report& report);
 
 // IMAGE_* checks of every image that materials use (validators/materials/texture_checks.cpp).
-void check_material_textures(const Asset& asset, const RuleSet& rules, TexelSource& images, Report& report);
+void check_material_textures(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options,
+                             TexelSource& images, Report& report);
 
 }  // namespace gltf_pbr

@@ -123,7 +123,8 @@ bool half_size_reproduces(const Pixels& p, double max_error_8bit, double max_out
 
 }  // namespace
 
-void check_material_textures(const Asset& asset, const RuleSet& rules, TexelSource& images, Report& report) {
+void check_material_textures(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options,
+                             TexelSource& images, Report& report) {
   const auto& model = asset.model;
   // Images by use: the first textureInfo pointer of each (for the message), normal maps and
   // metallicRoughness images of metal-rough materials separately.
@@ -213,7 +214,7 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, TexelSour
   }
 
   // Sizes come from the PNG/JPEG header: this check decodes nothing.
-  if (rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
+  if (options.power_of_two && rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
     for (const auto& [image, where] : used_images) {
       const auto size = encoded_image_size(encoded_image_bytes(model, image));
       if (size[0] > 0 && size[1] > 0 && (!power_of_two(size[0]) || !power_of_two(size[1])))

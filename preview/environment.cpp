@@ -1,0 +1,400 @@
+// Environment maps, prefiltering, SH irradiance and the DFG table (see environment.hpp).
+#include "preview/environment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "core/files.hpp"
+#include "core/image.hpp"
+#include "preview/brdf.hpp"
+#include "preview/raster.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+constexpr int kBaseWidth = 256, kBaseHeight = 128;
+constexpr int kSpecularLevels = 7;
+constexpr int kPrefilterSamples = 96;
+constexpr int kDfgSize = 64;
+
+// atan2 to ~1e-5 rad (minimax polynomial on [0, 1]; Abramowitz & Stegun 4.4.49 style): a
+// thousandth of a texel of the 256-wide map, at a fraction of libm's cost per pixel.
+float fast_atan2(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float largest = std::max(ax, ay);
+  if (!(largest > 0.0f)) return 0.0f;
+  const float a = std::min(ax, ay) / largest, s = a * a;
+  float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
+  if (ay > ax) r = 0.5f * kPi - r;
+  if (x < 0.0f) r = kPi - r;
+  return y < 0.0f ? -r : r;
+}
+
+// acos to 7e-5 rad (Abramowitz & Stegun 4.4.45).
+float fast_acos(float x) {
+  const float ax = std::min(std::abs(x), 1.0f);
+  const float r = std::sqrt(1.0f - ax) * (((-0.0187293f * ax + 0.0742610f) * ax - 0.2121144f) * ax + 1.5707288f);
+  return x < 0.0f ? kPi - r : r;
+}
+
+glm::vec2 uv_of(glm::vec3 d) {
+  const float u = 0.5f + fast_atan2(d.x, -d.z) / (2.0f * kPi);
+  const float v = fast_acos(d.y) / kPi;
+  return {u, v};
+}
+
+// Area-averaging resample to width x height (box filter over each target texel's footprint).
+EquirectMap resample(const EquirectMap& source, int width, int height) {
+  EquirectMap out{width, height, std::vector<glm::vec3>(static_cast<size_t>(width) * static_cast<size_t>(height))};
+  const int steps_x = std::max(1, source.width / width), steps_y = std::max(1, source.height / height);
+  parallel_dynamic(height, [&](std::int64_t y) {
+    for (int x = 0; x < width; ++x) {
+      glm::vec3 sum(0.0f);
+      for (int j = 0; j < steps_y; ++j)
+        for (int i = 0; i < steps_x; ++i) {
+          const float u = (static_cast<float>(x) + (static_cast<float>(i) + 0.5f) / static_cast<float>(steps_x)) /
+                          static_cast<float>(width);
+          const float v = (static_cast<float>(y) + (static_cast<float>(j) + 0.5f) / static_cast<float>(steps_y)) /
+                          static_cast<float>(height);
+          sum += source.sample(direction_of(u, v));
+        }
+      out.at(x, static_cast<int>(y)) = sum / static_cast<float>(steps_x * steps_y);
+    }
+  });
+  return out;
+}
+
+EquirectMap half_size(const EquirectMap& m) {
+  EquirectMap out{std::max(1, m.width / 2), std::max(1, m.height / 2), {}};
+  out.texels.resize(static_cast<size_t>(out.width) * static_cast<size_t>(out.height));
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      const int x0 = std::min(2 * x, m.width - 1), x1 = std::min(2 * x + 1, m.width - 1);
+      const int y0 = std::min(2 * y, m.height - 1), y1 = std::min(2 * y + 1, m.height - 1);
+      out.at(x, y) = (m.at(x0, y0) + m.at(x1, y0) + m.at(x0, y1) + m.at(x1, y1)) * 0.25f;
+    }
+  return out;
+}
+
+// GGX half vector around +Z for a uniform point (Walter et al. 2007, eqs. 35-36; Karis 2013).
+glm::vec3 importance_sample_ggx(glm::vec2 xi, float alpha) {
+  const float phi = 2.0f * kPi * xi.y;
+  const float cos_theta = std::sqrt((1.0f - xi.x) / (1.0f + (alpha * alpha - 1.0f) * xi.x));
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+void orthonormal_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
+  // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  b = glm::vec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+// Prefiltered radiance for `roughness` with N = V = R (Karis 2013) and filtered importance
+// sampling: each sample reads the mip whose texel matches its solid angle (Colbert & Krivanek
+// 2007, "GPU-Based Importance Sampling", GPU Gems 3 ch. 20, eq. 13).
+EquirectMap prefilter(const std::vector<EquirectMap>& pyramid, float roughness, int width, int height) {
+  EquirectMap out{width, height, std::vector<glm::vec3>(static_cast<size_t>(width) * static_cast<size_t>(height))};
+  const float alpha = alpha_from_roughness(roughness);
+  const float texel_solid_angle = 4.0f * kPi / static_cast<float>(pyramid[0].width * pyramid[0].height);
+  auto sample_lod = [&](glm::vec3 d, float lod) {
+    lod = std::clamp(lod, 0.0f, static_cast<float>(pyramid.size() - 1));
+    const int l0 = static_cast<int>(lod);
+    const int l1 = std::min(l0 + 1, static_cast<int>(pyramid.size()) - 1);
+    const float t = lod - static_cast<float>(l0);
+    return glm::mix(pyramid[static_cast<size_t>(l0)].sample(d), pyramid[static_cast<size_t>(l1)].sample(d), t);
+  };
+  parallel_dynamic(height, [&](std::int64_t y) {
+    for (int x = 0; x < width; ++x) {
+      const glm::vec3 n = direction_of((static_cast<float>(x) + 0.5f) / static_cast<float>(width),
+                                       (static_cast<float>(y) + 0.5f) / static_cast<float>(height));
+      glm::vec3 t, b;
+      orthonormal_basis(n, t, b);
+      glm::vec3 sum(0.0f);
+      float weight = 0.0f;
+      for (int i = 0; i < kPrefilterSamples; ++i) {
+        const glm::vec3 h_local =
+            importance_sample_ggx(hammersley(static_cast<std::uint32_t>(i), kPrefilterSamples), alpha);
+        const glm::vec3 h = t * h_local.x + b * h_local.y + n * h_local.z;
+        const float n_dot_h = h_local.z;
+        const glm::vec3 l = 2.0f * n_dot_h * h - n;
+        const float n_dot_l = glm::dot(n, l);
+        if (n_dot_l <= 0.0f) continue;
+        // pdf(L) = D(h) (N.H) / (4 V.H), and V.H = N.H here.
+        const float pdf = distribution_ggx(n_dot_h, alpha) / 4.0f;
+        const float sample_solid_angle = 1.0f / (static_cast<float>(kPrefilterSamples) * pdf + 1e-6f);
+        const float lod = 0.5f * std::log2(sample_solid_angle / texel_solid_angle) + 1.0f;
+        sum += sample_lod(l, lod) * n_dot_l;
+        weight += n_dot_l;
+      }
+      out.at(x, static_cast<int>(y)) = weight > 0.0f ? sum / weight : glm::vec3(0.0f);
+    }
+  });
+  return out;
+}
+
+std::array<float, 9> sh_basis(glm::vec3 d) {
+  // Real SH up to l = 2 (Ramamoorthi & Hanrahan 2001, eq. 3 constants).
+  return {0.282095f,
+          0.488603f * d.y,
+          0.488603f * d.z,
+          0.488603f * d.x,
+          1.092548f * d.x * d.y,
+          1.092548f * d.y * d.z,
+          0.315392f * (3.0f * d.z * d.z - 1.0f),
+          1.092548f * d.x * d.z,
+          0.546274f * (d.x * d.x - d.y * d.y)};
+}
+
+float square(float x) { return x * x; }
+
+// Columns are spaced in sqrt(N.V): the table changes fastest at grazing angles.
+struct DfgTable {
+  std::vector<glm::vec2> values;  // [roughness][sqrt(n_dot_v)]
+  DfgTable() : values(static_cast<size_t>(kDfgSize * kDfgSize)) {
+    parallel_dynamic(kDfgSize, [&](std::int64_t r) {
+      for (int v = 0; v < kDfgSize; ++v)
+        values[static_cast<size_t>(r * kDfgSize + v)] = integrate_dfg(square((static_cast<float>(v) + 0.5f) / kDfgSize),
+                                                                      (static_cast<float>(r) + 0.5f) / kDfgSize, 2048);
+    });
+  }
+};
+
+glm::vec3 procedural_sky(glm::vec3 d, glm::vec3 sun_direction) {
+  const glm::vec3 zenith(0.16f, 0.30f, 0.62f), horizon(0.80f, 0.82f, 0.88f), ground(0.20f, 0.18f, 0.16f);
+  glm::vec3 sky;
+  if (d.y >= 0.0f) {
+    const float t = std::pow(1.0f - d.y, 3.0f);
+    sky = glm::mix(zenith, horizon, t);
+  } else {
+    const float t = std::min(1.0f, -d.y / 0.08f);  // short blend below the horizon
+    sky = glm::mix(horizon * 0.6f, ground, t);
+  }
+  const float glow = std::max(0.0f, glm::dot(d, sun_direction));
+  return sky + glm::vec3(1.0f, 0.9f, 0.75f) * (0.6f * std::pow(glow, 24.0f));
+}
+
+}  // namespace
+
+glm::vec3 direction_of(float u, float v) {
+  const float phi = (u - 0.5f) * 2.0f * kPi, theta = v * kPi;
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+glm::vec2 equirect_uv(glm::vec3 direction) { return uv_of(direction); }
+
+glm::vec3 EquirectMap::sample(glm::vec3 d) const { return sample_uv(uv_of(d)); }
+
+glm::vec3 EquirectMap::sample_uv(glm::vec2 uv) const {
+  const float fx = uv.x * static_cast<float>(width) - 0.5f, fy = uv.y * static_cast<float>(height) - 0.5f;
+  const float x0f = std::floor(fx), y0f = std::floor(fy);
+  const float tx = fx - x0f, ty = fy - y0f;
+  const int x0 = std::clamp(static_cast<int>(x0f), -1, width - 1), y0 = static_cast<int>(y0f);
+  auto wrap_x = [&](int x) { return x < 0 ? x + width : (x >= width ? x - width : x); };
+  auto clamp_y = [&](int y) { return std::clamp(y, 0, height - 1); };
+  const glm::vec3 a = glm::mix(at(wrap_x(x0), clamp_y(y0)), at(wrap_x(x0 + 1), clamp_y(y0)), tx);
+  const glm::vec3 b = glm::mix(at(wrap_x(x0), clamp_y(y0 + 1)), at(wrap_x(x0 + 1), clamp_y(y0 + 1)), tx);
+  return glm::mix(a, b, ty);
+}
+
+glm::vec2 hammersley(std::uint32_t i, std::uint32_t n) {
+  std::uint32_t bits = i;
+  bits = (bits << 16u) | (bits >> 16u);
+  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+  return {(static_cast<float>(i) + 0.5f) / static_cast<float>(n), static_cast<float>(bits) * 2.3283064365386963e-10f};
+}
+
+glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples) {
+  n_dot_v = std::clamp(n_dot_v, 1e-4f, 1.0f);
+  const float alpha = alpha_from_roughness(roughness);
+  const glm::vec3 v(std::sqrt(1.0f - n_dot_v * n_dot_v), 0.0f, n_dot_v);
+  glm::vec2 sum(0.0f);
+  for (int i = 0; i < samples; ++i) {
+    const glm::vec3 h =
+        importance_sample_ggx(hammersley(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(samples)), alpha);
+    const float v_dot_h = glm::dot(v, h);
+    const glm::vec3 l = 2.0f * v_dot_h * h - v;
+    const float n_dot_l = l.z;
+    if (n_dot_l <= 0.0f || v_dot_h <= 0.0f) continue;
+    // Estimator of the integral of D V (N.L) over L with pdf D (N.H) / (4 V.H) (Karis 2013, eq. 8).
+    const float g_vis = visibility_smith_ggx_correlated(n_dot_v, n_dot_l, alpha) * 4.0f * n_dot_l * v_dot_h / h.z;
+    const float fc = std::pow(1.0f - v_dot_h, 5.0f);
+    sum += glm::vec2((1.0f - fc) * g_vis, fc * g_vis);
+  }
+  return sum / static_cast<float>(samples);
+}
+
+glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
+  static const DfgTable table;
+  const float fx = std::sqrt(std::clamp(n_dot_v, 0.0f, 1.0f)) * kDfgSize - 0.5f;
+  const float fy = std::clamp(roughness, 0.0f, 1.0f) * kDfgSize - 0.5f;
+  const int x0 = std::clamp(static_cast<int>(std::floor(fx)), 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
+  const int y0 = std::clamp(static_cast<int>(std::floor(fy)), 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
+  const float tx = std::clamp(fx - static_cast<float>(x0), 0.0f, 1.0f),
+              ty = std::clamp(fy - static_cast<float>(y0), 0.0f, 1.0f);
+  auto at = [&](int x, int y) { return table.values[static_cast<size_t>(y * kDfgSize + x)]; };
+  return glm::mix(glm::mix(at(x0, y0), at(x1, y0), tx), glm::mix(at(x0, y1), at(x1, y1), tx), ty);
+}
+
+glm::vec3 Environment::prefiltered_radiance(glm::vec3 direction, float roughness) const {
+  return prefiltered_radiance_uv(uv_of(direction), roughness);
+}
+
+glm::vec3 Environment::prefiltered_radiance_uv(glm::vec2 uv, float roughness) const {
+  const float level = std::clamp(roughness, 0.0f, 1.0f) * static_cast<float>(specular_levels.size() - 1);
+  const int l0 = static_cast<int>(level);
+  const int l1 = std::min(l0 + 1, static_cast<int>(specular_levels.size()) - 1);
+  const float t = level - static_cast<float>(l0);
+  const glm::vec3 a = specular_levels[static_cast<size_t>(l0)].sample_uv(uv);
+  return t > 0.0f ? glm::mix(a, specular_levels[static_cast<size_t>(l1)].sample_uv(uv), t) : a;
+}
+
+glm::vec3 Environment::irradiance(glm::vec3 n) const {
+  const auto basis = sh_basis(n);
+  glm::vec3 e(0.0f);
+  for (size_t i = 0; i < 9; ++i) e += irradiance_sh[i] * basis[i];
+  return glm::max(e, glm::vec3(0.0f));  // order-2 SH rings below zero behind bright lights
+}
+
+glm::vec3 Environment::background(glm::vec3 direction) const { return specular_levels[1].sample(direction); }
+
+Environment build_environment(const EquirectMap& radiance) {
+  Environment env;
+  std::vector<EquirectMap> pyramid{resample(radiance, kBaseWidth, kBaseHeight)};
+  while (pyramid.back().width > 4) pyramid.push_back(half_size(pyramid.back()));
+  env.specular_levels.push_back(pyramid[0]);
+  for (int level = 1; level < kSpecularLevels; ++level) {
+    const int width = std::max(32, kBaseWidth >> level);
+    env.specular_levels.push_back(
+        prefilter(pyramid, static_cast<float>(level) / (kSpecularLevels - 1), width, width / 2));
+  }
+  // Project radiance on SH (solid angle of an equirect texel: (2 pi / W) (pi / H) sin theta), then
+  // convolve with the clamped cosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4 (R&H 2001, eq. 8).
+  const EquirectMap& base = pyramid[0];
+  std::array<glm::dvec3, 9> coefficients{};
+  for (int y = 0; y < base.height; ++y) {
+    const float v = (static_cast<float>(y) + 0.5f) / static_cast<float>(base.height);
+    const double solid_angle = (2.0 * kPi / base.width) * (kPi / base.height) * std::sin(v * kPi);
+    for (int x = 0; x < base.width; ++x) {
+      const glm::vec3 d = direction_of((static_cast<float>(x) + 0.5f) / static_cast<float>(base.width), v);
+      const auto basis = sh_basis(d);
+      for (size_t i = 0; i < 9; ++i) coefficients[i] += glm::dvec3(base.at(x, y)) * (basis[i] * solid_angle);
+    }
+  }
+  const float band[9] = {kPi, 2 * kPi / 3, 2 * kPi / 3, 2 * kPi / 3, kPi / 4, kPi / 4, kPi / 4, kPi / 4, kPi / 4};
+  for (size_t i = 0; i < 9; ++i) env.irradiance_sh[i] = glm::vec3(coefficients[i]) * band[i];
+  return env;
+}
+
+const Environment& default_environment() {
+  static const Environment env = [] {
+    const glm::vec3 sun = glm::normalize(glm::vec3(-0.45f, 0.75f, 0.55f));
+    EquirectMap sky{512, 256, {}};
+    sky.texels.resize(512 * 256);
+    for (int y = 0; y < sky.height; ++y)
+      for (int x = 0; x < sky.width; ++x)
+        sky.at(x, y) = procedural_sky(direction_of((x + 0.5f) / sky.width, (y + 0.5f) / sky.height), sun);
+    Environment e = build_environment(sky);
+    e.sun_direction = sun;
+    e.sun_irradiance = glm::vec3(2.4f, 2.25f, 2.0f);
+    return e;
+  }();
+  return env;
+}
+
+Environment uniform_environment(glm::vec3 radiance) {
+  EquirectMap constant{8, 4, std::vector<glm::vec3>(32, radiance)};
+  return build_environment(constant);
+}
+
+EquirectMap read_radiance_hdr(const std::vector<std::uint8_t>& bytes, const std::string& name) {
+  auto fail = [&](const std::string& why) { return std::runtime_error(name + ": " + why); };
+  size_t pos = 0;
+  auto read_line = [&]() {
+    std::string line;
+    while (pos < bytes.size() && bytes[pos] != '\n') line += static_cast<char>(bytes[pos++]);
+    if (pos >= bytes.size()) throw fail("truncated header");
+    ++pos;
+    return line;
+  };
+  if (read_line().rfind("#?", 0) != 0) throw fail("not a Radiance .hdr file");
+  for (std::string line; !(line = read_line()).empty();)
+    if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe")
+      throw fail("unsupported " + line + " (only 32-bit_rle_rgbe)");
+  int width = 0, height = 0;
+  char y_axis[3] = {}, x_axis[3] = {};
+  if (std::sscanf(read_line().c_str(), "%2s %d %2s %d", y_axis, &height, x_axis, &width) != 4 ||
+      std::strcmp(y_axis, "-Y") != 0 || std::strcmp(x_axis, "+X") != 0 || width <= 0 || height <= 0 || width > 65536 ||
+      height > 65536)
+    throw fail("unsupported resolution line (only -Y H +X W)");
+  EquirectMap map{width, height, std::vector<glm::vec3>(static_cast<size_t>(width) * static_cast<size_t>(height))};
+  std::vector<std::uint8_t> scanline(static_cast<size_t>(width) * 4);
+  for (int y = 0; y < height; ++y) {
+    const bool rle = width >= 8 && width < 32768 && pos + 4 <= bytes.size() && bytes[pos] == 2 && bytes[pos + 1] == 2 &&
+                     ((bytes[pos + 2] << 8) | bytes[pos + 3]) == width;
+    if (rle) {  // adaptive run-length encoding, one channel at a time
+      pos += 4;
+      for (int c = 0; c < 4; ++c)
+        for (int x = 0; x < width;) {
+          if (pos >= bytes.size()) throw fail("truncated pixel data");
+          int count = bytes[pos++];
+          if (count > 128) {
+            count -= 128;
+            if (count > width - x || pos >= bytes.size()) throw fail("bad run length");
+            const std::uint8_t value = bytes[pos++];
+            for (int k = 0; k < count; ++k) scanline[static_cast<size_t>((x++) * 4 + c)] = value;
+          } else {
+            if (count == 0 || count > width - x || pos + static_cast<size_t>(count) > bytes.size())
+              throw fail("bad literal length");
+            for (int k = 0; k < count; ++k) scanline[static_cast<size_t>((x++) * 4 + c)] = bytes[pos++];
+          }
+        }
+    } else {
+      if (pos + scanline.size() > bytes.size()) throw fail("truncated pixel data");
+      std::copy_n(bytes.begin() + static_cast<std::ptrdiff_t>(pos), scanline.size(), scanline.begin());
+      pos += scanline.size();
+    }
+    for (int x = 0; x < width; ++x) {
+      const std::uint8_t* rgbe = scanline.data() + static_cast<size_t>(x) * 4;
+      const float scale = rgbe[3] == 0 ? 0.0f : std::ldexp(1.0f, rgbe[3] - (128 + 8));
+      map.at(x, y) = glm::vec3(rgbe[0] + 0.5f, rgbe[1] + 0.5f, rgbe[2] + 0.5f) * scale;
+    }
+  }
+  return map;
+}
+
+Environment load_environment(const std::filesystem::path& path) {
+  const auto bytes = read_file(path);
+  if (!bytes) throw std::runtime_error(path.string() + ": cannot read the environment file");
+  EquirectMap map;
+  if (bytes->size() >= 2 && (*bytes)[0] == '#' && (*bytes)[1] == '?') {
+    map = read_radiance_hdr(*bytes, path.string());
+  } else {
+    const Pixels pixels = decode_image(*bytes, path.string());
+    map.width = pixels.width;
+    map.height = pixels.height;
+    map.texels.resize(static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height));
+    for (int y = 0; y < pixels.height; ++y)
+      for (int x = 0; x < pixels.width; ++x)
+        map.at(x, y) = glm::vec3(pixels.at(x, y, 0), pixels.at(x, y, std::min(1, pixels.channels - 1)),
+                                 pixels.at(x, y, std::min(2, pixels.channels - 1)));
+  }
+  for (glm::vec3& t : map.texels)
+    if (!std::isfinite(t.x + t.y + t.z))
+      t = glm::vec3(0.0f);  // never let NaN/Inf into the image
+    else
+      t = glm::max(t, glm::vec3(0.0f));
+  return build_environment(map);
+}
+
+}  // namespace gltf_pbr::preview

@@ -1,0 +1,66 @@
+// Image-based light by split sum (Karis 2013, "Real Shading in Unreal Engine 4", section
+// "Image Based Lighting"): a radiance map prefiltered for GGX at several roughnesses, a DFG
+// lookup table, and spherical-harmonic irradiance for the diffuse lobe (Ramamoorthi & Hanrahan
+// 2001, "An Efficient Representation for Irradiance Environment Maps").
+#pragma once
+#include <array>
+#include <filesystem>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <vector>
+
+namespace gltf_pbr::preview {
+
+// Equirectangular (latitude-longitude) radiance, +Y up; u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
+struct EquirectMap {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> texels;
+  glm::vec3 sample(glm::vec3 direction) const;  // bilinear
+  glm::vec3 sample_uv(glm::vec2 uv) const;
+  glm::vec3& at(int x, int y) {
+    return texels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+  }
+  const glm::vec3& at(int x, int y) const {
+    return texels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+  }
+};
+glm::vec3 direction_of(float u, float v);  // inverse of the mapping above
+glm::vec2 equirect_uv(glm::vec3 direction);
+
+struct Environment {
+  std::vector<EquirectMap> specular_levels;   // level k prefiltered for roughness k / (levels - 1)
+  std::array<glm::vec3, 9> irradiance_sh{};   // order-2 SH of irradiance E(n), cosine lobe applied
+  glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // towards the sun
+  glm::vec3 sun_irradiance{0.0f};             // W/m^2-like units at normal incidence
+  glm::vec3 prefiltered_radiance(glm::vec3 direction, float roughness) const;
+  glm::vec3 prefiltered_radiance_uv(glm::vec2 equirect_uv, float roughness) const;
+  glm::vec3 irradiance(glm::vec3 normal) const;
+  glm::vec3 background(glm::vec3 direction) const;  // slightly blurred, behind the model
+};
+
+// Builds the prefiltered levels and SH from radiance (any size; resampled to 256 x 128).
+Environment build_environment(const EquirectMap& radiance);
+
+// The built-in default: a procedural sky (zenith blue to a bright horizon) over a grey-brown
+// ground, plus an analytic sun from the upper front-left. Computed once per process.
+const Environment& default_environment();
+
+// A constant-radiance environment with no sun: the white furnace.
+Environment uniform_environment(glm::vec3 radiance);
+
+// Reads a Radiance .hdr (RGBE, Ward 1991; run-length encoded or flat) itself, or anything else
+// through core/image.hpp (OpenImageIO: .exr where its reader recognises the bytes). Throws
+// std::runtime_error naming the file.
+Environment load_environment(const std::filesystem::path& path);
+EquirectMap read_radiance_hdr(const std::vector<std::uint8_t>& bytes, const std::string& name);
+
+// Split-sum scale and bias (A, B): the specular reflectance is F0 * A + B (Karis 2013, eq. 8),
+// for GGX with height-correlated Smith visibility. dfg_lookup reads a 64 x 64 table built once;
+// integrate_dfg is the Monte Carlo reference that fills it.
+glm::vec2 dfg_lookup(float n_dot_v, float roughness);
+glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples);
+
+// Low-discrepancy point i of n (Hammersley set with the radical inverse in base 2).
+glm::vec2 hammersley(std::uint32_t i, std::uint32_t n);
+
+}  // namespace gltf_pbr::preview

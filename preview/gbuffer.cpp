@@ -1,0 +1,289 @@
+// G-buffer packing and the material resolve pass (see gbuffer.hpp).
+#include "preview/gbuffer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+
+#include "converter/solver.hpp"
+#include "core/color.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+// Round half up by truncation: the value is clamped non-negative first (std::lround is a libm call).
+std::uint8_t unorm8(float v) {
+  const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  // NaN -> 0
+  return static_cast<std::uint8_t>(clamped * 255.0f + 0.5f);
+}
+std::uint8_t srgb8(float linear) { return encode_srgb8(linear); }
+
+struct SrgbEncode {
+  std::vector<std::uint8_t> code;
+  SrgbEncode() : code(65536) {
+    for (size_t i = 0; i < code.size(); ++i) code[i] = unorm8(linear_to_srgb(static_cast<float>(i) / 65535.0f));
+  }
+};
+
+struct SrgbDecode {
+  float linear[256];
+  SrgbDecode() {
+    for (int i = 0; i < 256; ++i) linear[i] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+  }
+};
+const SrgbDecode& srgb_decode() {
+  static const SrgbDecode table;
+  return table;
+}
+
+}  // namespace
+
+std::uint8_t encode_srgb8(float linear) {
+  static const SrgbEncode table;
+  const float clamped = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;  // NaN -> 0
+  return table.code[static_cast<size_t>(clamped * 65535.0f + 0.5f)];
+}
+
+float decode_srgb8(std::uint8_t encoded) { return srgb_decode().linear[encoded]; }
+
+namespace {
+
+glm::vec2 sign_not_zero(glm::vec2 v) { return {v.x >= 0.0f ? 1.0f : -1.0f, v.y >= 0.0f ? 1.0f : -1.0f}; }
+
+}  // namespace
+
+std::uint32_t pack_octahedral_12_12(glm::vec3 n) {
+  // Cigolle et al. 2014, listing 1: project onto the octahedron, fold the lower hemisphere.
+  n /= (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+  glm::vec2 e(n.x, n.y);
+  if (n.z < 0.0f) e = (glm::vec2(1.0f) - glm::abs(glm::vec2(e.y, e.x))) * sign_not_zero(e);
+  auto q = [](float v) {
+    return static_cast<std::uint32_t>((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 4095.0f + 0.5f);
+  };
+  return q(e.x) | (q(e.y) << 12);
+}
+
+glm::vec3 unpack_octahedral_12_12(std::uint32_t bits) {
+  const glm::vec2 e(static_cast<float>(bits & 4095u) / 4095.0f * 2.0f - 1.0f,
+                    static_cast<float>((bits >> 12) & 4095u) / 4095.0f * 2.0f - 1.0f);
+  glm::vec3 n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
+  if (n.z < 0.0f) {
+    const glm::vec2 folded = (glm::vec2(1.0f) - glm::abs(glm::vec2(n.y, n.x))) * sign_not_zero(glm::vec2(n.x, n.y));
+    n.x = folded.x, n.y = folded.y;
+  }
+  return glm::normalize(n);
+}
+
+std::uint32_t pack_rgb9e5(glm::vec3 rgb) {
+  // EXT_texture_shared_exponent, section "Encoding": N = 9 mantissa bits, B = 15, Emax = 31.
+  constexpr float kMax = 511.0f / 512.0f * 65536.0f;
+  const float r = std::clamp(rgb.x, 0.0f, kMax), g = std::clamp(rgb.y, 0.0f, kMax), b = std::clamp(rgb.z, 0.0f, kMax);
+  const float max_c = std::max({r, g, b});
+  if (!(max_c > 0.0f)) return 0;
+  int exponent = std::max(-16, static_cast<int>(std::floor(std::log2(max_c)))) + 1 + 15;
+  float scale = std::exp2(static_cast<float>(exponent - 15 - 9));
+  if (std::lround(max_c / scale) == 512) scale *= 2.0f, ++exponent;
+  auto m = [&](float c) { return static_cast<std::uint32_t>(std::lround(c / scale)) & 511u; };
+  return m(r) | (m(g) << 9) | (m(b) << 18) | (static_cast<std::uint32_t>(exponent) << 27);
+}
+
+glm::vec3 unpack_rgb9e5(std::uint32_t bits) {
+  const float scale = std::exp2(static_cast<float>(static_cast<int>(bits >> 27) - 15 - 9));
+  return glm::vec3(static_cast<float>(bits & 511u), static_cast<float>((bits >> 9) & 511u),
+                   static_cast<float>((bits >> 18) & 511u)) *
+         scale;
+}
+
+NormalAndScalar pack_normal_and_scalar(glm::vec3 unit_normal, float scalar01) {
+  return {pack_octahedral_12_12(unit_normal) | (static_cast<std::uint32_t>(unorm8(scalar01)) << 24)};
+}
+glm::vec3 normal_of(NormalAndScalar packed) { return unpack_octahedral_12_12(packed.bits & 0xFFFFFFu); }
+float scalar_of(NormalAndScalar packed) { return static_cast<float>(packed.bits >> 24) / 255.0f; }
+
+std::vector<BufferSize> GBuffer::layout() const {
+  std::vector<BufferSize> out;
+  if (!depth.empty()) out.push_back({"depth (float32)", sizeof(Depth)});
+  if (!normal.empty())
+    out.push_back({albedo.empty() ? "normal octahedral 12+12 + gloss 8" : "normal octahedral 12+12 + roughness 8",
+                   sizeof(NormalAndScalar)});
+  if (!albedo.empty()) out.push_back({"albedo sRGB8 x3 + metalness 8", sizeof(AlbedoMetalness)});
+  if (!diffspec.empty()) out.push_back({"diffuse sRGB8 x3 + specular sRGB8 x3", sizeof(DiffuseSpecular)});
+  if (!emissive.empty()) out.push_back({"emissive RGB9E5", sizeof(Emissive)});
+  if (!occlusion.empty()) out.push_back({"occlusion 8", sizeof(Occlusion)});
+  return out;
+}
+
+int GBuffer::bytes_per_pixel() const {
+  int total = 0;
+  for (const auto& b : layout()) total += b.bytes_per_pixel;
+  return total;
+}
+
+GBufferTexel read_after(const GBuffer& g, size_t i) {
+  GBufferTexel t;
+  t.covered = std::isfinite(g.depth[i]);
+  if (!t.covered) return t;
+  const auto& lut = srgb_decode().linear;
+  t.normal = normal_of(g.normal[i]);
+  t.scalar = scalar_of(g.normal[i]);
+  const AlbedoMetalness& a = g.albedo[i];
+  t.color_a = glm::vec3(lut[a.albedo_srgb[0]], lut[a.albedo_srgb[1]], lut[a.albedo_srgb[2]]);
+  t.color_b = glm::vec3(static_cast<float>(a.metalness) / 255.0f, 0.0f, 0.0f);
+  if (!g.emissive.empty()) t.emissive = unpack_rgb9e5(g.emissive[i].rgb9e5);
+  if (!g.occlusion.empty()) t.occlusion = static_cast<float>(g.occlusion[i]) / 255.0f;
+  return t;
+}
+
+GBufferTexel read_before(const GBuffer& g, size_t i) {
+  GBufferTexel t;
+  t.covered = std::isfinite(g.depth[i]);
+  if (!t.covered) return t;
+  const auto& lut = srgb_decode().linear;
+  t.normal = normal_of(g.normal[i]);
+  t.scalar = scalar_of(g.normal[i]);
+  const DiffuseSpecular& d = g.diffspec[i];
+  t.color_a = glm::vec3(lut[d.diffuse_srgb[0]], lut[d.diffuse_srgb[1]], lut[d.diffuse_srgb[2]]);
+  t.color_b = glm::vec3(lut[d.specular_srgb[0]], lut[d.specular_srgb[1]], lut[d.specular_srgb[2]]);
+  if (!g.emissive.empty()) t.emissive = unpack_rgb9e5(g.emissive[i].rgb9e5);
+  if (!g.occlusion.empty()) t.occlusion = static_cast<float>(g.occlusion[i]) / 255.0f;
+  return t;
+}
+
+GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, const Camera& camera) {
+  GBuffers out;
+  const size_t count = visibility.samples.size();
+  for (GBuffer* g : {&out.before, &out.after}) {
+    g->width = visibility.width;
+    g->height = visibility.height;
+    g->depth.assign(count, std::numeric_limits<float>::infinity());
+    g->normal.assign(count, NormalAndScalar{0});
+    if (scene.stats.uses_emission) g->emissive.assign(count, Emissive{0});
+    if (scene.stats.uses_occlusion) g->occlusion.assign(count, 255);
+  }
+  out.after.albedo.assign(count, AlbedoMetalness{});
+  out.before.diffspec.assign(count, DiffuseSpecular{});
+  const int width = visibility.width;
+  const RayGenerator rays(camera, visibility.width, visibility.height);
+  parallel_dynamic(visibility.height, [&](std::int64_t y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+      const VisibilitySample& s = visibility.samples[i];
+      if (s.empty()) continue;
+      const std::uint32_t triangle_index = s.index();
+      const Triangle& triangle = scene.triangles[triangle_index];
+      const PreviewMaterial& m = scene.materials[static_cast<size_t>(triangle.material)];
+      const SurfacePoint p = interpolate(scene, triangle_index, glm::vec3(1.0f - s.b1 - s.b2, s.b1, s.b2));
+      // Texture footprint by ray differentials (Igehy 1999, "Tracing Ray Differentials"): the
+      // rays through the next pixel in x and in y, intersected with the triangle's plane
+      // (Moller & Trumbore 1997), give the change of barycentrics and so of each UV set.
+      UvDerivatives derivatives;
+      const bool textured = m.base_color_texture || m.metallic_roughness_texture || m.diffuse_texture ||
+                            m.spec_gloss_texture || m.normal_texture || m.occlusion_texture || m.emissive_texture ||
+                            m.original_base_color_texture || m.original_metallic_roughness_texture;
+      if (textured) {
+        const Vertex& v0 = scene.vertices[triangle.vertex[0]];
+        const Vertex& v1 = scene.vertices[triangle.vertex[1]];
+        const Vertex& v2 = scene.vertices[triangle.vertex[2]];
+        const glm::vec3 e1 = v1.position - v0.position, e2 = v2.position - v0.position;
+        const glm::vec3 origin =
+            camera.orthographic ? glm::vec3(0.0f) : glm::vec3(camera.eye - glm::dvec3(v0.position));
+        auto barycentric_of_ray = [&](float px, float py) {
+          const glm::vec3 d = rays.unnormalised(px, py);  // the scale of d cancels out
+          const glm::vec3 pvec = glm::cross(d, e2);
+          const float inverse_det = 1.0f / glm::dot(e1, pvec);
+          const glm::vec3 qvec = glm::cross(origin, e1);
+          return glm::vec2(glm::dot(origin, pvec), glm::dot(d, qvec)) * inverse_det;
+        };
+        const float cx = static_cast<float>(x) + 0.5f, cy = static_cast<float>(y) + 0.5f;
+        const glm::vec2 centre = barycentric_of_ray(cx, cy);
+        const glm::vec2 step_x = barycentric_of_ray(cx + 1.0f, cy) - centre;
+        const glm::vec2 step_y = barycentric_of_ray(cx, cy + 1.0f) - centre;
+        if (std::isfinite(step_x.x + step_x.y + step_y.x + step_y.y) && !camera.orthographic)
+          for (int set = 0; set < 2; ++set) {
+            const glm::vec2 du1 = v1.uv[set] - v0.uv[set], du2 = v2.uv[set] - v0.uv[set];
+            derivatives.dx[set] = du1 * step_x.x + du2 * step_x.y;
+            derivatives.dy[set] = du1 * step_y.x + du2 * step_y.y;
+          }
+      }
+      const UvDerivatives* footprint = &derivatives;
+      // Shading normal (glTF 2.0 section 3.7.2.1: flat normals without NORMAL; back faces of
+      // double-sided materials reverse their normals, section 3.9.5).
+      const float face_length = glm::length(p.face_normal);
+      glm::vec3 geometric = face_length > 0.0f ? p.face_normal / face_length : glm::vec3(0, 0, 1);
+      glm::vec3 n = glm::length(p.normal) > 1e-12f ? glm::normalize(p.normal) : geometric;
+      const float facing = s.back_facing() ? -1.0f : 1.0f;
+      n *= facing;
+      if (m.normal_texture && p.tangent.w != 0.0f) {
+        // Section 3.9.3: sampled = (rgb * 2 - 1) * (scale, scale, 1) in the tangent frame.
+        const glm::vec3 t0 = glm::vec3(p.tangent) * facing;
+        const glm::vec3 t = t0 - n * glm::dot(n, t0);
+        const float t_length = glm::length(t);
+        if (t_length > 1e-12f) {
+          const glm::vec3 tangent = t / t_length;
+          const glm::vec3 bitangent = glm::cross(n, tangent) * (p.tangent.w < 0.0f ? -1.0f : 1.0f);
+          const glm::vec4 texel = sample(m.normal_texture, p.uv, footprint);
+          const glm::vec3 local = glm::vec3((texel.x * 2.0f - 1.0f) * m.normal_scale,
+                                            (texel.y * 2.0f - 1.0f) * m.normal_scale, texel.z * 2.0f - 1.0f);
+          const glm::vec3 mapped = tangent * local.x + bitangent * local.y + n * local.z;
+          const float mapped_length = glm::length(mapped);
+          if (mapped_length > 1e-12f && std::isfinite(mapped_length)) n = mapped / mapped_length;
+        }
+      }
+      const float depth = 1.0f / s.inverse_depth;
+      // "after": core metal-rough (section 3.9.2), COLOR_0 multiplies the base colour.
+      glm::vec4 base = m.base_color_factor * p.color;
+      if (m.base_color_texture) base *= sample(m.base_color_texture, p.uv, footprint);
+      float metallic = m.metallic_factor, roughness = m.roughness_factor;
+      if (m.metallic_roughness_texture) {
+        const glm::vec4 mr = sample(m.metallic_roughness_texture, p.uv, footprint);
+        roughness *= mr.y;
+        metallic *= mr.z;
+      }
+      // "before": the legacy spec-gloss inputs (archived extension: diffuse RGB sRGB, A linear;
+      // specularGlossiness RGB sRGB, A linear), or the original metal-rough mapped by to_spec_gloss.
+      glm::vec3 diffuse, specular;
+      float glossiness;
+      if (m.has_spec_gloss) {
+        glm::vec4 d = m.diffuse_factor * p.color;
+        if (m.diffuse_texture) d *= sample(m.diffuse_texture, p.uv, footprint);
+        glm::vec4 sg(m.specular_factor, m.glossiness_factor);
+        if (m.spec_gloss_texture) sg *= sample(m.spec_gloss_texture, p.uv, footprint);
+        diffuse = glm::vec3(d);
+        specular = glm::vec3(sg);
+        glossiness = sg.w;
+      } else {
+        glm::vec4 ob = m.original_base_color_factor * p.color;
+        if (m.original_base_color_texture) ob *= sample(m.original_base_color_texture, p.uv, footprint);
+        MetalRough core{glm::vec3(ob), m.original_metallic_factor, m.original_roughness_factor};
+        if (m.original_metallic_roughness_texture) {
+          const glm::vec4 mr = sample(m.original_metallic_roughness_texture, p.uv, footprint);
+          core.roughness *= mr.y;
+          core.metalness *= mr.z;
+        }
+        const SpecGloss legacy = to_spec_gloss(core);
+        diffuse = legacy.diffuse, specular = legacy.specular, glossiness = legacy.glossiness;
+      }
+      out.after.depth[i] = out.before.depth[i] = depth;
+      out.after.normal[i] = pack_normal_and_scalar(n, roughness);
+      out.before.normal[i] = pack_normal_and_scalar(n, glossiness);
+      out.after.albedo[i] = {{srgb8(base.x), srgb8(base.y), srgb8(base.z)}, unorm8(metallic)};
+      out.before.diffspec[i] = {{srgb8(diffuse.x), srgb8(diffuse.y), srgb8(diffuse.z)},
+                                {srgb8(specular.x), srgb8(specular.y), srgb8(specular.z)}};
+      if (scene.stats.uses_occlusion) {
+        float occlusion = 1.0f;  // section 3.9.4: lerp(1, sampled R, strength)
+        if (m.occlusion_texture)
+          occlusion = 1.0f + m.occlusion_strength * (sample(m.occlusion_texture, p.uv, footprint).x - 1.0f);
+        out.after.occlusion[i] = out.before.occlusion[i] = unorm8(occlusion);
+      }
+      if (scene.stats.uses_emission) {
+        glm::vec3 emissive = m.emissive_factor;
+        if (m.emissive_texture) emissive *= glm::vec3(sample(m.emissive_texture, p.uv, footprint));
+        out.after.emissive[i] = out.before.emissive[i] = Emissive{pack_rgb9e5(emissive)};
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace gltf_pbr::preview

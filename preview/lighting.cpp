@@ -1,0 +1,154 @@
+// Sun + split-sum image-based lighting of a G-buffer (see lighting.hpp).
+#include "preview/lighting.hpp"
+
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "core/color.hpp"
+
+namespace gltf_pbr::preview {
+
+namespace {
+
+// What both sides share at a pixel: the (bent) normal, the view vector, the reflected direction's
+// map coordinates and the diffuse irradiance. Computed once, used by "before" and "after".
+struct PixelGeometry {
+  glm::vec3 n, v;
+  float n_dot_v;
+  glm::vec2 reflected_uv;
+  glm::vec3 irradiance;
+};
+
+PixelGeometry prepare(glm::vec3 n, glm::vec3 v, const Environment& env) {
+  // A normal from a normal map can face away from the viewer; bend it back to just inside the
+  // visible hemisphere so that N.V > 0 and no term divides by zero (the visible-normal clamp
+  // that real-time renderers apply, e.g. Filament's clampNoV).
+  float n_dot_v = glm::dot(n, v);
+  if (n_dot_v < 1e-3f) {
+    n = glm::normalize(n + v * (1e-3f - n_dot_v));
+    n_dot_v = std::max(glm::dot(n, v), 1e-4f);
+  }
+  const glm::vec3 reflected = 2.0f * n_dot_v * n - v;
+  return {n, v, n_dot_v, equirect_uv(reflected), env.irradiance(n)};
+}
+
+glm::vec3 shade_prepared(const SurfaceLobes& lobes, float roughness, const PixelGeometry& g, float occlusion,
+                         glm::vec3 emissive, const Environment& env, const LightingOptions& options) {
+  glm::vec3 color(0.0f);
+  if (options.sun && env.sun_irradiance != glm::vec3(0.0f))
+    color += shade_direct(lobes, g.n, g.v, env.sun_direction, env.sun_irradiance, options.lobe);
+  // Split sum (Karis 2013): specular = prefiltered(R, roughness) * (F0 A + B).
+  const glm::vec2 dfg = dfg_lookup(g.n_dot_v, roughness);
+  const glm::vec3 specular = env.prefiltered_radiance_uv(g.reflected_uv, roughness) * (lobes.f0 * dfg.x + dfg.y);
+  // Diffuse: Lambert on SH irradiance, E / pi; the (1 - F) weighting of glTF Appendix B is
+  // averaged over the hemisphere by the split-sum term of the layer it sits under, 1 - (F0_d A + B)
+  // (F0_d = 0.04 for metal-rough, the specular colour for legacy reading B), which makes a white
+  // non-absorbing dielectric reflect a uniform environment exactly (white furnace).
+  glm::vec3 diffuse = lobes.diffuse_color * g.irradiance / kPi;
+  if (lobes.diffuse_times_one_minus_f) diffuse *= glm::vec3(1.0f) - (lobes.diffuse_fresnel_f0 * dfg.x + dfg.y);
+  // glTF 2.0 section 3.9.4: occlusion darkens indirect light only.
+  color += (diffuse + specular) * occlusion + emissive;
+  return std::isfinite(color.x + color.y + color.z) ? color : glm::vec3(0.0f);
+}
+
+glm::vec3 shade_texel(const GBufferTexel& t, Side side, const PixelGeometry& g, const Environment& env,
+                      const LightingOptions& options) {
+  if (side == Side::After)
+    return shade_prepared(metal_rough_lobes(t.color_a, t.color_b.x, t.scalar), t.scalar, g, t.occlusion, t.emissive,
+                          env, options);
+  return shade_prepared(spec_gloss_lobes(t.color_a, t.color_b, t.scalar, options.legacy_reading_b), 1.0f - t.scalar, g,
+                        t.occlusion, t.emissive, env, options);
+}
+
+HdrImage empty_image(const GBuffer& g) {
+  return {g.width, g.height, std::vector<glm::vec3>(g.depth.size()), std::vector<std::uint8_t>(g.depth.size())};
+}
+
+}  // namespace
+
+glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, glm::vec3 v, float occlusion,
+                      glm::vec3 emissive, const Environment& env, const LightingOptions& options) {
+  return shade_prepared(lobes, roughness, prepare(n, v, env), occlusion, emissive, env, options);
+}
+
+HdrImage light(const GBuffer& g, Side side, const Environment& env, const Camera& camera,
+               const LightingOptions& options) {
+  HdrImage out = empty_image(g);
+  const RayGenerator rays(camera, g.width, g.height);
+  parallel_dynamic(g.height, [&](std::int64_t y) {
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(g.width) + static_cast<size_t>(x);
+      const glm::vec3 ray =
+          glm::normalize(rays.unnormalised(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+      const GBufferTexel t = side == Side::After ? read_after(g, i) : read_before(g, i);
+      if (!t.covered) {
+        out.radiance[i] = env.background(ray);
+        continue;
+      }
+      out.covered[i] = 1;
+      out.radiance[i] = shade_texel(t, side, prepare(t.normal, -ray, env), env, options);
+    }
+  });
+  return out;
+}
+
+LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
+                   const LightingOptions& options) {
+  LitPair out{empty_image(gbuffers.before), empty_image(gbuffers.after)};
+  const GBuffer& a = gbuffers.after;
+  const RayGenerator rays(camera, a.width, a.height);
+  parallel_dynamic(a.height, [&](std::int64_t y) {
+    for (int x = 0; x < a.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(a.width) + static_cast<size_t>(x);
+      const glm::vec3 ray =
+          glm::normalize(rays.unnormalised(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+      const GBufferTexel after = read_after(a, i);
+      if (!after.covered) {
+        out.before.radiance[i] = out.after.radiance[i] = env.background(ray);
+        continue;
+      }
+      const GBufferTexel before = read_before(gbuffers.before, i);
+      out.before.covered[i] = out.after.covered[i] = 1;
+      // Both sides share the normal buffer's geometry: one set of environment look-ups.
+      const PixelGeometry geometry = prepare(after.normal, -ray, env);
+      out.after.radiance[i] = shade_texel(after, Side::After, geometry, env, options);
+      out.before.radiance[i] = shade_texel(before, Side::Before, geometry, env, options);
+    }
+  });
+  return out;
+}
+
+glm::vec3 khronos_pbr_neutral(glm::vec3 color) {
+  constexpr float kStartCompression = 0.8f - 0.04f, kDesaturation = 0.15f;
+  const float x = std::min(color.x, std::min(color.y, color.z));
+  const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+  color -= offset;
+  const float peak = std::max(color.x, std::max(color.y, color.z));
+  if (peak < kStartCompression) return color;
+  constexpr float d = 1.0f - kStartCompression;
+  const float new_peak = 1.0f - d * d / (peak + d - kStartCompression);
+  color *= new_peak / peak;
+  const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
+  return glm::mix(color, glm::vec3(new_peak), g);
+}
+
+glm::vec3 aces_fitted(glm::vec3 x) {
+  return glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
+std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions& options) {
+  std::vector<std::uint8_t> out(image.radiance.size() * 3);
+  parallel_dynamic(image.height, [&](std::int64_t y) {
+    for (int x = 0; x < image.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x);
+      glm::vec3 c = glm::max(image.radiance[i] * options.exposure, glm::vec3(0.0f));
+      c = options.tone_map == ToneMap::KhronosPbrNeutral ? khronos_pbr_neutral(c)
+          : options.tone_map == ToneMap::Aces            ? aces_fitted(c)
+                                                         : glm::clamp(c, 0.0f, 1.0f);
+      for (int k = 0; k < 3; ++k) out[i * 3 + static_cast<size_t>(k)] = encode_srgb8(c[k]);
+    }
+  });
+  return out;
+}
+
+}  // namespace gltf_pbr::preview

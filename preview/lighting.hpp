@@ -1,0 +1,54 @@
+// The lighting pass: reads one side's G-buffer and lights it with a sun plus the image-based
+// light, then tone-maps to sRGB. Both sides run the same code except for their BRDF inputs.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "preview/brdf.hpp"
+#include "preview/environment.hpp"
+#include "preview/gbuffer.hpp"
+
+namespace gltf_pbr::preview {
+
+enum class ToneMap { KhronosPbrNeutral, Aces, Clamp };
+
+struct LightingOptions {
+  SpecularLobe lobe = SpecularLobe::Ggx;
+  bool legacy_reading_b = false;  // "before" diffuse also weighted by (1 - F) (solver.hpp, LegacyReading)
+  bool sun = true;
+  float exposure = 1.0f;
+  ToneMap tone_map = ToneMap::KhronosPbrNeutral;
+};
+
+struct HdrImage {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> radiance;
+  std::vector<std::uint8_t> covered;  // 1 where geometry was drawn
+};
+
+enum class Side { Before, After };
+HdrImage light(const GBuffer& gbuffer, Side side, const Environment& env, const Camera& camera,
+               const LightingOptions& options);
+
+// Both sides in one pass (they share normals and so environment look-ups). The normals are the
+// same buffer content on both sides by construction (fill_gbuffers, sphere_grid_gbuffers).
+struct LitPair {
+  HdrImage before, after;
+};
+LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
+                   const LightingOptions& options);
+
+// Radiance leaving one shading point towards v (unit vectors, world space).
+glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, glm::vec3 v, float occlusion,
+                      glm::vec3 emissive, const Environment& env, const LightingOptions& options);
+
+// Khronos PBR Neutral tone mapper (Khronos 3D Commerce, 2024): keeps base colours faithful up to
+// 0.76 and compresses highlights towards white.
+glm::vec3 khronos_pbr_neutral(glm::vec3 color);
+// ACES filmic curve fit (Narkowicz 2015, "ACES Filmic Tone Mapping Curve").
+glm::vec3 aces_fitted(glm::vec3 color);
+
+// Exposure, tone map and the sRGB transfer function (IEC 61966-2-1), 8 bits, RGB interleaved.
+std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions& options);
+
+}  // namespace gltf_pbr::preview

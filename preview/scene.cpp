@@ -1,0 +1,665 @@
+// Flattening an Asset into world-space triangles and two-sided materials (see scene.hpp).
+#include "preview/scene.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <map>
+
+#include "converter/legacy_material.hpp"
+#include "core/color.hpp"
+#include "core/draco.hpp"
+#include "core/error.hpp"
+#include "core/image.hpp"
+#include "core/parallel.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+constexpr int kRepeat = 10497, kClampToEdge = 33071, kMirroredRepeat = 33648, kNearest = 9728;
+
+// --- Accessors (glTF 2.0 section 3.6.2) ---
+
+// One component as float; normalized integers map to [0, 1] or [-1, 1] (section 3.11).
+double read_component(const std::uint8_t* at, int component_type, bool normalized) {
+  auto load = [&](auto zero) {
+    decltype(zero) value;
+    std::memcpy(&value, at, sizeof value);
+    return value;
+  };
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return load(0.0f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? load(std::uint8_t{}) / 255.0 : load(std::uint8_t{});
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return normalized ? std::max(load(std::int8_t{}) / 127.0, -1.0) : load(std::int8_t{});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return normalized ? load(std::uint16_t{}) / 65535.0 : load(std::uint16_t{});
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return normalized ? std::max(load(std::int16_t{}) / 32767.0, -1.0) : load(std::int16_t{});
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return load(std::uint32_t{});
+    default:
+      return 0.0;
+  }
+}
+
+struct AccessorData {
+  std::vector<double> values;
+  int components = 0;
+  size_t count = 0;
+};
+
+// Reads an accessor (byteStride, normalized integers, sparse substitution) into doubles.
+AccessorData read_accessor(const Asset& asset, int index) {
+  const tinygltf::Model& model = asset.model;
+  const std::string where = pointer("accessors", index);
+  if (index < 0 || index >= static_cast<int>(model.accessors.size()))
+    throw InputError(asset.path.string(), where, "accessor does not exist");
+  const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(index)];
+  AccessorData out;
+  out.components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
+  if (out.components < 1 || out.components > 16) out.components = 0;
+  if (out.components == 0) throw InputError(asset.path.string(), where + "/type", "unsupported accessor type");
+  out.count = accessor.count;
+  out.values.assign(out.count * static_cast<size_t>(out.components), 0.0);
+  const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
+  if (component_size <= 0) throw InputError(asset.path.string(), where + "/componentType", "unsupported");
+  auto read_from_view = [&](int view_index, size_t byte_offset, size_t count, int stride_override, int component_type,
+                            int components, auto&& store) {
+    if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size()))
+      throw InputError(asset.path.string(), where, "bufferView does not exist");
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()))
+      throw InputError(asset.path.string(), pointer("bufferViews", view_index), "buffer does not exist");
+    const auto& data = model.buffers[static_cast<size_t>(view.buffer)].data;
+    const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(component_type));
+    const size_t element = static_cast<size_t>(size) * static_cast<size_t>(components);
+    const size_t stride = stride_override > 0   ? static_cast<size_t>(stride_override)
+                          : view.byteStride > 0 ? view.byteStride
+                                                : element;
+    const size_t begin = view.byteOffset + byte_offset;
+    if (count > 0 && (begin + stride * (count - 1) + element > data.size() ||
+                      byte_offset + stride * (count - 1) + element > view.byteLength))
+      throw InputError(asset.path.string(), where, "accessor reads past the end of its bufferView or buffer");
+    for (size_t i = 0; i < count; ++i)
+      for (int c = 0; c < components; ++c)
+        store(i, c,
+              read_component(data.data() + begin + stride * i + static_cast<size_t>(c * size), component_type,
+                             accessor.normalized));
+  };
+  if (accessor.bufferView >= 0)
+    read_from_view(accessor.bufferView, accessor.byteOffset, out.count, 0, accessor.componentType, out.components,
+                   [&](size_t i, int c, double v) { out.values[i * static_cast<size_t>(out.components) + c] = v; });
+  if (accessor.sparse.isSparse) {  // section 3.6.2.3: substitute the listed elements
+    const auto& sparse = accessor.sparse;
+    std::vector<size_t> targets(static_cast<size_t>(sparse.count));
+    read_from_view(sparse.indices.bufferView, sparse.indices.byteOffset, targets.size(), 0,
+                   sparse.indices.componentType, 1,
+                   [&](size_t i, int, double v) { targets[i] = static_cast<size_t>(v); });
+    read_from_view(sparse.values.bufferView, sparse.values.byteOffset, targets.size(), 0, accessor.componentType,
+                   out.components, [&](size_t i, int c, double v) {
+                     if (targets[i] < out.count) out.values[targets[i] * static_cast<size_t>(out.components) + c] = v;
+                   });
+  }
+  for (double v : out.values)
+    if (!std::isfinite(v)) throw InputError(asset.path.string(), where, "accessor holds NaN or Inf");
+  return out;
+}
+
+// --- Node transforms (glTF 2.0 section 3.5.3) ---
+
+glm::dmat4 local_transform(const tinygltf::Node& node) {
+  if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());
+  glm::dmat4 m(1.0);
+  if (node.translation.size() == 3)
+    m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.rotation.size() == 4)
+    m *= glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+  if (node.scale.size() == 3) m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+  return m;
+}
+
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
+  std::uint64_t hash = 1469598103934665603ull;
+  for (std::uint8_t b : bytes) hash = (hash ^ b) * 1099511628211ull;
+  return hash;
+}
+
+// Decodes each distinct image once (keyed by its encoded bytes), in parallel.
+class TextureLoader {
+ public:
+  explicit TextureLoader(Scene& scene) : scene_(scene) {}
+
+  // Fills `slot` from textureInfo fields; the texels arrive in finish().
+  void request(const Asset& asset, int texture_index, int tex_coord, const tinygltf::ExtensionMap& extensions,
+               bool srgb, TextureSlot& slot) {
+    const auto& model = asset.model;
+    if (texture_index < 0 || texture_index >= static_cast<int>(model.textures.size())) return;
+    const tinygltf::Texture& texture = model.textures[static_cast<size_t>(texture_index)];
+    if (texture.source < 0 || texture.source >= static_cast<int>(model.images.size())) return;
+    slot.tex_coord = tex_coord;
+    slot.srgb = srgb;
+    if (texture.sampler >= 0 && texture.sampler < static_cast<int>(model.samplers.size())) {
+      const auto& sampler = model.samplers[static_cast<size_t>(texture.sampler)];
+      slot.wrap_s = sampler.wrapS;
+      slot.wrap_t = sampler.wrapT;
+      slot.nearest = sampler.magFilter == kNearest;
+    }
+    // KHR_texture_transform: matrix = Translation * Rotation * Scale, rotation counter-clockwise
+    // in UV space as the extension's README writes it.
+    if (auto it = extensions.find("KHR_texture_transform"); it != extensions.end()) {
+      const tinygltf::Value& t = it->second;
+      auto number = [&](const char* key, int i, double fallback) {
+        const tinygltf::Value& v = t.Get(key);
+        if (!v.IsArray() || static_cast<int>(v.ArrayLen()) <= i) return fallback;
+        return v.Get(i).GetNumberAsDouble();
+      };
+      const double rotation = t.Has("rotation") ? t.Get("rotation").GetNumberAsDouble() : 0.0;
+      const double sx = number("scale", 0, 1.0), sy = number("scale", 1, 1.0);
+      const double ox = number("offset", 0, 0.0), oy = number("offset", 1, 0.0);
+      const double c = std::cos(rotation), s = std::sin(rotation);
+      slot.row_u = glm::vec3(static_cast<float>(c * sx), static_cast<float>(s * sy), static_cast<float>(ox));
+      slot.row_v = glm::vec3(static_cast<float>(-s * sx), static_cast<float>(c * sy), static_cast<float>(oy));
+      slot.has_transform = true;
+      if (t.Has("texCoord")) slot.tex_coord = t.Get("texCoord").GetNumberAsInt();
+    }
+    slot.tex_coord = std::clamp(slot.tex_coord, 0, 1);
+    const auto bytes = encoded_image_bytes(model, texture.source);
+    const std::uint64_t key = fnv1a(bytes) ^ (bytes.size() * 0x9E3779B97F4A7C15ull);
+    auto [it, inserted] = job_of_key_.try_emplace(key, jobs_.size());
+    if (inserted) jobs_.push_back({bytes, asset.path.string() + pointer("images", texture.source)});
+    pending_.push_back({&slot, it->second});
+  }
+
+  void finish() {
+    std::vector<std::unique_ptr<Texture>> decoded(jobs_.size());
+    std::vector<std::string> errors(jobs_.size());
+    parallel_for(0, static_cast<std::int64_t>(jobs_.size()), [&](std::int64_t i) {
+      const auto& job = jobs_[static_cast<size_t>(i)];
+      try {
+        const Pixels pixels = decode_image(job.bytes, job.name);
+        auto texture = std::make_unique<Texture>();
+        texture->width = pixels.width;
+        texture->height = pixels.height;
+        texture->rgba.resize(static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height) * 4);
+        const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
+        const int ch = pixels.channels;
+        auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+        for (size_t p = 0; p < count; ++p) {
+          const float* in = pixels.values.data() + p * static_cast<size_t>(ch);
+          std::uint8_t* out = texture->rgba.data() + p * 4;
+          if (ch <= 2) {
+            out[0] = out[1] = out[2] = to8(in[0]);
+            out[3] = ch == 2 ? to8(in[1]) : 255;
+          } else {
+            out[0] = to8(in[0]), out[1] = to8(in[1]), out[2] = to8(in[2]);
+            out[3] = ch >= 4 ? to8(in[3]) : 255;
+          }
+        }
+        texture->build_mips();
+        decoded[static_cast<size_t>(i)] = std::move(texture);
+      } catch (const std::exception& e) {
+        errors[static_cast<size_t>(i)] = e.what();
+      }
+    });
+    for (const auto& error : errors)
+      if (!error.empty()) scene_.stats.warnings.push_back(error + " (drawn without this texture)");
+    std::vector<const Texture*> by_job(jobs_.size(), nullptr);
+    for (size_t i = 0; i < decoded.size(); ++i)
+      if (decoded[i]) {
+        by_job[i] = decoded[i].get();
+        scene_.textures.push_back(std::move(decoded[i]));
+      }
+    for (auto& [slot, job] : pending_) slot->texture = by_job[job];
+    scene_.stats.textures_decoded = static_cast<int>(scene_.textures.size());
+  }
+
+ private:
+  struct Job {
+    std::span<const std::uint8_t> bytes;
+    std::string name;
+  };
+  Scene& scene_;
+  std::map<std::uint64_t, size_t> job_of_key_;
+  std::vector<Job> jobs_;
+  std::vector<std::pair<TextureSlot*, size_t>> pending_;
+};
+
+glm::vec4 vec4_or(const std::vector<double>& v, glm::vec4 fallback) {
+  return v.size() == 4 ? glm::vec4(v[0], v[1], v[2], v[3]) : fallback;
+}
+
+void read_materials(const Asset& original, const Asset& converted, Scene& scene, TextureLoader& loader) {
+  const auto& originals = original.model.materials;
+  const auto& converteds = converted.model.materials;
+  scene.materials.resize(originals.size() + 1);  // + the default material (section 3.9.6)
+  for (size_t i = 0; i < originals.size(); ++i) {
+    const tinygltf::Material& o = originals[i];
+    const tinygltf::Material& c = i < converteds.size() ? converteds[i] : o;
+    PreviewMaterial& m = scene.materials[i];
+    m.name = o.name;
+    m.alpha_mode = c.alphaMode == "MASK"    ? AlphaMode::Mask
+                   : c.alphaMode == "BLEND" ? AlphaMode::Blend
+                                            : AlphaMode::Opaque;
+    m.alpha_cutoff = static_cast<float>(c.alphaCutoff);
+    m.double_sided = o.doubleSided;
+    if (o.normalTexture.index >= 0) {
+      loader.request(original, o.normalTexture.index, o.normalTexture.texCoord, o.normalTexture.extensions, false,
+                     m.normal_texture);
+      m.normal_scale = static_cast<float>(o.normalTexture.scale);
+    }
+    if (o.occlusionTexture.index >= 0) {
+      loader.request(original, o.occlusionTexture.index, o.occlusionTexture.texCoord, o.occlusionTexture.extensions,
+                     false, m.occlusion_texture);
+      m.occlusion_strength = static_cast<float>(o.occlusionTexture.strength);
+      scene.stats.uses_occlusion = true;
+    }
+    if (o.emissiveFactor.size() == 3)
+      m.emissive_factor = glm::vec3(o.emissiveFactor[0], o.emissiveFactor[1], o.emissiveFactor[2]);
+    if (auto it = o.extensions.find("KHR_materials_emissive_strength"); it != o.extensions.end())
+      if (it->second.Has("emissiveStrength"))
+        m.emissive_factor *= static_cast<float>(it->second.Get("emissiveStrength").GetNumberAsDouble());
+    if (m.emissive_factor != glm::vec3(0.0f)) {
+      if (o.emissiveTexture.index >= 0)
+        loader.request(original, o.emissiveTexture.index, o.emissiveTexture.texCoord, o.emissiveTexture.extensions,
+                       true, m.emissive_texture);
+      scene.stats.uses_emission = true;
+    }
+    auto read_metal_rough = [&](const Asset& asset, const tinygltf::Material& source, glm::vec4& base,
+                                TextureSlot& base_slot, float& metallic, float& roughness, TextureSlot& mr_slot) {
+      const auto& pbr = source.pbrMetallicRoughness;
+      base = vec4_or(pbr.baseColorFactor, glm::vec4(1.0f));
+      metallic = static_cast<float>(pbr.metallicFactor);
+      roughness = static_cast<float>(pbr.roughnessFactor);
+      if (pbr.baseColorTexture.index >= 0)
+        loader.request(asset, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                       pbr.baseColorTexture.extensions, true, base_slot);
+      if (pbr.metallicRoughnessTexture.index >= 0)
+        loader.request(asset, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                       pbr.metallicRoughnessTexture.extensions, false, mr_slot);
+    };
+    read_metal_rough(converted, c, m.base_color_factor, m.base_color_texture, m.metallic_factor, m.roughness_factor,
+                     m.metallic_roughness_texture);
+    if (auto it = o.extensions.find(kSpecGloss); it != o.extensions.end()) {
+      const LegacyMaterial legacy = read_legacy_material(original, static_cast<int>(i), it->second);
+      m.has_spec_gloss = true;
+      m.diffuse_factor = legacy.diffuse_factor;
+      m.specular_factor = legacy.specular_factor;
+      m.glossiness_factor = legacy.glossiness_factor;
+      if (legacy.diffuse_texture)
+        loader.request(original, legacy.diffuse_texture->index, legacy.diffuse_texture->texCoord,
+                       legacy.diffuse_texture->extensions, true, m.diffuse_texture);
+      if (legacy.spec_gloss_texture)
+        loader.request(original, legacy.spec_gloss_texture->index, legacy.spec_gloss_texture->texCoord,
+                       legacy.spec_gloss_texture->extensions, true, m.spec_gloss_texture);
+    } else {
+      read_metal_rough(original, o, m.original_base_color_factor, m.original_base_color_texture,
+                       m.original_metallic_factor, m.original_roughness_factor, m.original_metallic_roughness_texture);
+    }
+  }
+  // Default material: glTF 2.0 section 3.9.6 (white, metallic 1, roughness 1, single-sided).
+  PreviewMaterial& fallback = scene.materials.back();
+  fallback.name = "(default)";
+  fallback.original_base_color_factor = glm::vec4(1.0f);
+}
+
+// Per-vertex tangents from UV derivatives (Lengyel 2001, "Computing Tangent Space Basis Vectors
+// for an Arbitrary Mesh"), orthogonalised against the normal. The spec asks for MikkTSpace
+// (glTF 2.0 section 3.7.2.1); on smooth, well-mapped meshes the two agree closely.
+void generate_tangents(Scene& scene, size_t first_vertex, size_t first_triangle, int tex_coord) {
+  const size_t count = scene.vertices.size() - first_vertex;
+  std::vector<glm::vec3> tangent_sum(count, glm::vec3(0.0f)), bitangent_sum(count, glm::vec3(0.0f));
+  for (size_t t = first_triangle; t < scene.triangles.size(); ++t) {
+    const auto& tri = scene.triangles[t];
+    const Vertex& a = scene.vertices[tri.vertex[0]];
+    const Vertex& b = scene.vertices[tri.vertex[1]];
+    const Vertex& c = scene.vertices[tri.vertex[2]];
+    const glm::vec3 e1 = b.position - a.position, e2 = c.position - a.position;
+    const glm::vec2 d1 = b.uv[tex_coord] - a.uv[tex_coord], d2 = c.uv[tex_coord] - a.uv[tex_coord];
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    if (std::abs(det) < 1e-20f) continue;
+    const float r = 1.0f / det;
+    const glm::vec3 tangent = (e1 * d2.y - e2 * d1.y) * r;
+    const glm::vec3 bitangent = (e2 * d1.x - e1 * d2.x) * r;
+    if (!std::isfinite(tangent.x + tangent.y + tangent.z + bitangent.x + bitangent.y + bitangent.z)) continue;
+    for (std::uint32_t v : tri.vertex) {
+      tangent_sum[v - first_vertex] += tangent;
+      bitangent_sum[v - first_vertex] += bitangent;
+    }
+  }
+  for (size_t i = 0; i < count; ++i) {
+    Vertex& v = scene.vertices[first_vertex + i];
+    const glm::vec3 n = v.normal;
+    glm::vec3 t = tangent_sum[i] - n * glm::dot(n, tangent_sum[i]);
+    const float length = glm::length(t);
+    if (!(length > 1e-20f)) continue;  // w stays 0: the normal map is skipped here
+    t /= length;
+    const float handedness = glm::dot(glm::cross(n, t), bitangent_sum[i]) < 0.0f ? -1.0f : 1.0f;
+    v.tangent = glm::vec4(t, handedness);
+  }
+}
+
+void add_primitive(const Asset& asset, int mesh_index, int primitive_index, const glm::dmat4& world, Scene& scene) {
+  const tinygltf::Primitive& primitive =
+      asset.model.meshes[static_cast<size_t>(mesh_index)].primitives[static_cast<size_t>(primitive_index)];
+  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+    ++scene.stats.skipped_primitives;  // points and lines have no surface to shade
+    return;
+  }
+  std::map<std::string, AccessorData> attributes;
+  std::vector<std::uint32_t> indices;
+  bool has_indices = false;
+  if (primitive.extensions.count("KHR_draco_mesh_compression")) {
+    DecodedPrimitive decoded = decode_draco_primitive(asset, mesh_index, primitive_index);
+    ++scene.stats.draco_primitives;
+    for (auto& [semantic, values] : decoded.attributes) {
+      AccessorData data;
+      data.components = decoded.components[semantic];
+      if (data.components <= 0) continue;
+      data.count = values.size() / static_cast<size_t>(data.components);
+      data.values.assign(values.begin(), values.end());
+      attributes[semantic] = std::move(data);
+    }
+    indices = std::move(decoded.indices);
+    has_indices = true;
+  } else {
+    for (const char* semantic : {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"})
+      if (auto it = primitive.attributes.find(semantic); it != primitive.attributes.end())
+        attributes[semantic] = read_accessor(asset, it->second);
+    if (primitive.indices >= 0) {
+      const AccessorData data = read_accessor(asset, primitive.indices);
+      indices.reserve(data.values.size());
+      for (double v : data.values) indices.push_back(static_cast<std::uint32_t>(v));
+      has_indices = true;
+    }
+  }
+  auto position_it = attributes.find("POSITION");
+  if (position_it == attributes.end() || position_it->second.components != 3) {
+    ++scene.stats.skipped_primitives;
+    return;
+  }
+  const size_t vertex_count = position_it->second.count;
+  for (auto& [semantic, data] : attributes)
+    if (data.count < vertex_count)
+      throw InputError(asset.path.string(),
+                       "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index) +
+                           "/attributes/" + semantic,
+                       "has fewer elements than POSITION");
+  if (!has_indices) {
+    indices.resize(vertex_count);
+    for (size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<std::uint32_t>(i);
+  }
+  for (std::uint32_t index : indices)
+    if (index >= vertex_count)
+      throw InputError(
+          asset.path.string(),
+          "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index) + "/indices",
+          "index " + std::to_string(index) + " is past the last vertex");
+
+  const glm::dmat3 normal_matrix = glm::inverseTranspose(glm::dmat3(world));
+  const double determinant = glm::determinant(glm::dmat3(world));
+  const bool mirrored = determinant < 0.0;  // section 3.7.4: a negative determinant flips winding
+  const size_t first_vertex = scene.vertices.size();
+  const size_t first_triangle = scene.triangles.size();
+  auto get = [&](const char* semantic) -> const AccessorData* {
+    auto it = attributes.find(semantic);
+    return it == attributes.end() ? nullptr : &it->second;
+  };
+  const AccessorData* normals = get("NORMAL");
+  const AccessorData* tangents = get("TANGENT");
+  const AccessorData* uv_sets[2] = {get("TEXCOORD_0"), get("TEXCOORD_1")};
+  const AccessorData* colors = get("COLOR_0");
+  for (size_t i = 0; i < vertex_count; ++i) {
+    Vertex v;
+    const double* p = position_it->second.values.data() + i * 3;
+    const glm::dvec3 world_position = glm::dvec3(world * glm::dvec4(p[0], p[1], p[2], 1.0));
+    v.position = glm::vec3(world_position);
+    scene.bounds.add(world_position);
+    if (normals && normals->components == 3) {
+      const double* n = normals->values.data() + i * 3;
+      const glm::dvec3 wn = normal_matrix * glm::dvec3(n[0], n[1], n[2]);
+      const double length = glm::length(wn);
+      if (length > 0.0) v.normal = glm::vec3(wn / length);
+    }
+    if (tangents && tangents->components == 4) {
+      const double* t = tangents->values.data() + i * 4;
+      const glm::dvec3 wt = glm::dmat3(world) * glm::dvec3(t[0], t[1], t[2]);
+      const double length = glm::length(wt);
+      if (length > 0.0)
+        v.tangent =
+            glm::vec4(glm::vec3(wt / length), static_cast<float>(t[3] < 0 ? -1 : 1) * (mirrored ? -1.0f : 1.0f));
+    }
+    for (int set = 0; set < 2; ++set)
+      if (uv_sets[set] && uv_sets[set]->components == 2)
+        v.uv[set] = glm::vec2(uv_sets[set]->values[i * 2], uv_sets[set]->values[i * 2 + 1]);
+    if (colors && (colors->components == 3 || colors->components == 4)) {
+      const double* c = colors->values.data() + i * static_cast<size_t>(colors->components);
+      v.color = glm::vec4(c[0], c[1], c[2], colors->components == 4 ? c[3] : 1.0);
+    }
+    scene.vertices.push_back(v);
+  }
+  const std::int32_t material =
+      primitive.material >= 0 && primitive.material < static_cast<int>(scene.materials.size()) - 1
+          ? primitive.material
+          : static_cast<std::int32_t>(scene.materials.size() - 1);
+  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    if (a == b || b == c || a == c) return;
+    const auto base = static_cast<std::uint32_t>(first_vertex);
+    if (mirrored) std::swap(b, c);
+    scene.triangles.push_back({{base + a, base + b, base + c}, material});
+  };
+  // Section 3.7.2.1: strips alternate winding; fans share the first vertex.
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (size_t i = 0; i + 2 < indices.size(); i += 3) emit(indices[i], indices[i + 1], indices[i + 2]);
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 0; i + 2 < indices.size(); ++i)
+      if (i % 2 == 0)
+        emit(indices[i], indices[i + 1], indices[i + 2]);
+      else
+        emit(indices[i + 1], indices[i], indices[i + 2]);
+  } else {
+    for (size_t i = 1; i + 1 < indices.size(); ++i) emit(indices[0], indices[i], indices[i + 1]);
+  }
+  const bool has_normal_map = static_cast<size_t>(material) < asset.model.materials.size() &&
+                              asset.model.materials[static_cast<size_t>(material)].normalTexture.index >= 0;
+  if (has_normal_map && !tangents && normals)
+    generate_tangents(scene, first_vertex, first_triangle,
+                      scene.materials[static_cast<size_t>(material)].normal_texture.tex_coord);
+  ++scene.stats.meshes_drawn;
+}
+
+void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, Scene& scene, int depth) {
+  const auto& nodes = asset.model.nodes;
+  if (node_index < 0 || node_index >= static_cast<int>(nodes.size()) || depth > 256) return;
+  const tinygltf::Node& node = nodes[static_cast<size_t>(node_index)];
+  const glm::dmat4 world = parent * local_transform(node);
+  // Skins and morph targets are drawn at bind pose: positions as stored, under the node transform.
+  if (node.mesh >= 0 && node.mesh < static_cast<int>(asset.model.meshes.size()))
+    for (size_t p = 0; p < asset.model.meshes[static_cast<size_t>(node.mesh)].primitives.size(); ++p)
+      add_primitive(asset, node.mesh, static_cast<int>(p), world, scene);
+  if (node.camera >= 0 && node.camera < static_cast<int>(asset.model.cameras.size())) {
+    const tinygltf::Camera& camera = asset.model.cameras[static_cast<size_t>(node.camera)];
+    if (camera.type == "perspective") {
+      SceneCamera c;
+      c.camera_to_world = world;
+      c.yfov = static_cast<float>(camera.perspective.yfov);
+      c.znear = static_cast<float>(camera.perspective.znear);
+      if (camera.perspective.zfar > 0) c.zfar = static_cast<float>(camera.perspective.zfar);
+      scene.cameras.push_back(c);
+    }
+  }
+  for (int child : node.children) visit_node(asset, child, world, scene, depth + 1);
+}
+
+float wrap_coordinate(float t, int mode) {
+  if (mode == kClampToEdge) return std::clamp(t, 0.0f, 1.0f);
+  if (mode == kMirroredRepeat) {
+    const float period = t - 2.0f * std::floor(t * 0.5f);
+    return period > 1.0f ? 2.0f - period : period;
+  }
+  return t - std::floor(t);
+}
+
+// Texel index for bilinear taps. wrap_coordinate has already folded the coordinate into
+// [0, 1], so taps fall in [-1, size] and one comparison wraps them (no integer division).
+int wrap_texel(int i, int size, int mode) {
+  if (i < 0) return mode == kRepeat ? i + size : 0;
+  if (i >= size) return mode == kRepeat ? i - size : size - 1;
+  return i;
+}
+
+struct SrgbTable {
+  std::array<float, 256> linear;
+  SrgbTable() {
+    for (int i = 0; i < 256; ++i) linear[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+  }
+};
+
+}  // namespace
+
+void Texture::build_mips() {
+  mips.clear();
+  int w = width, h = height;
+  const std::vector<std::uint8_t>* source = &rgba;
+  while (w > 1 || h > 1) {
+    TextureLevel level{std::max(1, w / 2), std::max(1, h / 2), {}};
+    level.rgba.resize(static_cast<size_t>(level.width) * static_cast<size_t>(level.height) * 4);
+    for (int y = 0; y < level.height; ++y)
+      for (int x = 0; x < level.width; ++x)
+        for (int c = 0; c < 4; ++c) {
+          int sum = 0;
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+              const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
+              sum += (*source)[(static_cast<size_t>(sy) * static_cast<size_t>(w) + static_cast<size_t>(sx)) * 4 +
+                               static_cast<size_t>(c)];
+            }
+          level.rgba[(static_cast<size_t>(y) * static_cast<size_t>(level.width) + static_cast<size_t>(x)) * 4 +
+                     static_cast<size_t>(c)] = static_cast<std::uint8_t>((sum + 2) / 4);
+        }
+    mips.push_back(std::move(level));
+    w = mips.back().width, h = mips.back().height;
+    source = &mips.back().rgba;
+  }
+}
+
+namespace {
+
+[[gnu::always_inline]] inline glm::vec4 decode_texel(const std::uint8_t* t, const float* srgb_lut) {
+  if (srgb_lut) return {srgb_lut[t[0]], srgb_lut[t[1]], srgb_lut[t[2]], static_cast<float>(t[3]) * (1.0f / 255.0f)};
+  return glm::vec4(t[0], t[1], t[2], t[3]) * (1.0f / 255.0f);
+}
+
+glm::vec4 sample_level(const TextureSlot& slot, const std::uint8_t* texels, int width, int height, glm::vec2 uv) {
+  static const SrgbTable table;
+  const float* lut = slot.srgb ? table.linear.data() : nullptr;
+  const float u = wrap_coordinate(uv.x, slot.wrap_s) * static_cast<float>(width) - 0.5f;
+  const float v = wrap_coordinate(uv.y, slot.wrap_t) * static_cast<float>(height) - 0.5f;
+  const size_t stride = static_cast<size_t>(width) * 4;
+  if (slot.nearest) {
+    const int x = wrap_texel(static_cast<int>(std::floor(u + 0.5f)), width, slot.wrap_s);
+    const int y = wrap_texel(static_cast<int>(std::floor(v + 0.5f)), height, slot.wrap_t);
+    return decode_texel(texels + static_cast<size_t>(y) * stride + static_cast<size_t>(x) * 4, lut);
+  }
+  const float fx = std::floor(u), fy = std::floor(v);
+  const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+  const float tx = u - fx, ty = v - fy;
+  const size_t column0 = static_cast<size_t>(wrap_texel(x0, width, slot.wrap_s)) * 4;
+  const size_t column1 = static_cast<size_t>(wrap_texel(x0 + 1, width, slot.wrap_s)) * 4;
+  const std::uint8_t* row0 = texels + static_cast<size_t>(wrap_texel(y0, height, slot.wrap_t)) * stride;
+  const std::uint8_t* row1 = texels + static_cast<size_t>(wrap_texel(y0 + 1, height, slot.wrap_t)) * stride;
+  const glm::vec4 top = glm::mix(decode_texel(row0 + column0, lut), decode_texel(row0 + column1, lut), tx);
+  const glm::vec4 bottom = glm::mix(decode_texel(row1 + column0, lut), decode_texel(row1 + column1, lut), tx);
+  return glm::mix(top, bottom, ty);
+}
+
+}  // namespace
+
+glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
+  const Texture& texture = *slot.texture;
+  glm::vec2 uv = uv_sets[slot.tex_coord];
+  auto transform_linear = [&](glm::vec2 d) {
+    return slot.has_transform
+               ? glm::vec2(slot.row_u.x * d.x + slot.row_u.y * d.y, slot.row_v.x * d.x + slot.row_v.y * d.y)
+               : d;
+  };
+  if (slot.has_transform)
+    uv = glm::vec2(glm::dot(slot.row_u, glm::vec3(uv, 1.0f)), glm::dot(slot.row_v, glm::vec3(uv, 1.0f)));
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+  float lod = 0.0f;
+  if (derivatives && !texture.mips.empty()) {
+    const glm::vec2 size(static_cast<float>(texture.width), static_cast<float>(texture.height));
+    const glm::vec2 dx = transform_linear(derivatives->dx[slot.tex_coord]) * size;
+    const glm::vec2 dy = transform_linear(derivatives->dy[slot.tex_coord]) * size;
+    const float rho2 = std::max(glm::dot(dx, dx), glm::dot(dy, dy));
+    if (rho2 > 1.0f && std::isfinite(rho2))
+      lod = std::min(0.5f * std::log2(rho2), static_cast<float>(texture.mips.size()));
+  }
+  auto level = [&](int l) {
+    if (l == 0) return sample_level(slot, texture.rgba.data(), texture.width, texture.height, uv);
+    const TextureLevel& m = texture.mips[static_cast<size_t>(l - 1)];
+    return sample_level(slot, m.rgba.data(), m.width, m.height, uv);
+  };
+  const int l0 = static_cast<int>(lod);
+  const float t = lod - static_cast<float>(l0);
+  const glm::vec4 a = level(l0);
+  return t > 0.0f && l0 < static_cast<int>(texture.mips.size()) ? glm::mix(a, level(l0 + 1), t) : a;
+}
+
+Scene build_scene(const Asset& original, const Asset& converted) {
+  Scene scene;
+  TextureLoader loader(scene);
+  read_materials(original, converted, scene, loader);
+  const auto& model = original.model;
+  std::vector<int> roots;
+  if (!model.scenes.empty()) {
+    const int s =
+        model.defaultScene >= 0 && model.defaultScene < static_cast<int>(model.scenes.size()) ? model.defaultScene : 0;
+    roots = model.scenes[static_cast<size_t>(s)].nodes;
+  } else {  // no scene: every node that is nobody's child
+    std::vector<bool> is_child(model.nodes.size(), false);
+    for (const auto& node : model.nodes)
+      for (int c : node.children)
+        if (c >= 0 && c < static_cast<int>(is_child.size())) is_child[static_cast<size_t>(c)] = true;
+    for (size_t i = 0; i < model.nodes.size(); ++i)
+      if (!is_child[i]) roots.push_back(static_cast<int>(i));
+  }
+  for (int root : roots) visit_node(original, root, glm::dmat4(1.0), scene, 0);
+  loader.finish();
+  scene.stats.triangles = static_cast<long long>(scene.triangles.size());
+  scene.stats.vertices = static_cast<long long>(scene.vertices.size());
+  return scene;
+}
+
+}  // namespace gltf_pbr::preview
+
+namespace gltf_pbr::preview {
+
+SurfacePoint interpolate(const Scene& scene, std::uint32_t triangle, glm::vec3 b) {
+  const Triangle& t = scene.triangles[triangle];
+  const Vertex& v0 = scene.vertices[t.vertex[0]];
+  const Vertex& v1 = scene.vertices[t.vertex[1]];
+  const Vertex& v2 = scene.vertices[t.vertex[2]];
+  SurfacePoint p;
+  p.normal = v0.normal * b.x + v1.normal * b.y + v2.normal * b.z;
+  p.face_normal = glm::cross(v1.position - v0.position, v2.position - v0.position);
+  p.tangent = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
+  for (int s = 0; s < 2; ++s) p.uv[s] = v0.uv[s] * b.x + v1.uv[s] * b.y + v2.uv[s] * b.z;
+  p.color = v0.color * b.x + v1.color * b.y + v2.color * b.z;
+  return p;
+}
+
+float surface_alpha(const Scene&, const PreviewMaterial& material, const SurfacePoint& point) {
+  float alpha = material.base_color_factor.a * point.color.a;
+  if (material.base_color_texture) alpha *= sample(material.base_color_texture, point.uv).a;
+  return alpha;
+}
+
+}  // namespace gltf_pbr::preview

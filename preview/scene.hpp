@@ -1,0 +1,155 @@
+// The asset flattened for drawing: world-space triangles of every mesh under the scene's node
+// transforms, and each material read twice, as the legacy spec-gloss side ("before") and as the
+// converted albedo + metalness side ("after"). Textures are decoded here, once per distinct image.
+#pragma once
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/asset.hpp"
+
+namespace gltf_pbr::preview {
+
+// Decoded texels, 8 bits per channel, always RGBA (glTF images are at most 8 bits in practice;
+// 16-bit PNGs are quantised, which a preview can afford), with a box-filtered mip chain:
+// minified textures would otherwise alias into noise that the difference map reports as error.
+struct TextureLevel {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;
+};
+struct Texture {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;
+  std::vector<TextureLevel> mips;  // level 1, 2, ... down to 1 x 1 (level 0 is rgba)
+  void build_mips();
+};
+
+// A material's reference to a texture (glTF 2.0 section 5.19 textureInfo, KHR_texture_transform).
+struct TextureSlot {
+  const Texture* texture = nullptr;
+  int tex_coord = 0;
+  bool srgb = false;                   // RGB decoded from sRGB (alpha stays linear)
+  int wrap_s = 10497, wrap_t = 10497;  // glTF 2.0 section 5.26 sampler wrap modes (REPEAT default)
+  bool nearest = false;                // magFilter NEAREST
+  bool has_transform = false;
+  // KHR_texture_transform: uv' = T * R * S * uv, as two rows of an affine 2x3 matrix.
+  glm::vec3 row_u{1, 0, 0}, row_v{0, 1, 0};
+  explicit operator bool() const { return texture != nullptr; }
+};
+
+// Screen-space derivatives of each texture-coordinate set (per pixel step in x and in y).
+struct UvDerivatives {
+  glm::vec2 dx[2]{}, dy[2]{};
+};
+
+// Trilinear (or nearest) sample with the sampler's wrap modes; RGB in linear space when `srgb`.
+// The mip level follows the footprint (OpenGL 4.6 section 8.14.1, rho = max of the scaled
+// derivative lengths); without derivatives, level 0 bilinear.
+glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives = nullptr);
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
+struct PreviewMaterial {
+  std::string name;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;
+  bool double_sided = false;
+  // Shared by both sides (the conversion does not touch them).
+  TextureSlot normal_texture;
+  float normal_scale = 1.0f;
+  TextureSlot occlusion_texture;
+  float occlusion_strength = 1.0f;
+  TextureSlot emissive_texture;
+  glm::vec3 emissive_factor{0.0f};  // times KHR_materials_emissive_strength
+  // "after": core pbrMetallicRoughness of the converted asset.
+  glm::vec4 base_color_factor{1.0f};
+  TextureSlot base_color_texture;
+  float metallic_factor = 1.0f, roughness_factor = 1.0f;
+  TextureSlot metallic_roughness_texture;
+  // "before": the original's KHR_materials_pbrSpecularGlossiness; without it, the "before" side
+  // is the original's own metal-rough material (through converter/solver.hpp to_spec_gloss).
+  bool has_spec_gloss = false;
+  glm::vec4 diffuse_factor{1.0f};
+  TextureSlot diffuse_texture;
+  glm::vec3 specular_factor{1.0f};
+  float glossiness_factor = 1.0f;
+  TextureSlot spec_gloss_texture;
+  // Original metal-rough (the "before" side of a material without spec-gloss).
+  glm::vec4 original_base_color_factor{1.0f};
+  TextureSlot original_base_color_texture;
+  float original_metallic_factor = 1.0f, original_roughness_factor = 1.0f;
+  TextureSlot original_metallic_roughness_texture;
+};
+
+struct Vertex {
+  glm::vec3 position{0.0f};  // world space
+  glm::vec3 normal{0.0f};    // world space; zero: flat-shade (glTF 2.0 section 3.7.2.1)
+  glm::vec4 tangent{0.0f};   // world xyz + handedness w; w == 0: none
+  glm::vec2 uv[2]{};
+  glm::vec4 color{1.0f};  // COLOR_0, linear
+};
+
+struct Triangle {
+  std::uint32_t vertex[3];
+  std::int32_t material;  // index into Scene::materials (the default material is appended last)
+};
+
+struct Bounds {
+  glm::dvec3 min{1e300}, max{-1e300};
+  bool empty() const { return min.x > max.x; }
+  void add(glm::dvec3 p) { min = glm::min(min, p), max = glm::max(max, p); }
+};
+
+struct SceneCamera {  // a glTF perspective camera under its node transform
+  glm::dmat4 camera_to_world{1.0};
+  float yfov = 0.8f, znear = 0.01f;
+  std::optional<float> zfar;
+};
+
+struct SceneStats {
+  long long triangles = 0, vertices = 0;
+  int meshes_drawn = 0, draco_primitives = 0, skipped_primitives = 0, textures_decoded = 0;
+  bool uses_emission = false, uses_occlusion = false;
+  std::vector<std::string> warnings;
+};
+
+struct Scene {
+  std::vector<Vertex> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<PreviewMaterial> materials;
+  std::vector<std::unique_ptr<Texture>> textures;
+  std::vector<SceneCamera> cameras;
+  Bounds bounds;
+  SceneStats stats;
+};
+
+// `original` supplies geometry, shared material inputs and the "before" side; `converted` (the
+// same asset after converter::convert, same material indices) supplies the "after" side.
+// Throws InputError for broken accessors and failing Draco data.
+Scene build_scene(const Asset& original, const Asset& converted);
+
+}  // namespace gltf_pbr::preview
+
+namespace gltf_pbr::preview {
+
+// Attributes of a triangle at barycentric coordinates (weights of its three vertices).
+struct SurfacePoint {
+  glm::vec3 normal{0.0f};  // interpolated, unnormalised; zero when the mesh has no normals
+  glm::vec3 face_normal{0.0f};
+  glm::vec4 tangent{0.0f};
+  glm::vec2 uv[2]{};
+  glm::vec4 color{1.0f};
+};
+SurfacePoint interpolate(const Scene& scene, std::uint32_t triangle, glm::vec3 barycentric);
+
+// Coverage alpha of the "after" material (baseColor alpha x COLOR_0 alpha); the conversion keeps
+// the legacy diffuse alpha, so both sides share one coverage.
+float surface_alpha(const Scene& scene, const PreviewMaterial& material, const SurfacePoint& point);
+
+}  // namespace gltf_pbr::preview

@@ -1,0 +1,266 @@
+// The whole pipeline: analytic spheres against closed forms, conversions that are exact, Draco
+// meshes, and the real assets of ../shared (read in place, never copied).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "converter/legacy_material.hpp"
+#include "core/asset.hpp"
+#include "preview/preview.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+fs::path assets_dir() { return fs::path(GLTF_PBR_SHARED_DIR) / "assets"; }
+
+// A UV sphere of radius 1 with normals, indexed (uint16), and one spec-gloss material.
+Asset sphere_asset(glm::vec4 diffuse, glm::vec3 specular, float glossiness) {
+  std::vector<float> positions, normals;
+  std::vector<std::uint16_t> indices;
+  const int rings = 32, segments = 64;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      const float theta = 3.14159265f * r / rings, phi = 2.0f * 3.14159265f * s / segments;
+      const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      for (int k = 0; k < 3; ++k) positions.push_back(n[k]), normals.push_back(n[k]);
+    }
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const auto a = static_cast<std::uint16_t>(r * (segments + 1) + s),
+                 b = static_cast<std::uint16_t>(a + segments + 1);
+      for (std::uint16_t i : {a, static_cast<std::uint16_t>(a + 1), b, b, static_cast<std::uint16_t>(a + 1),
+                              static_cast<std::uint16_t>(b + 1)})
+        indices.push_back(i);
+    }
+  Asset asset;
+  asset.path = "sphere.gltf";
+  tinygltf::Model& m = asset.model;
+  tinygltf::Buffer buffer;
+  auto append = [&](const void* data, size_t bytes) {
+    const size_t offset = buffer.data.size();
+    buffer.data.resize(offset + bytes);
+    std::memcpy(buffer.data.data() + offset, data, bytes);
+    return offset;
+  };
+  auto view_and_accessor = [&](size_t offset, size_t bytes, int component, int type, size_t count) {
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = offset;
+    view.byteLength = bytes;
+    m.bufferViews.push_back(view);
+    tinygltf::Accessor accessor;
+    accessor.bufferView = static_cast<int>(m.bufferViews.size() - 1);
+    accessor.componentType = component;
+    accessor.type = type;
+    accessor.count = count;
+    m.accessors.push_back(accessor);
+    return static_cast<int>(m.accessors.size() - 1);
+  };
+  const size_t p = append(positions.data(), positions.size() * 4);
+  const size_t n = append(normals.data(), normals.size() * 4);
+  const size_t i = append(indices.data(), indices.size() * 2);
+  tinygltf::Primitive primitive;
+  primitive.attributes["POSITION"] = view_and_accessor(p, positions.size() * 4, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                                       TINYGLTF_TYPE_VEC3, positions.size() / 3);
+  primitive.attributes["NORMAL"] =
+      view_and_accessor(n, normals.size() * 4, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, normals.size() / 3);
+  primitive.indices = view_and_accessor(i, indices.size() * 2, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                        TINYGLTF_TYPE_SCALAR, indices.size());
+  primitive.material = 0;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  m.buffers.push_back(buffer);
+  tinygltf::Mesh mesh;
+  mesh.primitives.push_back(primitive);
+  m.meshes.push_back(mesh);
+  tinygltf::Material material;
+  material.name = "legacy";
+  auto array = [](std::initializer_list<double> values) {
+    tinygltf::Value::Array a;
+    for (double v : values) a.emplace_back(v);
+    return tinygltf::Value(a);
+  };
+  tinygltf::Value::Object extension;
+  extension["diffuseFactor"] = array({diffuse.x, diffuse.y, diffuse.z, diffuse.w});
+  extension["specularFactor"] = array({specular.x, specular.y, specular.z});
+  extension["glossinessFactor"] = tinygltf::Value(static_cast<double>(glossiness));
+  material.extensions[kSpecGloss] = tinygltf::Value(extension);
+  m.materials.push_back(material);
+  m.extensionsUsed.push_back(kSpecGloss);
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.scale = {2.0, 2.0, 2.0};  // under a node transform
+  m.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes = {0};
+  m.scenes.push_back(scene);
+  m.defaultScene = 0;
+  m.asset.version = "2.0";
+  return asset;
+}
+
+PreviewOptions small(int size) {
+  PreviewOptions options;
+  options.width = options.height = size;
+  return options;
+}
+
+TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {
+  // Black diffuse + copper F0 is a metal in both models: m = 1, base = F0, roughness = 1 - g.
+  const Asset asset = sphere_asset(glm::vec4(0, 0, 0, 1), glm::vec3(0.955f, 0.638f, 0.538f), 0.6f);
+  const PreviewResult r = render_preview(asset, small(160));
+  EXPECT_GT(r.metrics.pixels_compared, 160 * 160 / 5);
+  EXPECT_LT(r.metrics.delta_e_mean, 0.3);
+  EXPECT_LT(r.metrics.delta_e_p95, 0.8);
+  EXPECT_LT(r.metrics.rms_db, -40.0);
+}
+
+TEST(Render, FactorOnlySceneHasNoEmissiveOrOcclusionBuffer) {
+  const Asset asset = sphere_asset(glm::vec4(0.5f, 0.2f, 0.1f, 1), glm::vec3(0.04f), 0.5f);
+  const PreviewResult r = render_preview(asset, small(64));
+  int after = 0, before = 0;
+  for (const auto& b : r.after_layout) after += b.bytes_per_pixel;
+  for (const auto& b : r.before_layout) before += b.bytes_per_pixel;
+  EXPECT_EQ(after, 12);   // depth 4 + normal/roughness 4 + albedo/metalness 4
+  EXPECT_EQ(before, 14);  // depth 4 + normal/gloss 4 + diffuse/specular 6
+  EXPECT_EQ(r.scene.textures_decoded, 0);
+}
+
+TEST(Render, LambertSphereMatchesClosedFormAndIsSymmetric) {
+  // Sun behind the (orthographic) camera, black environment, diffuse 0.5, specular 0: the legacy
+  // model reduces to Lambert, L = (0.5 / pi) E (n.l), and F = 0 exactly because H = V.
+  GridOptions grid;
+  grid.rows = grid.columns = 1;
+  grid.cell = 128;
+  Camera camera;
+  GBuffers g = sphere_grid_gbuffers(grid, &camera);
+  const std::uint8_t half_srgb = 188;  // sRGB code of linear ~0.5
+  const float diffuse = std::pow((half_srgb / 255.0f + 0.055f) / 1.055f, 2.4f);
+  for (auto& d : g.before.diffspec) d = {{half_srgb, half_srgb, half_srgb}, {0, 0, 0}};
+  Environment env = uniform_environment(glm::vec3(0.0f));
+  env.sun_direction = glm::vec3(0, 0, 1);
+  env.sun_irradiance = glm::vec3(3.0f);
+  const HdrImage image = light(g.before, Side::Before, env, camera, LightingOptions{});
+  int checked = 0;
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x) {
+      const size_t i = static_cast<size_t>(y * 128 + x);
+      if (!image.covered[i]) continue;
+      const float lx = (x + 0.5f - 64.0f) / (0.42f * 128), ly = (y + 0.5f - 64.0f) / (0.42f * 128);
+      const float n_dot_l = std::sqrt(std::max(0.0f, 1.0f - lx * lx - ly * ly));
+      const float expected = diffuse / kPi * 3.0f * n_dot_l;
+      ASSERT_NEAR(image.radiance[i].x, expected, 0.004f + 0.01f * expected) << x << "," << y;
+      const size_t mirror_x = static_cast<size_t>(y * 128 + (127 - x)),
+                   mirror_y = static_cast<size_t>((127 - y) * 128 + x);
+      ASSERT_NEAR(image.radiance[i].x, image.radiance[mirror_x].x, 0.004f);
+      ASSERT_NEAR(image.radiance[i].x, image.radiance[mirror_y].x, 0.004f);
+      ++checked;
+    }
+  EXPECT_GT(checked, 8000);
+}
+
+TEST(Render, GridMetalRowIsIdenticalOnBothSides) {
+  // to_spec_gloss of a pure metal is exact (black diffuse, specular = albedo): the bottom row of
+  // the metalness x roughness array must not differ, whatever the roughness.
+  GridOptions grid;
+  grid.albedo = glm::vec3(0.95f, 0.64f, 0.54f);
+  grid.rows = grid.columns = 5;
+  grid.cell = 40;
+  const PreviewResult r = render_grid(grid, PreviewOptions{});
+  double sum = 0;
+  long count = 0;
+  for (int y = 4 * 40; y < 5 * 40; ++y)
+    for (int x = 0; x < 200; ++x) {
+      const size_t i = static_cast<size_t>(y * 200 + x);
+      if (!r.covered[i]) continue;
+      for (int k = 0; k < 3; ++k)
+        sum += std::abs(r.before[i * 3 + static_cast<size_t>(k)] - r.after[i * 3 + static_cast<size_t>(k)]);
+      ++count;
+    }
+  ASSERT_GT(count, 1000);
+  EXPECT_LT(sum / count / 3, 0.6);  // under one 8-bit level on average
+}
+
+TEST(Render, SphereGridHasNoFireflies) {
+  // Roughness 0 to 1, metalness 0 to 1, grazing rims included, lit by the environment (the sun's
+  // mirror highlight is a true Dirac peak, so it is off here): no pixel may outshine the median
+  // of its 3 x 3 neighbourhood by more than 3x, and none is NaN or Inf.
+  GridOptions grid;
+  grid.albedo = glm::vec3(1.0f);
+  grid.rows = grid.columns = 6;
+  grid.cell = 48;
+  PreviewOptions options;
+  options.lighting.sun = false;
+  const PreviewResult r = render_grid(grid, options);
+  const int w = r.width, h = r.height;
+  auto luminance = [&](const HdrImage& image, int x, int y) {
+    const glm::vec3 c = image.radiance[static_cast<size_t>(y * w + x)];
+    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+  };
+  for (const HdrImage* image : {&r.before_hdr, &r.after_hdr})
+    for (int y = 1; y < h - 1; ++y)
+      for (int x = 1; x < w - 1; ++x) {
+        const float centre = luminance(*image, x, y);
+        ASSERT_TRUE(std::isfinite(centre));
+        float around[9];
+        int k = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) around[k++] = luminance(*image, x + dx, y + dy);
+        std::nth_element(around, around + 4, around + 9);
+        ASSERT_LE(centre, 3.0f * around[4] + 0.05f) << x << "," << y;
+      }
+}
+
+TEST(Render, DracoMeshDrawsLikeItsUncompressedOriginal) {
+  const fs::path plain = assets_dir() / "2CylinderEngine/specgloss/2CylinderEngine.gltf";
+  const fs::path draco_folder = assets_dir() / "2CylinderEngine/specgloss-draco-generated";
+  if (!fs::exists(plain) || !fs::exists(draco_folder)) GTEST_SKIP() << "shared assets not found";
+  fs::path draco;
+  for (const auto& e : fs::directory_iterator(draco_folder))
+    if (e.path().extension() == ".gltf" || e.path().extension() == ".glb") draco = e.path();
+  ASSERT_FALSE(draco.empty());
+  const PreviewResult a = render_preview(load_asset(plain), small(192));
+  const PreviewResult b = render_preview(load_asset(draco), small(192));
+  EXPECT_EQ(a.scene.draco_primitives, 0);
+  EXPECT_GT(b.scene.draco_primitives, 0);
+  const DifferenceMetrics m = compare_images(a.after, b.after, a.covered, 192, 192);
+  EXPECT_LT(m.delta_e_mean, 1.5);
+  long differing = 0;
+  for (size_t i = 0; i < a.covered.size(); ++i) differing += a.covered[i] != b.covered[i];
+  EXPECT_LT(differing, 192 * 192 / 100);
+}
+
+TEST(Render, EverySharedAssetDrawsFiniteAndFramed) {
+  const char* files[] = {"Box/specgloss/Box.gltf",
+                         "BoxInterleaved/specgloss/BoxInterleaved.gltf",
+                         "BoxTextured/specgloss/BoxTextured.gltf",
+                         "BoxTexturedNonPowerOfTwo/specgloss/BoxTexturedNonPowerOfTwo.gltf",
+                         "Duck/specgloss/Duck.gltf",
+                         "RiggedSimple/specgloss/RiggedSimple.gltf",
+                         "CesiumMan/specgloss/CesiumMan.gltf",
+                         "CesiumMilkTruck/specgloss/CesiumMilkTruck.gltf",
+                         "VC/specgloss/VC.gltf"};
+  for (const char* file : files) {
+    const fs::path path = assets_dir() / file;
+    if (!fs::exists(path)) {
+      ADD_FAILURE() << "missing " << path;
+      continue;
+    }
+    const PreviewResult r = render_preview(load_asset(path), small(96));
+    long covered = 0;
+    for (auto c : r.covered) covered += c;
+    EXPECT_GT(covered, 96 * 96 / 20) << file;
+    for (const auto& c : r.after_hdr.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z)) << file;
+    for (const auto& c : r.before_hdr.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z)) << file;
+    // Automatic framing keeps the image border clear (the bounding sphere fits the view).
+    long border = 0;
+    for (int k = 0; k < 96; ++k)
+      border += r.covered[static_cast<size_t>(k)] + r.covered[static_cast<size_t>(95 * 96 + k)] +
+                r.covered[static_cast<size_t>(k * 96)] + r.covered[static_cast<size_t>(k * 96 + 95)];
+    EXPECT_EQ(border, 0) << file;
+  }
+}
+
+}  // namespace
+}  // namespace gltf_pbr::preview
