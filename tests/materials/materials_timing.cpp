@@ -12,6 +12,18 @@
 #include "rules/rule_set.hpp"
 #include "validators/materials/materials.hpp"
 
+gltf_pbr::MaterialCheckOptions materials_only() {
+  gltf_pbr::MaterialCheckOptions options;
+  options.textures = false;
+  return options;
+}
+
+gltf_pbr::MaterialCheckOptions textures_only() {
+  gltf_pbr::MaterialCheckOptions options;
+  options.materials = false;
+  return options;
+}
+
 int main(int argc, char** argv) {
   using namespace gltf_pbr;
   const fs::path file = argc > 1 && argv[1][0] != '\0'
@@ -32,7 +44,7 @@ int main(int argc, char** argv) {
     Report this_run;
     const long decodes_before = work_counters().images_decoded.load();
     const auto start = std::chrono::steady_clock::now();
-    validate_materials(asset, builtin_rules(), MaterialCheckOptions{.materials = true, .textures = false}, this_run);
+    validate_materials(asset, builtin_rules(), materials_only(), this_run);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     std::printf("run %d: %.1f ms, %ld images decoded\n", run, ms,
                 work_counters().images_decoded.load() - decodes_before);
@@ -69,7 +81,7 @@ int main(int argc, char** argv) {
 
   Report textures;
   const auto start = std::chrono::steady_clock::now();
-  validate_materials(asset, builtin_rules(), MaterialCheckOptions{.materials = false, .textures = true}, textures);
+  validate_materials(asset, builtin_rules(), textures_only(), textures);
   std::printf("IMAGE checks (decode included): %.1f ms\n",
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   for (const auto& issue : textures.messages)
