@@ -175,7 +175,8 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_option("--config", args->config,
                   "YAML or JSON config in the Khronos validator's shape: max-issues, ignore, only, override "
                   "(code: 0-3); and thresholds: {CODE: {name: number}}");
-  cmd->add_option("--only", args->only, "run only these steps")
+  cmd->add_option("--only", args->only, "run only these steps (comma-separated or repeated)")
+      ->allow_extra_args(false)
       ->delimiter(',')
       ->check(CLI::IsMember({"structure", "materials", "textures", "meshes"}));
   cmd->add_option("--fail-on", args->fail_on, "lowest severity that makes the exit code 1")

@@ -105,5 +105,20 @@ TEST(ValidateCli, TextGroupsByMaterialAndBadUsageIsExitCodeTwo) {
   EXPECT_NE(bad.err.find("/max-issues"), std::string::npos) << bad.err;
 }
 
+TEST(ValidateCli, OnlyTakesStepListsAndLeavesTheInputsToThePositionals) {
+  test::ScratchDir scratch;
+  const auto result = run_cli("validate -q -f json --only materials,textures --only meshes " + quoted(box()) + " " +
+                                  quoted(test::assets_dir() / "Duck/specgloss/Duck.gltf"),
+                              scratch);
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  const auto all = nlohmann::json::parse(result.out);
+  ASSERT_EQ(all["reports"].size(), 2u);
+  for (const auto& report : all["reports"])
+    for (const auto& message : report["issues"]["messages"]) {
+      const std::string code = message["code"];
+      EXPECT_TRUE(code.rfind("PBR_", 0) == 0 || code.rfind("IMAGE_", 0) == 0 || code.rfind("MESH_", 0) == 0) << code;
+    }
+}
+
 }  // namespace
 }  // namespace gltf_pbr
