@@ -1,6 +1,5 @@
 #include "converter/bake.hpp"
 
-#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -85,15 +84,6 @@ class SolveCache {
 };
 
 }  // namespace
-
-float srgb8_to_linear(std::uint8_t value) {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
-    return t;
-  }();
-  return table[value];
-}
 
 BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples) {
   BakedTexels out;

@@ -31,6 +31,5 @@ struct BakedTexels {
 BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_t max_error_samples);
 
 // The linear value of an 8-bit sRGB-encoded channel.
-float srgb8_to_linear(std::uint8_t value);
 
 }  // namespace gltf_pbr

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/files.hpp"
+#include "core/json_pointer.hpp"  // pointer(), which every user of an Asset needs
 
 namespace gltf_pbr {
 
@@ -63,7 +64,5 @@ struct WorkCounters {
   std::atomic<long> meshes_decoded{0};
 };
 WorkCounters& work_counters();
-
-std::string pointer(std::string_view collection, int index);  // "/images/3"
 
 }  // namespace gltf_pbr

@@ -15,6 +15,18 @@ float linear_to_srgb(float linear) {
   return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
+const std::array<float, 256>& srgb8_to_linear_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> linear{};
+    for (int code = 0; code < 256; ++code)
+      linear[static_cast<std::size_t>(code)] = srgb_to_linear(static_cast<float>(code) / 255.0f);
+    return linear;
+  }();
+  return table;
+}
+
+float srgb8_to_linear(std::uint8_t code) { return srgb8_to_linear_table()[code]; }
+
 glm::dvec3 linear_srgb_to_lab(glm::dvec3 rgb) {
   // IEC 61966-2-1 linear sRGB -> XYZ, normalised by the D65 white point.
   const double x = (0.4124564 * rgb.r + 0.3575761 * rgb.g + 0.1804375 * rgb.b) / 0.95047;

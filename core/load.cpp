@@ -14,10 +14,6 @@ WorkCounters& work_counters() {
   return counters;
 }
 
-std::string pointer(std::string_view collection, int index) {
-  return "/" + std::string(collection) + "/" + std::to_string(index);
-}
-
 std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index) {
   const tinygltf::Image& image = model.images.at(static_cast<size_t>(index));
   if (image.bufferView < 0) return image.image;

@@ -5,6 +5,7 @@
 #include <glm/common.hpp>
 
 #include "core/color.hpp"
+#include "core/json_pointer.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -26,19 +27,6 @@ float mean3(glm::vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
 float smoothstep01(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
-}
-
-std::string escape_pointer_token(const std::string& token) {
-  std::string escaped;
-  for (char c : token) {
-    if (c == '~')
-      escaped += "~0";
-    else if (c == '/')
-      escaped += "~1";
-    else
-      escaped += c;
-  }
-  return escaped;
 }
 
 bool finite_number(const tinygltf::Value& value) {
@@ -169,11 +157,11 @@ MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
   }
   if (auto it = material.extensions.find(kIorExtension); it != material.extensions.end()) {
     in.has_ior = true;
-    ExtensionReader(it->second, extensions_pointer + kIorExtension, in).number("ior", &in.ior);
+    ExtensionReader(it->second, extensions_pointer + escape_pointer_token(kIorExtension), in).number("ior", &in.ior);
   }
   if (auto it = material.extensions.find(kSpecularExtension); it != material.extensions.end()) {
     in.has_specular = true;
-    ExtensionReader reader(it->second, extensions_pointer + kSpecularExtension, in);
+    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecularExtension), in);
     reader.number("specularFactor", &in.specular);
     reader.numbers("specularColorFactor", &in.specular_color[0], 3);
     reader.texture("specularTexture", TextureRole::Specular, model);
@@ -183,15 +171,10 @@ MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
 }
 
 float srgb_texel_to_linear(float encoded) {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
-    return t;
-  }();
   const float code = encoded * 255.0f;
   const float rounded = std::round(code);
   if (std::abs(code - rounded) < 1e-3f && rounded >= 0.0f && rounded <= 255.0f)
-    return table[static_cast<size_t>(rounded)];
+    return srgb8_to_linear(static_cast<std::uint8_t>(rounded));
   return srgb_to_linear(encoded);
 }
 

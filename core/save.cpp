@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/accessor.hpp"
 #include "core/asset.hpp"
 #include "core/error.hpp"
 
@@ -25,19 +26,6 @@ bool leaves_folder(const fs::path& relative) {
 }
 
 void pad_to_4(Bytes& bytes) { bytes.resize((bytes.size() + 3) & ~size_t{3}, 0); }
-
-// Appends bytes to buffer 0 as a new bufferView and returns its index.
-int append_view(tinygltf::Model& model, std::span<const std::uint8_t> bytes) {
-  Bytes& bin = model.buffers[0].data;
-  pad_to_4(bin);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = bin.size();
-  view.byteLength = bytes.size();
-  bin.insert(bin.end(), bytes.begin(), bytes.end());
-  model.bufferViews.push_back(view);
-  return static_cast<int>(model.bufferViews.size()) - 1;
-}
 
 // GLB holds one BIN chunk: every buffer is merged into buffer 0 (bufferViews shifted), and every
 // image moves into a bufferView, so the .glb stands alone.
@@ -66,7 +54,7 @@ void gather_into_bin(tinygltf::Model& model) {
     auto& image = model.images[i];
     if (image.bufferView >= 0) continue;
     if (image.mimeType.empty()) image.mimeType = has_extension(image.uri, ".png") ? "image/png" : "image/jpeg";
-    image.bufferView = append_view(model, image.image);
+    image.bufferView = append_buffer_view(model, image.image);
     image.uri.clear();
   }
 }

@@ -1,9 +1,7 @@
 // Flattening an Asset into world-space triangles and two-sided materials (see scene.hpp).
 #include "preview/scene.hpp"
 
-#include <array>
 #include <cmath>
-#include <cstring>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -11,6 +9,7 @@
 #include <map>
 
 #include "converter/legacy_material.hpp"
+#include "core/accessor.hpp"
 #include "core/color.hpp"
 #include "core/draco.hpp"
 #include "core/error.hpp"
@@ -22,94 +21,18 @@ namespace {
 
 constexpr int kRepeat = 10497, kClampToEdge = 33071, kMirroredRepeat = 33648, kNearest = 9728;
 
-// --- Accessors (glTF 2.0 section 3.6.2) ---
+// --- Accessors (glTF 2.0 section 3.6.2, read by core/accessor.hpp) ---
 
-// One component as float; normalized integers map to [0, 1] or [-1, 1] (section 3.11).
-double read_component(const std::uint8_t* at, int component_type, bool normalized) {
-  auto load = [&](auto zero) {
-    decltype(zero) value;
-    std::memcpy(&value, at, sizeof value);
-    return value;
-  };
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return load(0.0f);
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return normalized ? load(std::uint8_t{}) / 255.0 : load(std::uint8_t{});
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      return normalized ? std::max(load(std::int8_t{}) / 127.0, -1.0) : load(std::int8_t{});
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return normalized ? load(std::uint16_t{}) / 65535.0 : load(std::uint16_t{});
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-      return normalized ? std::max(load(std::int16_t{}) / 32767.0, -1.0) : load(std::int16_t{});
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      return load(std::uint32_t{});
-    default:
-      return 0.0;
-  }
-}
+using AccessorData = AccessorValues<double>;
 
-struct AccessorData {
-  std::vector<double> values;
-  int components = 0;
-  size_t count = 0;
-};
-
-// Reads an accessor (byteStride, normalized integers, sparse substitution) into doubles.
-AccessorData read_accessor(const Asset& asset, int index) {
-  const tinygltf::Model& model = asset.model;
-  const std::string where = pointer("accessors", index);
-  if (index < 0 || index >= static_cast<int>(model.accessors.size()))
-    throw InputError(asset.path.string(), where, "accessor does not exist");
-  const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(index)];
-  AccessorData out;
-  out.components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
-  if (out.components < 1 || out.components > 16) out.components = 0;
-  if (out.components == 0) throw InputError(asset.path.string(), where + "/type", "unsupported accessor type");
-  out.count = accessor.count;
-  out.values.assign(out.count * static_cast<size_t>(out.components), 0.0);
-  const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
-  if (component_size <= 0) throw InputError(asset.path.string(), where + "/componentType", "unsupported");
-  auto read_from_view = [&](int view_index, size_t byte_offset, size_t count, int stride_override, int component_type,
-                            int components, auto&& store) {
-    if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size()))
-      throw InputError(asset.path.string(), where, "bufferView does not exist");
-    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()))
-      throw InputError(asset.path.string(), pointer("bufferViews", view_index), "buffer does not exist");
-    const auto& data = model.buffers[static_cast<size_t>(view.buffer)].data;
-    const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(component_type));
-    const size_t element = static_cast<size_t>(size) * static_cast<size_t>(components);
-    const size_t stride = stride_override > 0   ? static_cast<size_t>(stride_override)
-                          : view.byteStride > 0 ? view.byteStride
-                                                : element;
-    const size_t begin = view.byteOffset + byte_offset;
-    if (count > 0 && (begin + stride * (count - 1) + element > data.size() ||
-                      byte_offset + stride * (count - 1) + element > view.byteLength))
-      throw InputError(asset.path.string(), where, "accessor reads past the end of its bufferView or buffer");
-    for (size_t i = 0; i < count; ++i)
-      for (int c = 0; c < components; ++c)
-        store(i, c,
-              read_component(data.data() + begin + stride * i + static_cast<size_t>(c * size), component_type,
-                             accessor.normalized));
-  };
-  if (accessor.bufferView >= 0)
-    read_from_view(accessor.bufferView, accessor.byteOffset, out.count, 0, accessor.componentType, out.components,
-                   [&](size_t i, int c, double v) { out.values[i * static_cast<size_t>(out.components) + c] = v; });
-  if (accessor.sparse.isSparse) {  // section 3.6.2.3: substitute the listed elements
-    const auto& sparse = accessor.sparse;
-    std::vector<size_t> targets(static_cast<size_t>(sparse.count));
-    read_from_view(sparse.indices.bufferView, sparse.indices.byteOffset, targets.size(), 0,
-                   sparse.indices.componentType, 1,
-                   [&](size_t i, int, double v) { targets[i] = static_cast<size_t>(v); });
-    read_from_view(sparse.values.bufferView, sparse.values.byteOffset, targets.size(), 0, accessor.componentType,
-                   out.components, [&](size_t i, int c, double v) {
-                     if (targets[i] < out.count) out.values[targets[i] * static_cast<size_t>(out.components) + c] = v;
-                   });
-  }
-  for (double v : out.values)
-    if (!std::isfinite(v)) throw InputError(asset.path.string(), where, "accessor holds NaN or Inf");
-  return out;
+// An attribute accessor in doubles (positions go through the node transforms in double); NaN or
+// Inf would reach the rasterizer, so they are bad input here.
+AccessorData read_attribute(const Asset& asset, int index) {
+  AccessorData data = read_accessor_or_throw(asset, index);
+  for (double v : data.values)
+    if (!std::isfinite(v))
+      throw InputError(asset.path.string(), pointer("accessors", index), "accessor holds NaN or Inf");
+  return data;
 }
 
 // --- Node transforms (glTF 2.0 section 3.5.3) ---
@@ -363,7 +286,6 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
       AccessorData data;
       data.components = decoded.components[semantic];
       if (data.components <= 0) continue;
-      data.count = values.size() / static_cast<size_t>(data.components);
       data.values.assign(values.begin(), values.end());
       attributes[semantic] = std::move(data);
     }
@@ -372,11 +294,9 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
   } else {
     for (const char* semantic : {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"})
       if (auto it = primitive.attributes.find(semantic); it != primitive.attributes.end())
-        attributes[semantic] = read_accessor(asset, it->second);
+        attributes[semantic] = read_attribute(asset, it->second);
     if (primitive.indices >= 0) {
-      const AccessorData data = read_accessor(asset, primitive.indices);
-      indices.reserve(data.values.size());
-      for (double v : data.values) indices.push_back(static_cast<std::uint32_t>(v));
+      indices = read_index_accessor_or_throw(asset, primitive.indices);
       has_indices = true;
     }
   }
@@ -385,9 +305,9 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
     ++scene.stats.skipped_primitives;
     return;
   }
-  const size_t vertex_count = position_it->second.count;
+  const size_t vertex_count = position_it->second.count();
   for (auto& [semantic, data] : attributes)
-    if (data.count < vertex_count)
+    if (data.count() < vertex_count)
       throw InputError(asset.path.string(),
                        "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index) +
                            "/attributes/" + semantic,
@@ -515,13 +435,6 @@ int wrap_texel(int i, int size, int mode) {
   return i;
 }
 
-struct SrgbTable {
-  std::array<float, 256> linear;
-  SrgbTable() {
-    for (int i = 0; i < 256; ++i) linear[static_cast<size_t>(i)] = srgb_to_linear(static_cast<float>(i) / 255.0f);
-  }
-};
-
 }  // namespace
 
 void Texture::build_mips() {
@@ -558,8 +471,8 @@ namespace {
 }
 
 glm::vec4 sample_level(const TextureSlot& slot, const std::uint8_t* texels, int width, int height, glm::vec2 uv) {
-  static const SrgbTable table;
-  const float* lut = slot.srgb ? table.linear.data() : nullptr;
+  static const float* const srgb_lut = srgb8_to_linear_table().data();
+  const float* lut = slot.srgb ? srgb_lut : nullptr;
   const float u = wrap_coordinate(uv.x, slot.wrap_s) * static_cast<float>(width) - 0.5f;
   const float v = wrap_coordinate(uv.y, slot.wrap_t) * static_cast<float>(height) - 0.5f;
   const size_t stride = static_cast<size_t>(width) * 4;

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/json_pointer.hpp"
 
 namespace gltf_pbr {
 
@@ -19,19 +20,6 @@ Severity parse_severity(const std::string& text, const std::string& file, const 
   if (text == "2" || text == "info" || text == "information") return Severity::Information;
   if (text == "3" || text == "hint") return Severity::Hint;
   throw InputError(file, pointer, "severity must be 0-3 or error, warning, info, hint; got '" + text + "'");
-}
-
-std::string escape_pointer_token(const std::string& token) {
-  std::string escaped;
-  for (char c : token) {
-    if (c == '~')
-      escaped += "~0";
-    else if (c == '/')
-      escaped += "~1";
-    else
-      escaped += c;
-  }
-  return escaped;
 }
 
 }  // namespace

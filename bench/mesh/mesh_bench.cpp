@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/accessor.hpp"
 #include "core/asset.hpp"
 #include "rules/rule_set.hpp"
 #include "validators/mesh/mesh_checks.hpp"
@@ -63,43 +64,23 @@ mesh::TriangleMesh height_field(std::uint32_t side) {
   return mesh;
 }
 
-template <typename T>
-int add_accessor(tinygltf::Model& model, const std::vector<T>& values, int component_type, int type) {
-  tinygltf::Buffer& buffer = model.buffers[0];
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = buffer.data.size();
-  view.byteLength = values.size() * sizeof(T);
-  const auto* bytes = reinterpret_cast<const std::uint8_t*>(values.data());
-  buffer.data.insert(buffer.data.end(), bytes, bytes + view.byteLength);
-  model.bufferViews.push_back(view);
-  tinygltf::Accessor accessor;
-  accessor.bufferView = static_cast<int>(model.bufferViews.size() - 1);
-  accessor.componentType = component_type;
-  accessor.type = type;
-  accessor.count = values.size();
-  model.accessors.push_back(accessor);
-  return static_cast<int>(model.accessors.size() - 1);
-}
-
 // The height field as an in-memory glTF asset (float attributes, 32-bit indices, a normal map),
 // so validate_meshes runs on it end to end as on a loaded file.
 Asset height_field_asset(const mesh::TriangleMesh& field) {
   Asset asset;
   tinygltf::Model& model = asset.model;
-  model.buffers.resize(1);
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   primitive.attributes["POSITION"] =
-      add_accessor(model, field.positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
+      append_accessor(model, field.positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
   primitive.attributes["NORMAL"] =
-      add_accessor(model, field.normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
+      append_accessor(model, field.normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
   primitive.attributes["TANGENT"] =
-      add_accessor(model, field.tangents, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4);
+      append_accessor(model, field.tangents, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4);
   primitive.attributes["TEXCOORD_0"] =
-      add_accessor(model, field.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2);
-  primitive.indices = add_accessor(model, field.triangles, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
-  model.accessors.back().count *= 3;
+      append_accessor(model, field.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2);
+  primitive.indices =  // three indices per triangle: the count comes from the byte size
+      append_accessor(model, field.triangles, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
   model.images.resize(1);
   model.textures.resize(1);
   model.textures[0].source = 0;

@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 
+#include "core/accessor.hpp"
 #include "core/asset.hpp"
 #include "rules/rule_set.hpp"
 #include "validators/mesh/triangle_mesh.hpp"
@@ -36,45 +37,25 @@ struct TestMesh {
   bool normal_map = false;
 };
 
-template <typename T>
-int add_accessor(tinygltf::Model& model, const std::vector<T>& values, int component_type, int type) {
-  tinygltf::Buffer& buffer = model.buffers[0];
-  while (buffer.data.size() % 4) buffer.data.push_back(0);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = buffer.data.size();
-  view.byteLength = values.size() * sizeof(T);
-  buffer.data.resize(buffer.data.size() + view.byteLength);
-  std::memcpy(buffer.data.data() + view.byteOffset, values.data(), view.byteLength);
-  model.bufferViews.push_back(view);
-  tinygltf::Accessor accessor;
-  accessor.bufferView = static_cast<int>(model.bufferViews.size() - 1);
-  accessor.componentType = component_type;
-  accessor.type = type;
-  accessor.count = values.size();
-  model.accessors.push_back(accessor);
-  return static_cast<int>(model.accessors.size() - 1);
-}
-
 Asset make_asset(const TestMesh& mesh) {
   Asset asset;
   tinygltf::Model& model = asset.model;
-  model.buffers.resize(1);
   tinygltf::Primitive primitive;
   primitive.mode = mesh.mode;
   primitive.attributes["POSITION"] =
-      add_accessor(model, mesh.positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
+      append_accessor(model, mesh.positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
   if (!mesh.normals.empty())
     primitive.attributes["NORMAL"] =
-        add_accessor(model, mesh.normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
+        append_accessor(model, mesh.normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
   if (!mesh.tangents.empty())
     primitive.attributes["TANGENT"] =
-        add_accessor(model, mesh.tangents, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4);
+        append_accessor(model, mesh.tangents, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4);
   if (!mesh.uvs.empty())
     primitive.attributes["TEXCOORD_0"] =
-        add_accessor(model, mesh.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2);
+        append_accessor(model, mesh.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2);
   if (!mesh.indices.empty())
-    primitive.indices = add_accessor(model, mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
+    primitive.indices =
+        append_accessor(model, mesh.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
   if (mesh.normal_map) {
     model.images.resize(1);
     model.textures.resize(1);
@@ -593,8 +574,8 @@ TEST(MeshChecks, StridedNormalizedAndSparseAccessorsAreRead) {
   const std::vector<std::uint32_t> sparse_indices = {3, 4, 5};
   const std::vector<glm::vec3> sparse_values = {{0, -0.5f, -1}, {0, 0.5f, -1}, {0, 0, 1}};
   const int index_accessor =
-      add_accessor(model, sparse_indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
-  const int value_accessor = add_accessor(model, sparse_values, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
+      append_accessor(model, sparse_indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR);
+  const int value_accessor = append_accessor(model, sparse_values, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
   tinygltf::Accessor& positions =
       model.accessors[static_cast<std::size_t>(model.meshes[0].primitives[0].attributes["POSITION"])];
   positions.sparse.isSparse = true;
@@ -611,9 +592,9 @@ TEST(MeshChecks, StridedNormalizedAndSparseAccessorsAreRead) {
   // Normalized signed bytes with a 4-byte stride: 127 reads as 1.0, -127 as -1.0.
   Asset strided = make_asset(quad());
   const std::vector<std::int8_t> normals = {0, 0, 127, 0, 0, 0, 127, 0, 0, 0, -127, 0, 0, 0, -127, 0};
-  const int normal_accessor = add_accessor(strided.model, normals, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3);
+  const int normal_accessor = append_accessor(strided.model, normals, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC4);
+  strided.model.accessors[static_cast<std::size_t>(normal_accessor)].type = TINYGLTF_TYPE_VEC3;  // 4th byte: padding
   strided.model.accessors[static_cast<std::size_t>(normal_accessor)].normalized = true;
-  strided.model.accessors[static_cast<std::size_t>(normal_accessor)].count = 4;
   strided.model.bufferViews.back().byteStride = 4;
   auto& primitive = strided.model.meshes[0].primitives[0];
   primitive.attributes["NORMAL"] = normal_accessor;

@@ -2,8 +2,8 @@
 
 #include <map>
 
+#include "core/accessor.hpp"
 #include "core/draco.hpp"
-#include "validators/mesh/accessor_reader.hpp"
 
 namespace gltf_pbr::mesh {
 
@@ -34,6 +34,9 @@ std::vector<Triangle> triangles_from_sequence(const std::vector<std::uint32_t>& 
 
 namespace {
 
+// Floats halve the memory of doubles on the largest meshes, and the checks' tolerances are far
+// above float precision.
+using FloatArray = AccessorValues<float>;
 // The vertex attributes of a primitive, by semantic, from accessors or from Draco.
 using AttributeArrays = std::map<std::string, FloatArray>;
 
@@ -86,17 +89,19 @@ std::optional<TriangleMesh> read_triangle_mesh(const Asset& asset, int mesh_inde
     };
     for (const auto& [semantic, accessor] : primitive.attributes) {
       if (!wanted(semantic)) continue;
-      auto array = read_float_accessor(model, accessor, problem);
+      AccessorProblem accessor_problem;
+      auto array = read_accessor<float>(model, accessor, accessor_problem);
       if (!array) {
-        problem = "attribute " + semantic + ": " + problem;
+        problem = "attribute " + semantic + ": " + accessor_problem.text();
         return std::nullopt;
       }
       attributes[semantic] = std::move(*array);
     }
     if (primitive.indices >= 0) {
-      auto indices = read_index_accessor(model, primitive.indices, problem);
+      AccessorProblem accessor_problem;
+      auto indices = read_index_accessor(model, primitive.indices, accessor_problem);
       if (!indices) {
-        problem = "indices: " + problem;
+        problem = "indices: " + accessor_problem.text();
         return std::nullopt;
       }
       sequence = std::move(*indices);
