@@ -1,9 +1,38 @@
-// SCAFFOLD: replaced by the structure validator (issue 4).
+// Structure validation: the passes of validators/structure/, in the reference validator's order.
 #include "validators/structure/structure.hpp"
+
+#include "validators/structure/structure_internal.hpp"
+
 namespace gltf_pbr {
-void validate_structure(const std::filesystem::path&, std::span<const std::uint8_t> bytes, const RuleSet&,
-                        const StructureOptions&, Report& report) {
-  report.mime_type = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F'
-                         ? "model/gltf-binary" : "model/gltf+json";
+
+void validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
+                        const StructureOptions& options, Report& report) {
+  using namespace structure;
+  Context context(rules, report, options);
+  context.base_dir = file.parent_path();
+  // The reference picks its reader by file extension; content sniffing covers extension-less input.
+  std::string extension = file.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  context.glb = extension == ".glb" || (extension != ".gltf" && bytes.size() >= 4 && bytes[0] == 'g' &&
+                                        bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F');
+  report.mime_type = context.glb ? "model/gltf-binary" : "model/gltf+json";
+
+  std::span<const std::uint8_t> json_text = bytes;
+  if (context.glb) {
+    bool empty_duplicate = false;
+    auto json = read_glb(bytes, context, empty_duplicate);
+    if (!json) {
+      if (empty_duplicate) parse_json({}, context);
+      return;
+    }
+    json_text = *json;
+  }
+  if (!parse_json(json_text, context)) return;
+  if (!walk_schema(context)) return;
+  check_links(context);
+  report_unused(context);
+  check_resources(context);
+  fill_info(context);
 }
+
 }  // namespace gltf_pbr

@@ -1,0 +1,409 @@
+#include "validators/structure/extensions.hpp"
+
+#include <cmath>
+#include <regex>
+#include <set>
+
+namespace gltf_pbr::structure {
+
+namespace {
+
+struct ExtensionPlace {
+  const char* name;
+  std::vector<Owner> owners;  // empty: the extension has no JSON object anywhere
+};
+
+const std::vector<ExtensionPlace>& known_extensions() {
+  static const std::vector<ExtensionPlace> places = {
+      {"KHR_animation_pointer", {Owner::ChannelTarget}},
+      {"KHR_draco_mesh_compression", {Owner::Primitive}},
+      {"KHR_lights_punctual", {Owner::Root, Owner::Node}},
+      {"KHR_materials_anisotropy", {Owner::Material}},
+      {"KHR_materials_clearcoat", {Owner::Material}},
+      {"KHR_materials_dispersion", {Owner::Material}},
+      {"KHR_materials_emissive_strength", {Owner::Material}},
+      {"KHR_materials_ior", {Owner::Material}},
+      {"KHR_materials_iridescence", {Owner::Material}},
+      {"KHR_materials_pbrSpecularGlossiness", {Owner::Material}},
+      {"KHR_materials_sheen", {Owner::Material}},
+      {"KHR_materials_specular", {Owner::Material}},
+      {"KHR_materials_transmission", {Owner::Material}},
+      {"KHR_materials_unlit", {Owner::Material}},
+      {"KHR_materials_variants", {Owner::Root, Owner::Primitive}},
+      {"KHR_materials_volume", {Owner::Material}},
+      {"KHR_mesh_quantization", {}},
+      {"KHR_node_visibility", {Owner::Node}},
+      {"KHR_texture_basisu", {Owner::Texture}},
+      {"KHR_texture_transform", {Owner::TextureInfo}},
+      {"EXT_texture_webp", {Owner::Texture}},
+  };
+  return places;
+}
+
+const ExtensionPlace* find_place(const std::string& name) {
+  for (const auto& place : known_extensions())
+    if (name == place.name) return &place;
+  return nullptr;
+}
+
+constexpr Range kUnit{0, 1};
+constexpr Range kNonNegative{0};
+
+class ExtensionReader {
+ public:
+  ExtensionReader(SchemaReader& read, const ExtensionHooks& hooks)
+      : read_(read), issues_(read.issues()), hooks_(hooks) {}
+
+  void read(const std::string& name, const Json& owner_object, const Json& o, const std::string& p) {
+    if (name == "KHR_materials_anisotropy") {
+      read_.check_members(o, p,
+                          {"anisotropyStrength", "anisotropyRotation", "anisotropyTexture", "extensions", "extras"});
+      read_.number(o, p, "anisotropyStrength", false, kUnit);
+      read_.number(o, p, "anisotropyRotation");
+      texture(o, p, "anisotropyTexture");
+      tail(o, p);
+      if (MaterialModel* material = hooks_.material()) material->needs_tangents = true;
+      same_tex_coord(owner_object, o, p, "anisotropyTexture", "KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD");
+    } else if (name == "KHR_materials_clearcoat") {
+      read_.check_members(o, p,
+                          {"clearcoatFactor", "clearcoatTexture", "clearcoatRoughnessFactor",
+                           "clearcoatRoughnessTexture", "clearcoatNormalTexture", "extensions", "extras"});
+      read_.number(o, p, "clearcoatFactor", false, kUnit);
+      texture(o, p, "clearcoatTexture");
+      read_.number(o, p, "clearcoatRoughnessFactor", false, kUnit);
+      texture(o, p, "clearcoatRoughnessTexture");
+      texture(o, p, "clearcoatNormalTexture", 1);
+      tail(o, p);
+      same_tex_coord(owner_object, o, p, "clearcoatNormalTexture",
+                     "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD");
+    } else if (name == "KHR_materials_dispersion") {
+      read_.check_members(o, p, {"dispersion", "extensions", "extras"});
+      read_.number(o, p, "dispersion", false, kNonNegative);
+      tail(o, p);
+      // KHR_materials_dispersion: "requires KHR_materials_volume".
+      if (!has_sibling(owner_object, "KHR_materials_volume")) issues_.at("KHR_MATERIALS_DISPERSION_NO_VOLUME", p);
+    } else if (name == "KHR_materials_emissive_strength") {
+      read_.check_members(o, p, {"emissiveStrength", "extensions", "extras"});
+      const bool strength = read_.number(o, p, "emissiveStrength", false, kNonNegative).has_value();
+      tail(o, p);
+      bool zero = strength;
+      auto factor = owner_object.find("emissiveFactor");
+      if (factor != owner_object.end() && factor->is_array())
+        for (const auto& value : *factor)
+          if (!value.is_number() || value.get<double>() != 0) zero = false;
+      if (zero) issues_.at("KHR_MATERIALS_EMISSIVE_STRENGTH_ZERO_FACTOR", p);
+    } else if (name == "KHR_materials_ior") {
+      read_.check_members(o, p, {"ior", "extensions", "extras"});
+      // KHR_materials_ior: ior is 0 (a special value) or at least 1.
+      auto ior = o.find("ior");
+      if (ior != o.end() && ior->is_number() && ior->get<double>() != 0 && !(ior->get<double>() >= 1))
+        issues_.at("VALUE_NOT_IN_RANGE", p + "/ior",
+                   {ior->is_number_float() ? arg_double(ior->get<double>()) : arg_raw(ior->dump())});
+      else
+        read_.number(o, p, "ior");
+      tail(o, p);
+    } else if (name == "KHR_materials_iridescence") {
+      read_.check_members(o, p,
+                          {"iridescenceFactor", "iridescenceTexture", "iridescenceIor", "iridescenceThicknessMinimum",
+                           "iridescenceThicknessMaximum", "iridescenceThicknessTexture", "extensions", "extras"});
+      read_.number(o, p, "iridescenceFactor", false, kUnit);
+      texture(o, p, "iridescenceTexture");
+      read_.number(o, p, "iridescenceIor", false, {1});
+      auto minimum = read_.number(o, p, "iridescenceThicknessMinimum", false, kNonNegative);
+      auto maximum = read_.number(o, p, "iridescenceThicknessMaximum", false, kNonNegative);
+      texture(o, p, "iridescenceThicknessTexture");
+      tail(o, p);
+      const double min_value = minimum.value_or(100.0), max_value = maximum.value_or(400.0);
+      if (o.contains("iridescenceThicknessTexture")) {
+        if (min_value == max_value)
+          issues_.at("KHR_MATERIALS_IRIDESCENCE_THICKNESS_TEXTURE_UNUSED", p + "/iridescenceThicknessTexture");
+      } else if (o.contains("iridescenceThicknessMinimum")) {
+        issues_.at("KHR_MATERIALS_IRIDESCENCE_THICKNESS_RANGE_WITHOUT_TEXTURE", p + "/iridescenceThicknessMinimum");
+      }
+    } else if (name == "KHR_materials_pbrSpecularGlossiness") {
+      read_.check_members(o, p,
+                          {"diffuseFactor", "diffuseTexture", "specularFactor", "glossinessFactor",
+                           "specularGlossinessTexture", "extensions", "extras"});
+      read_.numbers(o, p, "diffuseFactor", {4}, kUnit);
+      texture(o, p, "diffuseTexture");
+      read_.numbers(o, p, "specularFactor", {3}, kUnit);
+      read_.number(o, p, "glossinessFactor", false, kUnit);
+      texture(o, p, "specularGlossinessTexture");
+      tail(o, p);
+    } else if (name == "KHR_materials_sheen") {
+      read_.check_members(o, p,
+                          {"sheenColorFactor", "sheenColorTexture", "sheenRoughnessFactor", "sheenRoughnessTexture",
+                           "extensions", "extras"});
+      read_.numbers(o, p, "sheenColorFactor", {3}, kUnit);
+      texture(o, p, "sheenColorTexture");
+      read_.number(o, p, "sheenRoughnessFactor", false, kUnit);
+      texture(o, p, "sheenRoughnessTexture");
+      tail(o, p);
+    } else if (name == "KHR_materials_specular") {
+      read_.check_members(
+          o, p,
+          {"specularFactor", "specularTexture", "specularColorFactor", "specularColorTexture", "extensions", "extras"});
+      read_.number(o, p, "specularFactor", false, kUnit);
+      texture(o, p, "specularTexture");
+      read_.numbers(o, p, "specularColorFactor", {3}, kNonNegative);
+      texture(o, p, "specularColorTexture");
+      tail(o, p);
+    } else if (name == "KHR_materials_transmission") {
+      read_.check_members(o, p, {"transmissionFactor", "transmissionTexture", "extensions", "extras"});
+      read_.number(o, p, "transmissionFactor", false, kUnit);
+      texture(o, p, "transmissionTexture");
+      tail(o, p);
+    } else if (name == "KHR_materials_unlit") {
+      read_.check_members(o, p, {"extensions", "extras"});
+      tail(o, p);
+    } else if (name == "KHR_materials_volume") {
+      read_.check_members(
+          o, p,
+          {"thicknessFactor", "thicknessTexture", "attenuationDistance", "attenuationColor", "extensions", "extras"});
+      const double thickness = read_.number(o, p, "thicknessFactor", false, kNonNegative).value_or(0.0);
+      texture(o, p, "thicknessTexture");
+      read_.number(o, p, "attenuationDistance", false, {0, INFINITY, true});
+      read_.numbers(o, p, "attenuationColor", {3}, kUnit);
+      tail(o, p);
+      // KHR_materials_volume: it only applies to surfaces that transmit light, and "is not
+      // compatible with double-sided materials" in its thin-walled sense.
+      // Any transmission extension counts, known or not (KHR_materials_transmission,
+      // KHR_materials_diffuse_transmission, vendor ones).
+      bool transmits = false;
+      for (const auto& [sibling, value] : owner_object["extensions"].items())
+        if (sibling.find("transmission") != std::string::npos) transmits = true;
+      if (!transmits) issues_.at("KHR_MATERIALS_VOLUME_NO_TRANSMISSION", p);
+      auto double_sided = owner_object.find("doubleSided");
+      if (thickness > 0 && double_sided != owner_object.end() && double_sided->is_boolean() &&
+          double_sided->get<bool>())
+        issues_.at("KHR_MATERIALS_VOLUME_DOUBLE_SIDED", p);
+    } else if (name == "KHR_texture_transform") {
+      read_.check_members(o, p, {"offset", "rotation", "scale", "texCoord", "extensions", "extras"});
+      read_.numbers(o, p, "offset", {2});
+      read_.number(o, p, "rotation");
+      read_.numbers(o, p, "scale", {2});
+      read_.integer(o, p, "texCoord", false, kNonNegative);
+      tail(o, p);
+    } else if (name == "EXT_texture_webp" || name == "KHR_texture_basisu") {
+      read_.check_members(o, p, {"source", "extensions", "extras"});
+      const std::int64_t source = read_.index(o, p, "source");
+      tail(o, p);
+      if (TextureModel* texture = hooks_.texture(); texture && source >= 0)
+        texture->extension_sources.emplace_back(p + "/source", source);
+    } else if (name == "KHR_node_visibility") {
+      read_.check_members(o, p, {"visible", "extensions", "extras"});
+      read_.boolean(o, p, "visible");
+      tail(o, p);
+    } else if (name == "KHR_animation_pointer") {
+      read_.check_members(o, p, {"pointer", "extensions", "extras"});
+      if (auto pointer = read_.string(o, p, "pointer", true)) {
+        static const std::regex pattern(R"(^(?:\/(?:[^/~]|~0|~1)*)*$)");
+        if (!std::regex_match(*pointer, pattern))
+          issues_.at("PATTERN_MISMATCH", p + "/pointer", {arg(*pointer), arg(R"(^(?:\/(?:[^/~]|~0|~1)*)*$)")});
+      }
+      tail(o, p);
+      // INCOMPLETE_EXTENSION_SUPPORT and the target checks come with the channel's link (links.cpp).
+    } else if (name == "KHR_draco_mesh_compression") {
+      read_.check_members(o, p, {"bufferView", "attributes", "extensions", "extras"});
+      const std::int64_t view = read_.index(o, p, "bufferView", true);
+      PrimitiveModel* primitive = hooks_.primitive();
+      if (primitive) {
+        primitive->draco = true;
+        primitive->draco_buffer_view = view;
+      }
+      if (const Json* attributes = read_.object(o, p, "attributes", true)) {
+        for (const auto& [key, value] : attributes->items()) {
+          const std::int64_t id = read_.index(*attributes, p + "/attributes", key);
+          if (primitive && id >= 0) primitive->draco_attributes[key] = id;
+        }
+      }
+      tail(o, p);
+    } else if (name == "KHR_lights_punctual") {
+      if (hooks_.node()) {
+        read_.check_members(o, p, {"light", "extensions", "extras"});
+        const std::int64_t light = read_.index(o, p, "light", true);
+        tail(o, p);
+        hooks_.node()->light = light >= 0 ? light : -2;
+        if (!root_extension("KHR_lights_punctual"))
+          issues_.at("UNSATISFIED_DEPENDENCY", p, {arg("/extensions/KHR_lights_punctual")});
+      } else {
+        lights(o, p);
+      }
+    } else if (name == "KHR_materials_variants") {
+      if (PrimitiveModel* primitive = hooks_.primitive())
+        variant_mappings(o, p, *primitive);
+      else
+        variants(o, p);
+    }
+  }
+
+ private:
+  bool root_extension(const char* name) {
+    const Json& root = read_.context().root;
+    auto extensions = root.find("extensions");
+    return extensions != root.end() && extensions->is_object() && extensions->contains(name);
+  }
+
+  static bool has_sibling(const Json& owner_object, const char* name) {
+    auto extensions = owner_object.find("extensions");
+    return extensions != owner_object.end() && extensions->is_object() && extensions->contains(name);
+  }
+
+  // Extension textures use the core texCoord; normal-like ones should match normalTexture's set.
+  void same_tex_coord(const Json& material, const Json& o, const std::string& p, const char* key, const char* code) {
+    auto normal = material.find("normalTexture");
+    auto texture = o.find(key);
+    if (normal == material.end() || !normal->is_object() || texture == o.end() || !texture->is_object()) return;
+    auto coord = [](const Json& info) {
+      auto found = info.find("texCoord");
+      return found != info.end() && found->is_number_integer() ? found->get<std::int64_t>() : 0;
+    };
+    if (coord(*normal) != coord(*texture)) issues_.at(code, p + "/" + key);
+  }
+
+  void texture(const Json& o, const std::string& p, const char* key, int kind = 0) {
+    hooks_.texture_info(o, p, key, kind);
+  }
+
+  void tail(const Json& o, const std::string& p) {
+    read_extensions(read_, o, p, Owner::Other, hooks_);
+    read_.extras(o, p);
+  }
+
+  void lights(const Json& o, const std::string& p) {
+    read_.check_members(o, p, {"lights", "extensions", "extras"});
+    Document& doc = read_.context().doc;
+    doc.has_lights_root = true;
+    if (auto list = read_.object_array(o, p, "lights", true, false)) {
+      doc.lights.resize(list->size());
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        if (!(*list)[i]) continue;
+        doc.lights[i].object = true;
+        const Json& light = *(*list)[i];
+        const std::string lp = p + "/lights/" + std::to_string(i);
+        read_.check_members(light, lp, {"name", "color", "intensity", "spot", "type", "range", "extensions", "extras"});
+        read_.string(light, lp, "name");
+        read_.numbers(light, lp, "color", {3}, kUnit);
+        read_.number(light, lp, "intensity", false, kNonNegative);
+        const Json* spot = read_.object(light, lp, "spot");
+        auto type = read_.string(light, lp, "type", true, {"directional", "point", "spot"});
+        auto range = read_.number(light, lp, "range", false, {0, INFINITY, true});
+        if (type && *type == "directional" && light.contains("range")) issues_.at("EXTRA_PROPERTY", lp + "/range");
+        if (type && *type == "spot" && !light.contains("spot")) issues_.at("UNDEFINED_PROPERTY", lp, {arg("spot")});
+        if (type && *type != "spot" && light.contains("spot")) issues_.at("EXTRA_PROPERTY", lp + "/spot");
+        if (spot) {
+          const std::string sp = lp + "/spot";
+          read_.check_members(*spot, sp, {"innerConeAngle", "outerConeAngle", "extensions", "extras"});
+          auto inner = read_.number(*spot, sp, "innerConeAngle", false, {0, M_PI / 2, false, true});
+          auto outer = read_.number(*spot, sp, "outerConeAngle", false, {0, M_PI / 2, true, false});
+          tail(*spot, sp);
+          const double inner_value = inner.value_or(0.0), outer_value = outer.value_or(M_PI / 4);
+          if (outer_value <= inner_value)
+            issues_.at("KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", sp, {arg_double(inner_value), arg_double(outer_value)});
+        }
+        (void)range;
+        tail(light, lp);
+      }
+    }
+    tail(o, p);
+  }
+
+  void variants(const Json& o, const std::string& p) {
+    read_.check_members(o, p, {"variants", "extensions", "extras"});
+    Document& doc = read_.context().doc;
+    doc.has_variants_root = true;
+    if (auto list = read_.object_array(o, p, "variants", true, false)) {
+      doc.variants.resize(list->size());
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        if (!(*list)[i]) continue;
+        doc.variants[i].object = true;
+        const std::string vp = p + "/variants/" + std::to_string(i);
+        read_.check_members(*(*list)[i], vp, {"name", "extensions", "extras"});
+        read_.string(*(*list)[i], vp, "name", true);
+        tail(*(*list)[i], vp);
+      }
+    }
+    tail(o, p);
+  }
+
+  void variant_mappings(const Json& o, const std::string& p, PrimitiveModel& primitive) {
+    read_.check_members(o, p, {"mappings", "extensions", "extras"});
+    if (auto list = read_.object_array(o, p, "mappings", true, false)) {
+      std::set<std::int64_t> seen;
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        if (!(*list)[i]) continue;
+        const Json& mapping = *(*list)[i];
+        const std::string mp = p + "/mappings/" + std::to_string(i);
+        read_.check_members(mapping, mp, {"variants", "material", "name", "extensions", "extras"});
+        if (auto variants = read_.indices(mapping, mp, "variants", true)) {
+          for (std::size_t v = 0; v < variants->size(); ++v) {
+            const std::int64_t variant = (*variants)[v];
+            if (variant < 0) continue;
+            if (!seen.insert(variant).second)
+              issues_.at("KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT", mp + "/variants/" + std::to_string(v));
+            primitive.variant_refs.push_back(variant);
+            variant_pointers_.push_back(mp + "/variants/" + std::to_string(v));
+          }
+        }
+        const std::int64_t material = read_.index(mapping, mp, "material", true);
+        if (material >= 0) primitive.variant_materials.emplace_back(mp + "/material", material);
+        read_.string(mapping, mp, "name");
+        tail(mapping, mp);
+        if (!root_extension("KHR_materials_variants"))
+          issues_.at("UNSATISFIED_DEPENDENCY", mp, {arg("/extensions/KHR_materials_variants")});
+      }
+      primitive.variant_pointers = variant_pointers_;
+    }
+    tail(o, p);
+  }
+
+  SchemaReader& read_;
+  IssueSink& issues_;
+  const ExtensionHooks& hooks_;
+  std::vector<std::string> variant_pointers_;
+};
+
+}  // namespace
+
+bool extension_supported(const std::string& name) { return find_place(name) != nullptr; }
+
+void read_extensions(SchemaReader& read, const Json& object, const std::string& pointer, Owner owner,
+                     const ExtensionHooks& hooks) {
+  auto found = object.find("extensions");
+  if (found == object.end()) return;
+  const std::string here = pointer + "/extensions";
+  IssueSink& issues = read.issues();
+  if (!found->is_object()) {
+    issues.at("TYPE_MISMATCH", here, {arg_json(*found), arg("object")});
+    return;
+  }
+  Context& context = read.context();
+  for (const auto& [name, value] : found->items()) {
+    const std::string p = here + "/" + escape_pointer_token(name);
+    const ExtensionPlace* place = find_place(name);
+    auto& seen = context.doc.extensions_seen;
+    if (place && std::find(seen.begin(), seen.end(), name) == seen.end()) seen.push_back(name);
+    if (!value.is_object()) issues.at("TYPE_MISMATCH", p, {arg_json(value), arg("object")});
+    if (!context.declared(name)) {
+      issues.at("UNDECLARED_EXTENSION", p);  // an undeclared object is not read further
+      continue;
+    }
+    if (!value.is_object()) continue;
+    if (!place) continue;
+    if (std::find(place->owners.begin(), place->owners.end(), owner) == place->owners.end()) {
+      issues.at("UNEXPECTED_EXTENSION_OBJECT", p);
+      continue;
+    }
+    // A required property missing inside an extension invalidates the extension, not its owner.
+    const std::size_t missing_before = read.missing_count();
+    ExtensionReader(read, hooks).read(name, object, value, p);
+    read.set_missing_count(missing_before);
+    // Unlit and specular-glossiness replace the core shading model, so other material extensions
+    // may not combine with them (their specifications' "Extension compatibility" sections).
+    if (owner == Owner::Material && found->size() > 1 &&
+        (name == "KHR_materials_unlit" || name == "KHR_materials_pbrSpecularGlossiness"))
+      issues.at("MULTIPLE_EXTENSIONS", p);
+  }
+}
+
+}  // namespace gltf_pbr::structure

@@ -1,0 +1,269 @@
+#include "validators/structure/images.hpp"
+
+#include <cstring>
+#include <fstream>
+
+namespace gltf_pbr::structure {
+
+namespace {
+
+struct ImageHeader {
+  std::string mime;  // "" when not recognised
+  std::int64_t width = -1, height = -1;
+  std::string format;  // "rgb", "rgba", "luminance", "luminance-alpha"
+  int bits = 8;
+  bool unsupported_features = false;  // colour space, pixel aspect or animation the spec does not cover
+  std::string error_code;             // IMAGE_UNEXPECTED_EOS, IMAGE_DATA_INVALID
+  std::string error_message;          // for IMAGE_DATA_INVALID
+};
+
+std::uint32_t big_endian32(const std::uint8_t* p) {
+  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
+}
+std::uint32_t big_endian16(const std::uint8_t* p) { return (std::uint32_t(p[0]) << 8) | p[1]; }
+std::uint32_t little_endian24(const std::uint8_t* p) {
+  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16);
+}
+
+// PNG (ISO/IEC 15948): the signature, then IHDR as the first chunk.
+void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
+  header.mime = "image/png";
+  if (b.size() < 33) {
+    header.error_code = "IMAGE_UNEXPECTED_EOS";
+    return;
+  }
+  if (big_endian32(&b[8]) != 13 || std::memcmp(&b[12], "IHDR", 4) != 0) {
+    header.error_code = "IMAGE_DATA_INVALID";
+    header.error_message = "Invalid PNG: the first chunk is not IHDR.";
+    return;
+  }
+  header.width = big_endian32(&b[16]);
+  header.height = big_endian32(&b[20]);
+  header.bits = b[24];
+  switch (b[25]) {
+    case 0:
+      header.format = "luminance";
+      break;
+    case 4:
+      header.format = "luminance-alpha";
+      break;
+    case 6:
+      header.format = "rgba";
+      break;
+    default:
+      header.format = "rgb";
+      break;
+  }
+  // Walk the chunks to IEND: a stream that ends inside one is truncated.
+  std::size_t offset = 8;
+  while (true) {
+    if (offset + 8 > b.size()) {
+      header.error_code = "IMAGE_UNEXPECTED_EOS";
+      return;
+    }
+    const std::uint64_t length = big_endian32(&b[offset]);
+    const bool end = std::memcmp(&b[offset + 4], "IEND", 4) == 0;
+    if (offset + 12 + length > b.size()) {
+      header.error_code = "IMAGE_UNEXPECTED_EOS";
+      return;
+    }
+    if (end) return;
+    // Spec 3.8.2: PNG colour is sRGB; ICC profiles, non-sRGB chromaticities or gamma, non-square
+    // pixels and APNG animation are features a glTF renderer ignores.
+    const auto* type = &b[offset + 4];
+    const auto* data = &b[offset + 8];
+    if (std::memcmp(type, "iCCP", 4) == 0 || std::memcmp(type, "acTL", 4) == 0) header.unsupported_features = true;
+    if (std::memcmp(type, "pHYs", 4) == 0 && length >= 9 && big_endian32(data) != big_endian32(data + 4))
+      header.unsupported_features = true;
+    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455)
+      header.unsupported_features = true;
+    offset += 12 + length;
+  }
+}
+
+// JPEG (ITU T.81 annex B): marker segments up to a start-of-frame, which holds the size.
+void read_jpeg(std::span<const std::uint8_t> b, ImageHeader& header) {
+  header.mime = "image/jpeg";
+  std::size_t offset = 2;
+  while (true) {
+    if (offset + 4 > b.size()) {
+      header.error_code = "IMAGE_UNEXPECTED_EOS";
+      return;
+    }
+    if (b[offset] != 0xFF) {
+      header.error_code = "IMAGE_DATA_INVALID";
+      header.error_message = "Invalid JPEG marker.";
+      return;
+    }
+    const std::uint8_t marker = b[offset + 1];
+    if (marker == 0xFF) {
+      ++offset;
+      continue;
+    }
+    if (marker == 0xD8 || (marker >= 0xD0 && marker <= 0xD7) || marker == 0x01) {
+      offset += 2;
+      continue;
+    }
+    const std::uint32_t length = big_endian16(&b[offset + 2]);
+    if (length < 2) {
+      header.error_code = "IMAGE_DATA_INVALID";
+      header.error_message = "Invalid JPEG marker segment length.";
+      return;
+    }
+    const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+    if (frame) {
+      if (offset + 10 > b.size()) {
+        header.error_code = "IMAGE_UNEXPECTED_EOS";
+        return;
+      }
+      header.bits = b[offset + 4];
+      header.height = big_endian16(&b[offset + 5]);
+      header.width = big_endian16(&b[offset + 7]);
+      const int components = b[offset + 9];
+      header.format = components == 1 ? "luminance" : "rgb";
+      return;
+    }
+    offset += 2 + length;
+  }
+}
+
+// WebP (RFC 9649): a RIFF container with one VP8, VP8L or VP8X first chunk.
+void read_webp(std::span<const std::uint8_t> b, ImageHeader& header) {
+  header.mime = "image/webp";
+  if (b.size() < 30) {
+    header.error_code = "IMAGE_UNEXPECTED_EOS";
+    return;
+  }
+  header.format = "rgb";
+  if (std::memcmp(&b[12], "VP8 ", 4) == 0) {
+    header.width = (b[26] | (b[27] << 8)) & 0x3FFF;
+    header.height = (b[28] | (b[29] << 8)) & 0x3FFF;
+  } else if (std::memcmp(&b[12], "VP8L", 4) == 0) {
+    const std::uint32_t bits = b[21] | (b[22] << 8) | (b[23] << 16) | (std::uint32_t(b[24]) << 24);
+    header.width = (bits & 0x3FFF) + 1;
+    header.height = ((bits >> 14) & 0x3FFF) + 1;
+    if ((bits >> 28) & 1) header.format = "rgba";
+  } else if (std::memcmp(&b[12], "VP8X", 4) == 0) {
+    if (b[20] & 0x10) header.format = "rgba";
+    header.width = little_endian24(&b[24]) + 1;
+    header.height = little_endian24(&b[27]) + 1;
+  }
+}
+
+ImageHeader read_header(std::span<const std::uint8_t> b) {
+  ImageHeader header;
+  static constexpr std::uint8_t png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  static constexpr std::uint8_t ktx2[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  if (b.size() >= 8 && std::memcmp(b.data(), png, 8) == 0)
+    read_png(b, header);
+  else if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF)
+    read_jpeg(b, header);
+  else if (b.size() >= 12 && std::memcmp(b.data(), "RIFF", 4) == 0 && std::memcmp(b.data() + 8, "WEBP", 4) == 0)
+    read_webp(b, header);
+  else if (b.size() >= 12 && std::memcmp(b.data(), ktx2, 12) == 0)
+    header.mime = "image/ktx2";
+  return header;
+}
+
+bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)) == 0; }
+
+std::optional<std::vector<std::uint8_t>> read_file_bytes(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return std::nullopt;
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) return std::nullopt;
+  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+void check_images(Context& context) {
+  Document& doc = context.doc;
+  IssueSink& issues = context.issues;
+  for (std::size_t i = 0; i < doc.images.size(); ++i) {
+    ImageModel& image = doc.images[i];
+    if (!image.object) continue;
+    const std::string p = "/images/" + std::to_string(i);
+    nlohmann::ordered_json resource;
+    resource["pointer"] = p;
+    std::span<const std::uint8_t> bytes;
+    std::vector<std::uint8_t> file_bytes;
+    std::string declared = image.mime_type;
+    bool have = false;
+    std::string storage;
+    if (image.has_uri) {
+      if (!image.uri_valid) {
+        context.resources.push_back(std::move(resource));
+        continue;
+      }
+      if (image.data_uri) {
+        storage = "data-uri";
+        bytes = image.data;
+        have = true;
+        if (declared.empty()) declared = image.data_uri_mime;
+      } else {
+        storage = "external";
+        if (context.options.validate_resources) {
+          auto read = read_file_bytes(context.base_dir / image.uri);
+          if (!read) {
+            issues.at("IO_ERROR", p + "/uri", {arg_raw("Resource not found (" + image.uri + ").")});
+          } else {
+            file_bytes = std::move(*read);
+            bytes = file_bytes;
+            have = true;
+          }
+        }
+      }
+    } else if (image.buffer_view >= 0 && static_cast<std::size_t>(image.buffer_view) < doc.buffer_views.size()) {
+      storage = "buffer-view";
+      const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(image.buffer_view)];
+      // Strided views cannot hold an image (IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE): not read.
+      if (view.object && view.byte_stride == 0 && view.buffer >= 0 &&
+          static_cast<std::size_t>(view.buffer) < doc.buffers.size()) {
+        const BufferModel& buffer = doc.buffers[static_cast<std::size_t>(view.buffer)];
+        const std::uint64_t end = static_cast<std::uint64_t>(view.byte_offset) +
+                                  static_cast<std::uint64_t>(std::max<std::int64_t>(view.byte_length, 0));
+        if (buffer.data_loaded && view.byte_length > 0 && end <= buffer.data.size()) {
+          bytes = std::span<const std::uint8_t>(buffer.data)
+                      .subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
+          have = true;
+        }
+      }
+    }
+    ImageHeader header;
+    if (have) header = read_header(bytes);
+    if (!header.mime.empty() && header.error_code.empty()) resource["mimeType"] = header.mime;
+    if (!storage.empty()) resource["storage"] = storage;
+    if (storage == "external") resource["uri"] = image.uri;
+    if (have) {
+      if (header.mime.empty()) {
+        issues.at("IMAGE_UNRECOGNIZED_FORMAT", p);
+      } else {
+        auto enabled = [&](const char* extension) {
+          const auto& seen = context.doc.extensions_seen;
+          return context.declared(extension) || std::find(seen.begin(), seen.end(), extension) != seen.end();
+        };
+        if ((header.mime == "image/webp" && !enabled("EXT_texture_webp")) ||
+            (header.mime == "image/ktx2" && !enabled("KHR_texture_basisu")))
+          issues.at("IMAGE_NON_ENABLED_MIME_TYPE", p, {arg(header.mime)});
+        if (!declared.empty() && declared != header.mime)
+          issues.at("IMAGE_MIME_TYPE_INVALID", image.has_uri ? p + "/uri" : p + "/mimeType",
+                    {arg(header.mime), arg(declared)});
+        if (header.error_code == "IMAGE_DATA_INVALID")
+          issues.at("IMAGE_DATA_INVALID", p, {arg_raw(header.error_message)});
+        else if (!header.error_code.empty())
+          issues.at(header.error_code, p);
+        if (header.error_code.empty() && header.unsupported_features) issues.at("IMAGE_FEATURES_UNSUPPORTED", p);
+        if (header.error_code.empty() && header.width >= 0) {
+          resource["image"] = {{"width", header.width}, {"height", header.height}, {"format", header.format},
+                               {"primaries", "srgb"},   {"transfer", "srgb"},      {"bits", header.bits}};
+          if (!power_of_two(header.width) || !power_of_two(header.height))
+            issues.at("IMAGE_NPOT_DIMENSIONS", p, {arg(header.width), arg(header.height)});
+        }
+      }
+    }
+    context.resources.push_back(std::move(resource));
+  }
+}
+
+}  // namespace gltf_pbr::structure

@@ -1,0 +1,11 @@
+// Image resources (glTF 2.0 spec 3.8.2 "Images"): the bytes must be the declared format, PNG or
+// JPEG in core glTF, WebP or KTX2 with their extensions, and readable far enough to know their size.
+#pragma once
+#include "validators/structure/structure_internal.hpp"
+
+namespace gltf_pbr::structure {
+
+void check_images(Context& context);  // images.cpp
+void check_draco(Context& context);   // draco.cpp: KHR_draco_mesh_compression data
+
+}  // namespace gltf_pbr::structure

@@ -1,0 +1,817 @@
+// The link pass: every index resolves to an object of the right collection, accessors and buffer
+// views fit what they view, and each object is used the way its referrers require (glTF 2.0 spec
+// 3.6 "Binary Data Storage", 3.7 "Geometry", 3.8 "Texture Data", 3.11 "Animations"). Then the
+// UNUSED_OBJECT pass over whatever nothing references.
+#include <algorithm>
+#include <functional>
+#include <set>
+
+#include "validators/structure/structure_internal.hpp"
+
+namespace gltf_pbr::structure {
+
+namespace {
+
+std::string format_name(const std::string& type, int component_type, bool normalized = false) {
+  std::string text = "{" + (type.empty() ? std::string("null") : type) + ", " +
+                     (component_type == 0 ? "null" : component_type_name(component_type));
+  if (normalized) text += " normalized";
+  return text + "}";
+}
+
+// Bytes an accessor spans in its view: every element but the last takes a full stride; matrix
+// columns of 1- and 2-byte components are padded to 4 bytes (spec 3.6.2.4 "Data Alignment").
+std::int64_t element_size(const AccessorModel& accessor) {
+  const int size = component_size(accessor.component_type);
+  const int components = component_count(accessor.type);
+  if (accessor.type.starts_with("MAT") && size < 4) {
+    const int rows = accessor.type == "MAT2" ? 2 : accessor.type == "MAT3" ? 3 : 4;
+    const int column = (rows * size + 3) / 4 * 4;
+    return static_cast<std::int64_t>(column) * rows;
+  }
+  return static_cast<std::int64_t>(size) * components;
+}
+
+std::int64_t last_element_size(const AccessorModel& accessor) {
+  const int size = component_size(accessor.component_type);
+  if (accessor.type.starts_with("MAT") && size < 4) {
+    const int rows = accessor.type == "MAT2" ? 2 : accessor.type == "MAT3" ? 3 : 4;
+    const int column = (rows * size + 3) / 4 * 4;
+    return static_cast<std::int64_t>(column) * (rows - 1) + rows * size;
+  }
+  return static_cast<std::int64_t>(size) * component_count(accessor.type);
+}
+
+bool valid_texcoord(const std::string& name) {
+  if (!name.starts_with("TEXCOORD_")) return false;
+  const std::string digits = name.substr(9);
+  return !digits.empty() && digits.size() <= 6 && (digits.size() == 1 || digits[0] != '0') &&
+         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+class Linker {
+ public:
+  explicit Linker(Context& context) : context_(context), issues_(context.issues), doc_(context.doc) {}
+
+  // The reference links in dependency order: buffer views, accessors, images, textures,
+  // materials, meshes, nodes, skins, animations, scenes.
+  void run() {
+    auto each = [](auto& list, auto&& link) {
+      for (std::size_t i = 0; i < list.size(); ++i)
+        if (list[i].object && list[i].valid) link(i);
+    };
+    each(doc_.buffers, [&](std::size_t i) { buffer(i); });
+    // A buffer view missing a property is still linked (reference behaviour), unlike the rest.
+    for (std::size_t i = 0; i < doc_.buffer_views.size(); ++i)
+      if (doc_.buffer_views[i].object) buffer_view(i);
+    each(doc_.accessors, [&](std::size_t i) { accessor(i); });
+    each(doc_.images, [&](std::size_t i) { image(i); });
+    each(doc_.textures, [&](std::size_t i) { texture(i); });
+    each(doc_.materials, [&](std::size_t i) { material(i); });
+    each(doc_.meshes, [&](std::size_t i) { mesh(i); });
+    each(doc_.nodes, [&](std::size_t i) { node(i); });
+    find_loops();
+    for (std::size_t i = 0; i < doc_.skins.size(); ++i)  // linked even when invalid, as buffer views
+      if (doc_.skins[i].object) skin(i);
+    for (std::size_t i = 0; i < doc_.animations.size(); ++i) {
+      if (!doc_.animations[i].object) continue;
+      if (doc_.animations[i].valid) {
+        animation(i);
+      } else {
+        for (std::size_t c = 0; c < doc_.animations[i].channels.size(); ++c) animation_pointer(i, c);
+      }
+    }
+    for (std::size_t i = 0; i < doc_.scenes.size(); ++i) scene(i);
+    node_graph();
+  }
+
+ private:
+  template <typename Model>
+  Model* resolve(std::vector<Model>& list, std::int64_t index, const std::string& pointer, bool mark_used = true) {
+    if (index < 0) return nullptr;
+    if (static_cast<std::size_t>(index) >= list.size() || !list[static_cast<std::size_t>(index)].object) {
+      issues_.at("UNRESOLVED_REFERENCE", pointer, {arg(index)});
+      return nullptr;
+    }
+    Model& model = list[static_cast<std::size_t>(index)];
+    if (mark_used) model.used = true;
+    return &model;
+  }
+
+  static std::string at(std::string_view collection, std::size_t index) {
+    return "/" + std::string(collection) + "/" + std::to_string(index);
+  }
+
+  void accessor(std::size_t i) {
+    AccessorModel& a = doc_.accessors[i];
+    const std::string p = at("accessors", i);
+    BufferViewModel* view = resolve(doc_.buffer_views, a.buffer_view, p + "/bufferView");
+    const int size = component_size(a.component_type);
+    // Spec 3.6.2.4 "Data Alignment": an accessor's offset is a multiple of its component size.
+    if (a.has_byte_offset && size > 0 && a.byte_offset % size != 0)
+      issues_.at("ACCESSOR_OFFSET_ALIGNMENT", p + "/byteOffset", {arg(a.byte_offset), arg(size)});
+    if (view && size > 0 && !a.type.empty()) {
+      const std::int64_t total = view->byte_offset + a.byte_offset;
+      if (total % size != 0) issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", p, {arg(total), arg(size)});
+      const std::int64_t element = element_size(a);
+      if (view->byte_stride > 0 && view->byte_stride < element)
+        issues_.at("ACCESSOR_SMALL_BYTESTRIDE", p, {arg(view->byte_stride), arg(element)});
+      a.fits = a.count > 0 && view->byte_length > 0;
+      const std::int64_t view_length = std::max<std::int64_t>(view->byte_length, 0);
+      if (a.count > 0) {
+        const std::int64_t stride = view->byte_stride > 0 ? view->byte_stride : element;
+        // count ≤ 2^63 / stride is not guaranteed by the JSON: saturate instead of overflowing.
+        const long double length = static_cast<long double>(stride) * static_cast<long double>(a.count - 1) +
+                                   static_cast<long double>(last_element_size(a));
+        if (static_cast<long double>(a.byte_offset) + length > static_cast<long double>(view_length)) {
+          a.fits = false;
+          issues_.at("ACCESSOR_TOO_LONG", a.byte_offset >= view_length ? p + "/byteOffset" : p,
+                     {arg(a.byte_offset), arg(static_cast<std::int64_t>(std::min<long double>(length, 9e18L))),
+                      arg(a.buffer_view), arg(view_length)});
+        }
+      }
+    }
+    if (a.sparse && a.count >= 0 && a.sparse_count > a.count)
+      issues_.at("ACCESSOR_SPARSE_COUNT_OUT_OF_RANGE", p + "/sparse/count", {arg(a.sparse_count), arg(a.count)});
+    if (a.sparse) {
+      for (int part = 0; part < 2; ++part) {
+        const std::string pp = p + (part == 0 ? "/sparse/indices/bufferView" : "/sparse/values/bufferView");
+        BufferViewModel* sparse_view =
+            resolve(doc_.buffer_views, part == 0 ? a.sparse_indices_view : a.sparse_values_view, pp);
+        if (sparse_view && (sparse_view->byte_stride > 0 || sparse_view->target != 0))
+          issues_.at("BUFFER_VIEW_INVALID_BYTE_STRIDE", pp);
+        // Spec 3.6.2.3 "Sparse Accessors": indices and values are tightly packed, sparse.count of
+        // each; they must fit their bufferViews like any accessor data.
+        const int index_size = component_size(a.sparse_indices_component_type);
+        const std::int64_t item = part == 0 ? index_size : element_size(a);
+        if (sparse_view && item > 0 && a.sparse_count > 0) {
+          const std::int64_t offset = part == 0 ? a.sparse_indices_offset : a.sparse_values_offset;
+          const long double length = static_cast<long double>(item) * static_cast<long double>(a.sparse_count);
+          const std::int64_t view_length = std::max<std::int64_t>(sparse_view->byte_length, 0);
+          if (static_cast<long double>(offset) + length > static_cast<long double>(view_length))
+            issues_.at("ACCESSOR_TOO_LONG", p + (part == 0 ? "/sparse/indices" : "/sparse/values"),
+                       {arg(offset), arg(static_cast<std::int64_t>(std::min<long double>(length, 9e18L))),
+                        arg(part == 0 ? a.sparse_indices_view : a.sparse_values_view), arg(view_length)});
+        }
+      }
+    }
+  }
+
+  void animation(std::size_t i) {
+    AnimationModel& animation = doc_.animations[i];
+    const std::string p = at("animations", i);
+    for (std::size_t s = 0; s < animation.samplers.size(); ++s) {
+      AnimationSamplerModel& sampler = animation.samplers[s];
+      if (!sampler.object) continue;
+      const std::string sp = p + "/samplers/" + std::to_string(s);
+      if (AccessorModel* input = resolve(doc_.accessors, sampler.input, sp + "/input")) {
+        if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
+          issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
+                     {arg(format_name(input->type, input->component_type, input->normalized))},
+                     {arg("{SCALAR, FLOAT}")});
+        if (!input->has_min || !input->has_max)
+          issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_WITHOUT_BOUNDS", sp + "/input");
+        stride_forbidden(*input, sp + "/input", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
+        use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
+        if (sampler.interpolation == "CUBICSPLINE" && input->count > 0 && input->count < 2)
+          issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS", sp + "/input",
+                     {arg("CUBICSPLINE"), arg(2), arg(input->count)});
+      }
+      if (AccessorModel* output = resolve(doc_.accessors, sampler.output, sp + "/output"))
+        stride_forbidden(*output, sp + "/output", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
+    }
+    for (std::size_t c = 0; c < animation.channels.size(); ++c) {
+      AnimationChannelModel& channel = animation.channels[c];
+      if (!channel.object) continue;
+      const std::string cp = p + "/channels/" + std::to_string(c);
+      NodeModel* node = resolve(doc_.nodes, channel.node, cp + "/target/node");
+      AnimationSamplerModel* sampler = resolve(animation.samplers, channel.sampler, cp + "/sampler");
+      const bool trs = channel.path == "translation" || channel.path == "rotation" || channel.path == "scale";
+      if (node && trs && node->has_matrix) issues_.at("ANIMATION_CHANNEL_TARGET_NODE_MATRIX", cp + "/target");
+      if (node && trs && node->skin >= 0 && node->mesh >= 0)
+        issues_.at("ANIMATION_CHANNEL_TARGET_NODE_SKIN", cp + "/target/path");
+      std::int64_t morph_targets = -1;
+      if (node && channel.path == "weights") {
+        morph_targets = 0;
+        if (node->mesh >= 0 && static_cast<std::size_t>(node->mesh) < doc_.meshes.size())
+          for (const auto& primitive : doc_.meshes[static_cast<std::size_t>(node->mesh)].primitives)
+            morph_targets = std::max(morph_targets, primitive.targets);
+        if (morph_targets <= 0) issues_.at("ANIMATION_CHANNEL_TARGET_NODE_WEIGHTS_NO_MORPHS", cp + "/target");
+      }
+      if (sampler && !channel.path.empty() && channel.path != "pointer")
+        output_checks(*sampler, channel, cp, morph_targets);
+      // Two channels may not drive the same property (spec 3.11 "Animations").
+      if (channel.node >= 0 && !channel.path.empty() && channel.path != "pointer") {
+        for (std::size_t other = c + 1; other < animation.channels.size(); ++other) {
+          const AnimationChannelModel& later = animation.channels[other];
+          if (later.object && later.node == channel.node && later.path == channel.path) {
+            issues_.at("ANIMATION_DUPLICATE_TARGETS", cp + "/target", {arg(static_cast<std::uint64_t>(other))});
+            break;
+          }
+        }
+      }
+      animation_pointer(i, c);
+    }
+  }
+
+  // KHR_animation_pointer: validated only in part (INCOMPLETE_EXTENSION_SUPPORT); the target
+  // names its property through the pointer, so it has no node and its path is "pointer".
+  void animation_pointer(std::size_t a, std::size_t c) {
+    const AnimationChannelModel& channel = doc_.animations[a].channels[c];
+    if (!channel.object || !channel.pointer_extension) return;
+    const std::string p =
+        at("animations", a) + "/channels/" + std::to_string(c) + "/target/extensions/KHR_animation_pointer";
+    issues_.at("INCOMPLETE_EXTENSION_SUPPORT", p);
+    if (channel.target_has_node) issues_.at("KHR_ANIMATION_POINTER_ANIMATION_CHANNEL_TARGET_NODE", p);
+    if (!channel.raw_path.empty() && channel.raw_path != "pointer")
+      issues_.at("KHR_ANIMATION_POINTER_ANIMATION_CHANNEL_TARGET_PATH", p, {arg(channel.raw_path)});
+  }
+
+  void output_checks(AnimationSamplerModel& sampler, const AnimationChannelModel& channel, const std::string& cp,
+                     std::int64_t morph_targets) {
+    if (sampler.output < 0 || static_cast<std::size_t>(sampler.output) >= doc_.accessors.size()) return;
+    AccessorModel& output = doc_.accessors[static_cast<std::size_t>(sampler.output)];
+    if (!output.object) return;
+    const std::string pointer = cp + "/sampler";
+    auto is = [&](const char* type, int component_type, bool normalized) {
+      return output.type == type && output.component_type == component_type && output.normalized == normalized;
+    };
+    bool valid = false;
+    std::vector<MessageArg> allowed;
+    if (channel.path == "translation" || channel.path == "scale") {
+      valid = is("VEC3", 5126, false);
+      allowed = {arg("{VEC3, FLOAT}")};
+    } else if (channel.path == "rotation") {
+      valid = is("VEC4", 5126, false) || is("VEC4", 5120, true) || is("VEC4", 5121, true) || is("VEC4", 5122, true) ||
+              is("VEC4", 5123, true);
+      allowed = {arg("{VEC4, FLOAT}"), arg("{VEC4, BYTE normalized}"), arg("{VEC4, UNSIGNED_BYTE normalized}"),
+                 arg("{VEC4, SHORT normalized}"), arg("{VEC4, UNSIGNED_SHORT normalized}")};
+    } else if (channel.path == "weights") {
+      valid = is("SCALAR", 5126, false) || is("SCALAR", 5120, true) || is("SCALAR", 5121, true) ||
+              is("SCALAR", 5122, true) || is("SCALAR", 5123, true);
+      allowed = {arg("{SCALAR, FLOAT}"), arg("{SCALAR, BYTE normalized}"), arg("{SCALAR, UNSIGNED_BYTE normalized}"),
+                 arg("{SCALAR, SHORT normalized}"), arg("{SCALAR, UNSIGNED_SHORT normalized}")};
+    }
+    if (!valid && !channel.path.empty())
+      issues_.at("ANIMATION_SAMPLER_OUTPUT_ACCESSOR_INVALID_FORMAT", pointer,
+                 {arg(format_name(output.type, output.component_type, output.normalized)), arg(""), arg(channel.path)},
+                 allowed);
+    if (sampler.input >= 0 && static_cast<std::size_t>(sampler.input) < doc_.accessors.size()) {
+      const AccessorModel& input = doc_.accessors[static_cast<std::size_t>(sampler.input)];
+      if (input.object && input.count > 0 && output.count > 0) {
+        std::int64_t expected = input.count * (sampler.interpolation == "CUBICSPLINE" ? 3 : 1);
+        if (channel.path == "weights") expected *= std::max<std::int64_t>(morph_targets, 0);
+        if (channel.path != "weights" || morph_targets > 0) {
+          if (expected != output.count)
+            issues_.at("ANIMATION_SAMPLER_OUTPUT_ACCESSOR_INVALID_COUNT", pointer, {arg(expected), arg(output.count)});
+        }
+      }
+    }
+    if (output.usage == AccessorModel::Usage::None) {
+      output.animation_path = channel.path;
+      output.interpolation = sampler.interpolation;
+    }
+    use_accessor(output, AccessorModel::Usage::AnimationOutput, pointer);
+  }
+
+  // An accessor serves one purpose (spec 3.6.2: its data is read as indices, vertex attributes,
+  // matrices or keyframes); the first use fixes it and where the data checks report.
+  void use_accessor(AccessorModel& accessor, AccessorModel::Usage usage, const std::string& pointer) {
+    static const char* names[] = {
+        "None", "VertexAttribute", "IndexBuffer", "AnimationInput", "AnimationOutput", "InverseBindMatrices", "Other"};
+    if (accessor.usage == AccessorModel::Usage::None) {
+      accessor.usage = usage;
+      accessor.usage_pointer = pointer;
+    } else if (accessor.usage != usage) {
+      issues_.at("ACCESSOR_USAGE_OVERRIDE", pointer,
+                 {arg(names[static_cast<int>(accessor.usage)]), arg(names[static_cast<int>(usage)])});
+    }
+  }
+
+  void stride_forbidden(const AccessorModel& accessor, const std::string& pointer, const char* code) {
+    if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
+    const BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+    if (view.object && view.byte_stride > 0) issues_.at(code, pointer);
+  }
+
+  void buffer(std::size_t i) {
+    BufferModel& buffer = doc_.buffers[i];
+    // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk.
+    if (context_.glb && i == 0 && !buffer.has_uri && !context_.glb_bin)
+      issues_.at("BUFFER_MISSING_GLB_DATA", at("buffers", i));
+  }
+
+  void buffer_view(std::size_t i) {
+    BufferViewModel& view = doc_.buffer_views[i];
+    const std::string p = at("bufferViews", i);
+    BufferModel* buffer = resolve(doc_.buffers, view.buffer, p + "/buffer");
+    if (buffer && buffer->byte_length > 0 && view.byte_length > 0 &&
+        view.byte_offset + view.byte_length > buffer->byte_length)
+      issues_.at("BUFFER_VIEW_TOO_LONG",
+                 view.byte_offset >= buffer->byte_length ? p + "/byteOffset" : p + "/byteLength",
+                 {arg(view.buffer), arg(buffer->byte_length)});
+  }
+
+  void image(std::size_t i) {
+    ImageModel& image = doc_.images[i];
+    const std::string p = at("images", i);
+    if (BufferViewModel* view = resolve(doc_.buffer_views, image.buffer_view, p + "/bufferView")) {
+      if (view->byte_stride > 0) issues_.at("IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE", p + "/bufferView");
+    }
+  }
+
+  void material(std::size_t i) {
+    for (const TextureRef& ref : doc_.materials[i].textures) resolve(doc_.textures, ref.index, ref.pointer + "/index");
+  }
+
+  void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
+    if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
+    BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+    if (!view.object) return;
+    if (view.usage_target == 0) {
+      view.usage_target = usage;
+      view.usage_name = name;
+      if (view.target == 0) issues_.at("BUFFER_VIEW_TARGET_MISSING", pointer);
+    } else if (view.usage_target != usage) {
+      issues_.at("BUFFER_VIEW_TARGET_OVERRIDE", pointer, {arg(view.usage_name), arg(name)});
+    }
+  }
+
+  void vertex_attribute(AccessorModel& accessor, const std::string& name, const std::string& pointer) {
+    const int size = component_size(accessor.component_type);
+    if (name == "POSITION" && (!accessor.has_min || !accessor.has_max))
+      issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", pointer);
+    if (accessor.component_type == 5125) {
+      issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_UNSIGNED_INT", pointer);
+    } else {
+      attribute_format(accessor, name, pointer);
+    }
+    if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
+      BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+      if (view.object) {
+        // Spec 3.6.2.4: vertex attribute data starts on 4-byte boundaries (strides are multiples of 4
+        // by the schema). Tightly packed 3-byte elements are not reported: the reference does not.
+        if (size > 0 && ((accessor.byte_offset % 4) != 0 || ((view.byte_offset + accessor.byte_offset) % 4) != 0))
+          issues_.at("MESH_PRIMITIVE_ACCESSOR_UNALIGNED", pointer);
+        const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
+        auto& users = view_accessors_[accessor.buffer_view];
+        if (std::find(users.begin(), users.end(), accessor_index) == users.end()) users.push_back(accessor_index);
+        if (view.byte_stride == 0 && users.size() > 1 && !stride_reported_.contains(accessor.buffer_view)) {
+          issues_.at("MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE", pointer);
+          stride_reported_.insert(accessor.buffer_view);
+        }
+      }
+    }
+    use_view_as(accessor, 34962, "VertexBuffer", pointer);
+  }
+
+  void attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer) {
+    const bool quantized = context_.declared("KHR_mesh_quantization");
+    std::vector<std::tuple<const char*, int, bool>> allowed;
+    if (name == "POSITION" || name == "NORMAL" || name == "TANGENT") {
+      const char* type = name == "TANGENT" ? "VEC4" : "VEC3";
+      allowed.push_back({type, 5126, false});
+      if (quantized) {
+        if (name == "POSITION")
+          for (int ct : {5120, 5121, 5122, 5123})
+            allowed.push_back({type, ct, false}), allowed.push_back({type, ct, true});
+        else
+          for (int ct : {5120, 5122}) allowed.push_back({type, ct, true});
+      }
+    } else if (name.starts_with("TEXCOORD_")) {
+      allowed = {{"VEC2", 5126, false}, {"VEC2", 5121, true}, {"VEC2", 5123, true}};
+      if (quantized)
+        for (int ct : {5120, 5121, 5122, 5123})
+          allowed.push_back({"VEC2", ct, false}), allowed.push_back({"VEC2", ct, true});
+    } else if (name.starts_with("COLOR_")) {
+      for (const char* type : {"VEC3", "VEC4"})
+        allowed.push_back({type, 5126, false}), allowed.push_back({type, 5121, true}),
+            allowed.push_back({type, 5123, true});
+    } else if (name.starts_with("JOINTS_")) {
+      allowed = {{"VEC4", 5121, false}, {"VEC4", 5123, false}};
+    } else if (name.starts_with("WEIGHTS_")) {
+      allowed = {{"VEC4", 5126, false}, {"VEC4", 5121, true}, {"VEC4", 5123, true}};
+    } else {
+      return;
+    }
+    for (const auto& [type, ct, normalized] : allowed)
+      if (accessor.type == type && accessor.component_type == ct && accessor.normalized == normalized) return;
+    std::vector<MessageArg> list;
+    for (const auto& [type, ct, normalized] : allowed) list.push_back(arg(format_name(type, ct, normalized)));
+    issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT", pointer,
+               {arg(format_name(accessor.type, accessor.component_type, accessor.normalized))}, list);
+  }
+
+  void mesh(std::size_t i) {
+    MeshModel& mesh = doc_.meshes[i];
+    for (PrimitiveModel& primitive : mesh.primitives) {
+      if (!primitive.object) continue;
+      const std::string& p = primitive.pointer;
+      std::int64_t vertex_count = -1;
+      bool have_count = false;
+      bool has_normal = false, has_tangent = false;
+      for (const auto& [name, index] : primitive.attributes) {
+        const std::string ap = p + "/attributes/" + escape_pointer_token(name);
+        if (name == "NORMAL") has_normal = true;
+        if (name == "TANGENT") has_tangent = true;
+        AccessorModel* accessor = resolve(doc_.accessors, index, ap);
+        if (!accessor) continue;
+        vertex_attribute(*accessor, name, ap);
+        if (accessor->usage == AccessorModel::Usage::None) accessor->semantic = name;
+        use_accessor(*accessor, AccessorModel::Usage::Vertex, ap);
+        if (accessor->count > 0) {
+          if (!have_count) {
+            vertex_count = accessor->count;
+            have_count = true;
+          } else if (vertex_count != accessor->count) {
+            issues_.at("MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT", ap);
+          }
+        }
+      }
+      pair_joints_and_weights(primitive);
+      if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
+        const bool valid =
+            indices->type == "SCALAR" && !indices->normalized &&
+            (indices->component_type == 5121 || indices->component_type == 5123 || indices->component_type == 5125);
+        if (!valid && !indices->type.empty() && indices->component_type != 0)
+          issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
+                     {arg(format_name(indices->type, indices->component_type, indices->normalized))},
+                     {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
+        stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
+        use_view_as(*indices, 34963, "IndexBuffer", p + "/indices");
+        use_accessor(*indices, AccessorModel::Usage::Index, p + "/indices");
+        if (indices->vertex_limit < 0) {
+          indices->vertex_limit = vertex_count;
+          indices->primitive_mode = primitive.mode;
+        }
+        incompatible_mode(primitive, indices->count, p + "/indices");
+      } else if (primitive.indices < 0 && vertex_count > 0) {
+        incompatible_mode(primitive, vertex_count, p + "/attributes");
+      }
+      MaterialModel* material = resolve(doc_.materials, primitive.material, p + "/material");
+      std::set<std::int64_t> used_sets;
+      if (material) {
+        if ((material->has_normal_texture || material->needs_tangents) && !(has_normal && has_tangent)) {
+          issues_.at(material->has_normal_texture ? "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE"
+                                                  : "MESH_PRIMITIVE_NO_TANGENT_SPACE",
+                     p + "/material");
+        }
+        for (const TextureRef& ref : material->textures) {
+          used_sets.insert(ref.tex_coord);
+          const std::string wanted = "TEXCOORD_" + std::to_string(ref.tex_coord);
+          const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
+                                           [&](const auto& attribute) { return attribute.first == wanted; });
+          if (!present)
+            issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", p + "/material", {arg(ref.pointer), arg(ref.tex_coord)});
+        }
+      }
+      if (has_tangent && (!material || !material->has_normal_texture))
+        issues_.at("UNUSED_MESH_TANGENT", p + "/attributes/TANGENT");
+      const bool variants_linked = doc_.has_variants_root;
+      if (variants_linked) {
+        for (std::size_t v = 0; v < primitive.variant_refs.size(); ++v)
+          resolve(doc_.variants, primitive.variant_refs[v], primitive.variant_pointers[v]);
+        for (const auto& [pointer, index] : primitive.variant_materials)
+          if (MaterialModel* variant_material = resolve(doc_.materials, index, pointer))
+            for (const TextureRef& ref : variant_material->textures) used_sets.insert(ref.tex_coord);
+      }
+      // TEXCOORD_0 .. TEXCOORD_{n-1}, n the number of texture coordinate sets, that no binding reads.
+      std::int64_t sets = 0;
+      for (const auto& [name, index] : primitive.attributes)
+        if (valid_texcoord(name)) ++sets;
+      for (std::int64_t set = 0; set < sets; ++set) {
+        const std::string name = "TEXCOORD_" + std::to_string(set);
+        const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
+                                         [&](const auto& attribute) { return attribute.first == name; });
+        if (present && !used_sets.contains(set)) issues_.at("UNUSED_OBJECT", p + "/attributes/" + name);
+      }
+      for (std::size_t t = 0; t < primitive.target_attributes.size(); ++t) {
+        for (const auto& [name, index] : primitive.target_attributes[t]) {
+          const std::string tp = p + "/targets/" + std::to_string(t) + "/" + escape_pointer_token(name);
+          const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
+                                           [&](const auto& attribute) { return attribute.first == name; });
+          if (!in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
+          AccessorModel* accessor = resolve(doc_.accessors, index, tp);
+          if (!accessor) continue;
+          use_view_as(*accessor, 34962, "VertexBuffer", tp);
+          if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
+            issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
+          attribute_format(*accessor, name, tp);
+          if (vertex_count > 0 && accessor->count > 0 && accessor->count != vertex_count)
+            issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
+        }
+      }
+      if (primitive.draco)
+        resolve(doc_.buffer_views, primitive.draco_buffer_view,
+                p + "/extensions/KHR_draco_mesh_compression/bufferView");
+    }
+  }
+
+  AccessorModel* accessor_at(std::int64_t index) {
+    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
+    AccessorModel& accessor = doc_.accessors[static_cast<std::size_t>(index)];
+    return accessor.object ? &accessor : nullptr;
+  }
+
+  // Spec 3.7.3.3: JOINTS_n and WEIGHTS_n are read together, set by set.
+  void pair_joints_and_weights(const PrimitiveModel& primitive) {
+    int weight_sets = 0;
+    for (const auto& [name, index] : primitive.attributes)
+      if (name.starts_with("WEIGHTS_")) ++weight_sets;
+    for (const auto& [name, index] : primitive.attributes) {
+      if (name.starts_with("WEIGHTS_")) {
+        if (AccessorModel* weights = accessor_at(index); weights && weight_sets > 1)
+          weights->weights_single_set = false;
+        continue;
+      }
+      if (!name.starts_with("JOINTS_")) continue;
+      AccessorModel* joints = accessor_at(index);
+      if (!joints || joints->paired_weights >= 0) continue;
+      const std::string weights_name = "WEIGHTS_" + name.substr(7);
+      for (const auto& [other, other_index] : primitive.attributes)
+        if (other == weights_name) joints->paired_weights = other_index;
+    }
+  }
+
+  void incompatible_mode(const PrimitiveModel& primitive, std::int64_t count, const std::string& pointer) {
+    if (count <= 0) return;  // unknown count: nothing to compare
+    static const char* names[] = {"POINTS",    "LINES",          "LINE_LOOP",   "LINE_STRIP",
+                                  "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+    bool ok = true;
+    switch (primitive.mode) {
+      case 1:
+        ok = count >= 2 && count % 2 == 0;
+        break;
+      case 2:
+      case 3:
+        ok = count >= 2;
+        break;
+      case 4:
+        ok = count >= 3 && count % 3 == 0;
+        break;
+      case 5:
+      case 6:
+        ok = count >= 3;
+        break;
+      default:
+        break;
+    }
+    if (!ok)
+      issues_.at("MESH_PRIMITIVE_INCOMPATIBLE_MODE", pointer,
+                 {arg(count), arg(names[std::clamp(primitive.mode, 0, 6)])});
+  }
+
+  void node(std::size_t i) {
+    NodeModel& node = doc_.nodes[i];
+    const std::string p = at("nodes", i);
+    if (resolve(doc_.cameras, node.camera, p + "/camera")) node.empty = false;
+    SkinModel* skin = resolve(doc_.skins, node.skin, p + "/skin");
+    MeshModel* mesh = resolve(doc_.meshes, node.mesh, p + "/mesh");
+    if (mesh) node.empty = false;
+    if (mesh) {
+      std::int64_t targets = 0;
+      bool skinned = false;
+      for (const auto& primitive : mesh->primitives) {
+        targets = std::max(targets, primitive.targets);
+        for (const auto& [name, index] : primitive.attributes)
+          if (name.starts_with("JOINTS_")) skinned = true;
+      }
+      if (node.weights >= 0 && node.weights != targets)
+        issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});
+      if (skinned && !skin && node.skin < 0) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);
+      if (skinned && skin)
+        for (const auto& primitive : mesh->primitives)
+          for (const auto& [name, index] : primitive.attributes)
+            if (AccessorModel* joints = accessor_at(index); joints && name.starts_with("JOINTS_") && joints->skin < 0) {
+              joints->skin = node.skin;
+              joints->joint_count = static_cast<std::int64_t>(skin->joints.size());
+            }
+      if (!skinned && skin) issues_.at("NODE_SKIN_WITH_NON_SKINNED_MESH", p);
+    }
+    for (std::size_t c = 0; c < node.children.size(); ++c) {
+      const std::int64_t child = node.children[c];
+      NodeModel* child_node = resolve(doc_.nodes, child, p + "/children/" + std::to_string(c));
+      if (!child_node) continue;
+      if (child_node->parent >= 0)
+        issues_.at("NODE_PARENT_OVERRIDE", p + "/children/" + std::to_string(c), {arg(child)});
+      else
+        child_node->parent = static_cast<std::int64_t>(i);
+    }
+    // Without the root KHR_lights_punctual object the dependency error stands alone.
+    if (node.light >= 0 && doc_.has_lights_root)
+      resolve(doc_.lights, node.light, p + "/extensions/KHR_lights_punctual/light");
+  }
+
+  void scene(std::size_t s) {
+    const std::string p = at("scenes", s) + "/nodes/";
+    const auto& nodes = doc_.scenes[s];
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      NodeModel* node = resolve(doc_.nodes, nodes[k], p + std::to_string(k));
+      if (node && node->parent >= 0) issues_.at("SCENE_NON_ROOT_NODE", p + std::to_string(k), {arg(nodes[k])});
+    }
+  }
+
+  void skin(std::size_t i) {
+    SkinModel& skin = doc_.skins[i];
+    const std::string p = at("skins", i);
+    for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+      if (NodeModel* joint = resolve(doc_.nodes, skin.joints[j], p + "/joints/" + std::to_string(j)))
+        joint->joint = true;
+    }
+    const std::vector<std::int64_t> roots = common_roots(skin);
+    if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
+    if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
+      if (!ibm->type.empty() && ibm->component_type != 0 && (ibm->type != "MAT4" || ibm->component_type != 5126))
+        issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
+                   {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
+      stride_forbidden(*ibm, p + "/inverseBindMatrices", "SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE");
+      if (ibm->count > 0 && ibm->count < static_cast<std::int64_t>(skin.joints.size()))
+        issues_.at("INVALID_IBM_ACCESSOR_COUNT", p + "/inverseBindMatrices",
+                   {arg(static_cast<std::uint64_t>(skin.joints.size())), arg(ibm->count)});
+      use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
+    }
+    // A skeleton names a node without putting it into use (reference behaviour; joints do).
+    // Spec 3.7.3.1: when defined, it is the common root of the joints' hierarchy.
+    if (resolve(doc_.nodes, skin.skeleton, p + "/skeleton", false) && !roots.empty() &&
+        std::find(roots.begin(), roots.end(), skin.skeleton) == roots.end())
+      issues_.at("SKIN_SKELETON_INVALID", p + "/skeleton");
+  }
+
+  void texture(std::size_t i) {
+    TextureModel& texture = doc_.textures[i];
+    const std::string p = at("textures", i);
+    if (ImageModel* image = resolve(doc_.images, texture.source, p + "/source")) {
+      if (!image->mime_type.empty() && image->mime_type != "image/png" && image->mime_type != "image/jpeg")
+        issues_.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", p + "/source", {arg(image->mime_type)},
+                   {arg("image/jpeg"), arg("image/png")});
+    }
+    resolve(doc_.samplers, texture.sampler, p + "/sampler");
+    for (const auto& [pointer, index] : texture.extension_sources) resolve(doc_.images, index, pointer);
+  }
+
+  // Spec 3.5.3: nodes form disjoint strict trees. Iterative Tarjan: a node is in a loop when its
+  // strongly connected component has more than one node, or it is its own child.
+  void find_loops() {
+    const std::size_t count = doc_.nodes.size();
+    in_loop_.assign(count, 0);
+    std::vector<char>& in_loop = in_loop_;
+    {
+      std::vector<std::int64_t> index(count, -1), low(count, 0);
+      std::vector<char> on_stack(count, 0);
+      std::vector<std::size_t> stack;
+      std::int64_t next = 0;
+      std::vector<std::pair<std::size_t, std::size_t>> frames;
+      for (std::size_t start = 0; start < count; ++start) {
+        if (index[start] >= 0 || !doc_.nodes[start].object) continue;
+        frames.push_back({start, 0});
+        index[start] = low[start] = next++;
+        stack.push_back(start);
+        on_stack[start] = 1;
+        while (!frames.empty()) {
+          auto& [v, edge] = frames.back();
+          const auto& children = doc_.nodes[v].children;
+          if (edge < children.size()) {
+            const std::int64_t w64 = children[edge++];
+            if (w64 < 0 || static_cast<std::size_t>(w64) >= count || !doc_.nodes[static_cast<std::size_t>(w64)].object)
+              continue;
+            const std::size_t w = static_cast<std::size_t>(w64);
+            if (w == v) in_loop[v] = 1;
+            if (index[w] < 0) {
+              index[w] = low[w] = next++;
+              stack.push_back(w);
+              on_stack[w] = 1;
+              frames.push_back({w, 0});
+            } else if (on_stack[w]) {
+              low[v] = std::min(low[v], index[w]);
+            }
+            continue;
+          }
+          const std::size_t finished = v;
+          frames.pop_back();
+          if (!frames.empty()) low[frames.back().first] = std::min(low[frames.back().first], low[finished]);
+          if (low[finished] == index[finished]) {
+            std::vector<std::size_t> component;
+            while (true) {
+              const std::size_t w = stack.back();
+              stack.pop_back();
+              on_stack[w] = 0;
+              component.push_back(w);
+              if (w == finished) break;
+            }
+            if (component.size() > 1)
+              for (std::size_t w : component) in_loop[w] = 1;
+          }
+        }
+      }
+    }
+  }
+
+  // Node checks that need every parent link: loops, skinned meshes below transformed parents,
+  // empty nodes.
+  void node_graph() {
+    const std::size_t count = doc_.nodes.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      const NodeModel& node = doc_.nodes[i];
+      if (!node.object) continue;
+      const std::string p = at("nodes", i);
+      if (in_loop_[i]) {
+        issues_.at("NODE_LOOP", p);
+        continue;
+      }
+      if (node.skin >= 0 && node.mesh >= 0 && !node.is_identity_transform)
+        issues_.at("NODE_SKINNED_MESH_LOCAL_TRANSFORMS", p);
+      if (node.skin >= 0 && node.mesh >= 0 && node.parent >= 0) {
+        bool transformed = false;
+        std::int64_t parent = node.parent;
+        for (std::size_t steps = 0; parent >= 0 && steps < count; ++steps) {
+          const NodeModel& up = doc_.nodes[static_cast<std::size_t>(parent)];
+          if (!up.is_identity_transform) transformed = true;
+          parent = up.parent;
+        }
+        if (transformed) issues_.at("NODE_SKINNED_MESH_PARENT_TRANSFORMS", p);
+        issues_.at("NODE_SKINNED_MESH_NON_ROOT", p);
+      }
+      if (node.empty && !node.joint) issues_.at("NODE_EMPTY", p);
+    }
+  }
+
+  // A node and its ancestors, nearest first; the walk stops at a loop.
+  std::vector<std::int64_t> ancestors(std::size_t node) {
+    std::vector<std::int64_t> chain{static_cast<std::int64_t>(node)};
+    std::int64_t parent = doc_.nodes[node].parent;
+    for (std::size_t steps = 0; parent >= 0 && steps < doc_.nodes.size(); ++steps) {
+      if (in_loop_[static_cast<std::size_t>(parent)]) break;
+      chain.push_back(parent);
+      parent = doc_.nodes[static_cast<std::size_t>(parent)].parent;
+    }
+    return chain;
+  }
+
+  // The nodes that are ancestors (or selves) of every resolved joint; unresolved joints are
+  // skipped, and a skin with no resolved joint has no root.
+  std::vector<std::int64_t> common_roots(const SkinModel& skin) {
+    std::vector<std::int64_t> common;
+    bool first = true;
+    for (std::int64_t joint : skin.joints) {
+      if (joint < 0 || static_cast<std::size_t>(joint) >= doc_.nodes.size() ||
+          !doc_.nodes[static_cast<std::size_t>(joint)].object)
+        continue;
+      auto chain = ancestors(static_cast<std::size_t>(joint));
+      if (first) {
+        common = chain;
+        first = false;
+        continue;
+      }
+      std::vector<std::int64_t> kept;
+      for (std::int64_t item : common)
+        if (std::find(chain.begin(), chain.end(), item) != chain.end()) kept.push_back(item);
+      common = std::move(kept);
+    }
+    return common;
+  }
+
+  Context& context_;
+  IssueSink& issues_;
+  Document& doc_;
+  std::set<std::int64_t> stride_reported_;
+  std::map<std::int64_t, std::vector<std::int64_t>> view_accessors_;  // vertex accessors per buffer view
+  std::vector<char> in_loop_;                                         // per node, from find_loops()
+};
+
+}  // namespace
+
+void check_links(Context& context) { Linker(context).run(); }
+
+void report_unused(Context& context) {
+  Document& doc = context.doc;
+  IssueSink& issues = context.issues;
+  auto each = [&](const auto& list, const char* collection) {
+    for (std::size_t i = 0; i < list.size(); ++i)
+      if (list[i].object && !list[i].used)
+        issues.at("UNUSED_OBJECT", "/" + std::string(collection) + "/" + std::to_string(i));
+  };
+  for (std::size_t a = 0; a < doc.animations.size(); ++a) {
+    const auto& samplers = doc.animations[a].samplers;
+    for (std::size_t s = 0; s < samplers.size(); ++s)
+      if (samplers[s].object && !samplers[s].used)
+        issues.at("UNUSED_OBJECT", "/animations/" + std::to_string(a) + "/samplers/" + std::to_string(s));
+  }
+  each(doc.accessors, "accessors");
+  each(doc.buffers, "buffers");
+  each(doc.buffer_views, "bufferViews");
+  each(doc.cameras, "cameras");
+  each(doc.images, "images");
+  each(doc.materials, "materials");
+  for (std::size_t i = 0; i < doc.meshes.size(); ++i) {
+    if (!doc.meshes[i].object) continue;
+    if (!doc.meshes[i].used) issues.at("UNUSED_OBJECT", "/meshes/" + std::to_string(i));
+  }
+  each(doc.nodes, "nodes");
+  each(doc.samplers, "samplers");
+  each(doc.skins, "skins");
+  each(doc.textures, "textures");
+  each(doc.lights, "extensions/KHR_lights_punctual/lights");
+  each(doc.variants, "extensions/KHR_materials_variants/variants");
+}
+
+}  // namespace gltf_pbr::structure

@@ -1,0 +1,92 @@
+// Typed property reads against the glTF 2.0 JSON schema (spec section 5 "Properties Reference"):
+// each read reports TYPE_MISMATCH, UNDEFINED_PROPERTY, VALUE_NOT_IN_RANGE and the like at the
+// property's JSON pointer, and returns the value only when it is valid.
+#pragma once
+#include <initializer_list>
+#include <limits>
+
+#include "validators/structure/structure_internal.hpp"
+
+namespace gltf_pbr::structure {
+
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_exclusive = false;
+  bool max_exclusive = false;
+  bool contains(double value) const {
+    if (!(value == value)) return false;
+    if (min_exclusive ? value <= min : value < min) return false;
+    if (max_exclusive ? value >= max : value > max) return false;
+    return true;
+  }
+};
+
+class SchemaReader {
+ public:
+  explicit SchemaReader(Context& context) : context_(context), issues_(context.issues) {}
+
+  static std::string child(const std::string& pointer, std::string_view key) {
+    return pointer + "/" + escape_pointer_token(key);
+  }
+  static std::string child(const std::string& pointer, std::size_t index) {
+    return pointer + "/" + std::to_string(index);
+  }
+
+  // UNEXPECTED_PROPERTY for every key the schema does not name, in document order.
+  void check_members(const Json& object, const std::string& pointer, std::initializer_list<std::string_view> known);
+
+  std::int64_t index(const Json& object, const std::string& pointer, std::string_view key, bool required = false);
+  std::optional<std::int64_t> integer(const Json& object, const std::string& pointer, std::string_view key,
+                                      bool required = false, Range range = {},
+                                      std::initializer_list<std::int64_t> allowed = {});
+  std::optional<double> number(const Json& object, const std::string& pointer, std::string_view key,
+                               bool required = false, Range range = {});
+  std::optional<std::string> string(const Json& object, const std::string& pointer, std::string_view key,
+                                    bool required = false, std::initializer_list<std::string_view> allowed = {});
+  std::optional<bool> boolean(const Json& object, const std::string& pointer, std::string_view key);
+  // A fixed-length (or any length when `lengths` is empty) array of numbers in `range`.
+  std::optional<std::vector<double>> numbers(const Json& object, const std::string& pointer, std::string_view key,
+                                             std::initializer_list<int> lengths = {}, Range range = {},
+                                             bool required = false);
+  std::optional<std::vector<std::int64_t>> indices(const Json& object, const std::string& pointer, std::string_view key,
+                                                   bool required = false);
+  const Json* object(const Json& object, const std::string& pointer, std::string_view key, bool required = false);
+  // The array of objects under `key`; non-objects are reported and given as nullptr so that the
+  // caller's indices stay aligned with the document's.
+  std::optional<std::vector<const Json*>> object_array(const Json& object, const std::string& pointer,
+                                                       std::string_view key, bool required, bool root_level);
+  void extras(const Json& object, const std::string& pointer);
+
+  // UNDEFINED_PROPERTY, counted: an object that misses a required property is reported but not
+  // linked or checked further (the reference drops it after its schema errors).
+  void missing(const std::string& pointer, std::string_view key) {
+    issues_.at("UNDEFINED_PROPERTY", pointer, {arg(key)});
+    ++missing_count_;
+  }
+  std::size_t missing_count() const { return missing_count_; }
+  void set_missing_count(std::size_t count) { missing_count_ = count; }
+
+  IssueSink& issues() { return issues_; }
+  Context& context() { return context_; }
+
+ private:
+  const Json* find(const Json& object, std::string_view key) const {
+    // The reference reads JSON into Dart maps, where a null value and a missing key are the same.
+    auto found = object.find(std::string(key));
+    return found == object.end() || found->is_null() ? nullptr : &*found;
+  }
+  Context& context_;
+  IssueSink& issues_;
+  std::size_t missing_count_ = 0;
+};
+
+inline bool is_integer(const Json& value) { return value.is_number_integer(); }
+
+// Whether `object` defines `key` (a null value does not, as in the reference's Dart maps).
+inline bool present(const Json& object, std::string_view key) {
+  auto found = object.find(std::string(key));
+  return found != object.end() && !found->is_null();
+}
+
+}  // namespace gltf_pbr::structure

@@ -1,0 +1,295 @@
+// Shared state of the structure validator's passes (validators/structure/*.cpp). The passes run in
+// the order the Khronos glTF-Validator reports in: GLB container, JSON parse, schema walk (with the
+// checks that need one object only), links (references, bounds, usages), unused objects, then
+// resources (buffers, images) and accessor data.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/json_pointer.hpp"
+#include "core/report.hpp"
+#include "rules/rule_set.hpp"
+#include "validators/structure/structure.hpp"
+
+namespace gltf_pbr::structure {
+
+using Json = nlohmann::ordered_json;
+
+// One argument of a message template: numbers follow Dart's printing (the reference runs on the
+// Dart VM: integral doubles print as "1.0"), strings are quoted where the template quotes them.
+struct MessageArg {
+  std::string text;
+  bool is_string = false;  // quoted as 'text' in '`%N`' slots
+};
+MessageArg arg(std::string_view text);  // a string
+MessageArg arg(std::int64_t value);
+MessageArg arg(std::uint64_t value);
+MessageArg arg(int value);
+MessageArg arg_double(double value);
+MessageArg arg_json(const Json& value);  // a JSON value as the reference prints it
+MessageArg arg_raw(std::string text);    // never quoted
+
+std::string format_double(double value);
+
+// Emits issues with the catalogue's severity and message template (rules/structure.json).
+class IssueSink {
+ public:
+  IssueSink(const RuleSet& rules, Report& report) : rules_(rules), report_(report) {}
+  void at(const std::string& code, const std::string& pointer, const std::vector<MessageArg>& args = {},
+          const std::vector<MessageArg>& list = {});
+  void at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args = {});
+  bool enabled(const std::string& code) const { return rules_.enabled(code); }
+
+ private:
+  std::string format(const std::string& code, const std::vector<MessageArg>& args,
+                     const std::vector<MessageArg>& list) const;
+  const RuleSet& rules_;
+  Report& report_;
+};
+
+// ---- The document model the schema walk fills and the later passes read. Indices are -1 when
+// absent or invalid; every entity remembers whether it was a JSON object (non-objects are reported
+// once and skipped afterwards) and whether anything references it (UNUSED_OBJECT).
+
+struct AccessorModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t buffer_view = -1;
+  std::int64_t byte_offset = 0;
+  bool has_byte_offset = false;
+  int component_type = 0;  // 0: absent or invalid
+  std::int64_t count = -1;
+  std::string type;  // "" when absent or invalid
+  bool normalized = false;
+  bool has_min = false, has_max = false;
+  std::vector<double> min, max;
+  bool sparse = false;
+  std::int64_t sparse_count = 0;
+  std::int64_t sparse_indices_view = -1, sparse_indices_offset = 0;
+  int sparse_indices_component_type = 0;
+  std::int64_t sparse_values_view = -1, sparse_values_offset = 0;
+  // Usage, for the data checks: where the first use is and what it asks of the values.
+  enum class Usage { None, Vertex, Index, AnimationInput, AnimationOutput, InverseBindMatrices, Other };
+  Usage usage = Usage::None;
+  std::string semantic;        // first mesh attribute semantic (NORMAL, TANGENT, COLOR_0, ...)
+  std::string usage_pointer;   // pointer of the first use that carries a data check
+  std::string animation_path;  // for AnimationOutput
+  std::string interpolation;
+  // Indices: the vertex count and drawing mode of the first primitive that draws with them.
+  std::int64_t vertex_limit = -1;
+  int primitive_mode = 4;
+  bool fits = false;  // the link pass found it inside its buffer view
+  // JOINTS_n: the WEIGHTS_n accessor of the same primitive, and the skin that binds it.
+  std::int64_t paired_weights = -1;
+  std::int64_t skin = -1;
+  std::int64_t joint_count = -1;
+  bool weights_single_set = true;  // WEIGHTS_n: the primitive has only WEIGHTS_0
+};
+
+struct BufferViewModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t buffer = -1;
+  std::int64_t byte_offset = 0;
+  std::int64_t byte_length = -1;
+  std::int64_t byte_stride = 0;
+  int target = 0;
+  int usage_target = 0;  // 34962 vertex, 34963 index, 1 other (image, IBM, animation)
+  std::string usage_name;
+  int accessor_uses = 0;  // attribute accessors referencing it (MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE)
+};
+
+struct BufferModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  bool has_uri = false;
+  bool uri_valid = false;
+  bool data_uri = false;
+  bool non_relative = false;  // named by an absolute URI: reported, never fetched
+  std::string uri;
+  std::int64_t byte_length = -1;
+  std::vector<std::uint8_t> owned;     // decoded data URI or external file
+  std::span<const std::uint8_t> data;  // the bytes: `owned`, or the GLB BIN chunk (not copied)
+  bool data_loaded = false;
+};
+
+struct TextureRef {
+  std::string pointer;  // of the textureInfo object
+  std::int64_t index = -1;
+  std::int64_t tex_coord = 0;
+};
+
+struct MaterialModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::vector<TextureRef> textures;  // in the order the reference lists texture bindings
+  bool has_normal_texture = false;
+  bool needs_tangents = false;  // KHR_materials_anisotropy shades along tangents
+  std::int64_t normal_tex_coord = 0;
+};
+
+struct PrimitiveModel {
+  bool object = false;
+  std::string pointer;
+  std::vector<std::pair<std::string, std::int64_t>> attributes;  // JSON order
+  std::int64_t indices = -1;
+  std::int64_t material = -1;
+  int mode = 4;
+  std::int64_t targets = -1;  // -1: no targets property
+  std::vector<std::vector<std::pair<std::string, std::int64_t>>> target_attributes;
+  bool draco = false;
+  std::int64_t draco_buffer_view = -1;
+  std::map<std::string, std::int64_t> draco_attributes;
+  std::vector<std::int64_t> variant_refs;
+  std::vector<std::string> variant_pointers;                            // beside variant_refs
+  std::vector<std::pair<std::string, std::int64_t>> variant_materials;  // pointer, material index
+};
+
+struct MeshModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::vector<PrimitiveModel> primitives;
+  std::int64_t weights = -1;
+};
+
+struct NodeModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t camera = -1, skin = -1, mesh = -1, light = -1;
+  std::vector<std::int64_t> children;
+  bool has_matrix = false, has_trs = false;
+  bool is_identity_transform = true;
+  std::int64_t weights = -1;
+  std::int64_t parent = -1;
+  bool empty = false;
+  bool joint = false;
+};
+
+struct SkinModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t inverse_bind_matrices = -1, skeleton = -1;
+  std::vector<std::int64_t> joints;
+};
+
+struct AnimationSamplerModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t input = -1, output = -1;
+  std::string interpolation = "LINEAR";
+};
+struct AnimationChannelModel {
+  bool object = false;
+  std::int64_t sampler = -1, node = -1;
+  std::string path;
+  bool pointer_extension = false;  // a declared KHR_animation_pointer object on the target
+  bool target_has_node = false;
+  std::string raw_path;  // target.path as written, when a string
+};
+struct AnimationModel {
+  bool object = false;
+  bool valid = true;
+  std::vector<AnimationSamplerModel> samplers;
+  std::vector<AnimationChannelModel> channels;
+};
+
+struct ImageModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::string uri;
+  bool has_uri = false, uri_valid = false, data_uri = false;
+  std::string mime_type;
+  std::string data_uri_mime;
+  std::int64_t buffer_view = -1;
+  std::vector<std::uint8_t> data;  // decoded data URI
+};
+
+struct TextureModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+  std::int64_t sampler = -1, source = -1;
+  std::vector<std::pair<std::string, std::int64_t>> extension_sources;  // pointer, image index
+};
+
+struct SimpleModel {
+  bool object = false;
+  bool valid = true;  // no required property missing: linked and checked
+  bool used = false;
+};
+
+struct Document {
+  std::vector<AccessorModel> accessors;
+  std::vector<AnimationModel> animations;
+  std::vector<BufferModel> buffers;
+  std::vector<BufferViewModel> buffer_views;
+  std::vector<SimpleModel> cameras;
+  std::vector<ImageModel> images;
+  std::vector<MaterialModel> materials;
+  std::vector<MeshModel> meshes;
+  std::vector<NodeModel> nodes;
+  std::vector<SimpleModel> samplers;
+  std::vector<std::vector<std::int64_t>> scenes;
+  std::int64_t scene = -1;
+  std::vector<SkinModel> skins;
+  std::vector<TextureModel> textures;
+  std::vector<SimpleModel> lights;
+  std::vector<SimpleModel> variants;
+  bool has_lights_root = false, has_variants_root = false;
+  std::vector<std::string> extensions_used;
+  std::vector<std::string> extensions_seen;  // known extension objects met anywhere, declared or not
+  std::vector<std::string> extensions_required;
+  std::string version;
+};
+
+// A reference to check in the link pass: pointer, index and which collection it targets.
+struct Context {
+  Context(const RuleSet& rules, Report& report_, const StructureOptions& options_)
+      : issues(rules, report_), report(report_), options(options_) {}
+  IssueSink issues;
+  Report& report;
+  const StructureOptions& options;
+  std::filesystem::path base_dir;
+  bool glb = false;
+  std::optional<std::span<const std::uint8_t>> glb_bin;  // the GLB BIN chunk, when present
+  Json root;
+  Document doc;
+  nlohmann::ordered_json resources = nlohmann::ordered_json::array();  // info.resources, in order
+  bool declared(std::string_view extension) const;
+};
+
+// ---- Passes.
+// Splits a GLB into its JSON and BIN chunks, reporting container issues by byte offset. Returns the
+// JSON text to parse, or nullopt when there is none (the reference then stops).
+std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8_t> bytes, Context& context,
+                                                      bool& json_empty_duplicate);
+// Parses JSON text into context.root, reporting INVALID_JSON; false when unreadable.
+bool parse_json(std::span<const std::uint8_t> text, Context& context);
+bool walk_schema(Context& context);      // false: stop (no usable asset)      // schema.cpp
+void check_links(Context& context);      // links.cpp
+void report_unused(Context& context);    // links.cpp
+void check_resources(Context& context);  // data.cpp: buffers, images, accessor data
+void fill_info(Context& context);        // info.cpp
+
+// Accessor helpers shared by links and data.
+int component_size(int component_type);
+int component_count(const std::string& type);
+const char* component_type_name(int component_type);
+
+}  // namespace gltf_pbr::structure
