@@ -11,6 +11,7 @@
 #include "core/files.hpp"
 #include "core/image.hpp"
 #include "preview/brdf.hpp"
+#include "preview/fast_math.hpp"
 #include "preview/raster.hpp"
 
 namespace gltf_pbr::preview {
@@ -194,7 +195,7 @@ glm::vec3 EquirectMap::sample(glm::vec3 d) const { return sample_uv(uv_of(d)); }
 
 glm::vec3 EquirectMap::sample_uv(glm::vec2 uv) const {
   const float fx = uv.x * static_cast<float>(width) - 0.5f, fy = uv.y * static_cast<float>(height) - 0.5f;
-  const float x0f = std::floor(fx), y0f = std::floor(fy);
+  const float x0f = floor_fast(fx), y0f = floor_fast(fy);
   const float tx = fx - x0f, ty = fy - y0f;
   const int x0 = std::clamp(static_cast<int>(x0f), -1, width - 1), y0 = static_cast<int>(y0f);
   auto wrap_x = [&](int x) { return x < 0 ? x + width : (x >= width ? x - width : x); };
@@ -238,8 +239,8 @@ glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
   static const DfgTable table;
   const float fx = std::sqrt(std::clamp(n_dot_v, 0.0f, 1.0f)) * kDfgSize - 0.5f;
   const float fy = std::clamp(roughness, 0.0f, 1.0f) * kDfgSize - 0.5f;
-  const int x0 = std::clamp(static_cast<int>(std::floor(fx)), 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
-  const int y0 = std::clamp(static_cast<int>(std::floor(fy)), 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
+  const int x0 = std::clamp(static_cast<int>(floor_fast(fx)), 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
+  const int y0 = std::clamp(static_cast<int>(floor_fast(fy)), 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
   const float tx = std::clamp(fx - static_cast<float>(x0), 0.0f, 1.0f),
               ty = std::clamp(fy - static_cast<float>(y0), 0.0f, 1.0f);
   auto at = [&](int x, int y) { return table.values[static_cast<size_t>(y * kDfgSize + x)]; };

@@ -3,11 +3,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <new>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "converter/solver.hpp"
 #include "core/color.hpp"
+#include "preview/texture_sampler.hpp"
 
 namespace gltf_pbr::preview {
 namespace {
@@ -21,8 +28,15 @@ std::uint8_t srgb8(float linear) { return encode_srgb8(linear); }
 
 struct SrgbEncode {
   std::vector<std::uint8_t> code;
-  SrgbEncode() : code(65536) {
-    for (size_t i = 0; i < code.size(); ++i) code[i] = unorm8(linear_to_srgb(static_cast<float>(i) / 65535.0f));
+  // unorm8(linear_to_srgb(x)) steps from k - 1 to k where linear_to_srgb(x) = (k - 0.5) / 255, that
+  // is at x = srgb_to_linear((k - 0.5) / 255) (IEC 61966-2-1 is monotonic): 255 transfer-function
+  // calls build the table instead of 65536, which a one-image run would pay in its G-buffer time.
+  SrgbEncode() : code(65536, 255) {
+    size_t i = 0;
+    for (int k = 1; k < 256; ++k) {
+      const float step = srgb_to_linear((static_cast<float>(k) - 0.5f) / 255.0f) * 65535.0f;
+      for (; i < code.size() && static_cast<float>(i) < step; ++i) code[i] = static_cast<std::uint8_t>(k - 1);
+    }
   }
 };
 
@@ -120,68 +134,80 @@ int GBuffer::bytes_per_pixel() const {
   return total;
 }
 
-GBufferTexel read_after(const GBuffer& g, size_t i) {
+namespace {
+
+// One side's texel; `unpack_normal` false leaves the normal at its default for callers that
+// already hold it (the normal bits are the same on both sides, see light_both).
+GBufferTexel read_side(const GBuffer& g, size_t i, bool after, bool unpack_normal) {
   GBufferTexel t;
   t.covered = std::isfinite(g.depth[i]);
   if (!t.covered) return t;
   const auto& lut = srgb_decode().linear;
-  t.normal = normal_of(g.normal[i]);
+  if (unpack_normal) t.normal = normal_of(g.normal[i]);
   t.scalar = scalar_of(g.normal[i]);
-  const AlbedoMetalness& a = g.albedo[i];
-  t.color_a = glm::vec3(lut[a.albedo_srgb[0]], lut[a.albedo_srgb[1]], lut[a.albedo_srgb[2]]);
-  t.color_b = glm::vec3(static_cast<float>(a.metalness) / 255.0f, 0.0f, 0.0f);
+  if (after) {
+    const AlbedoMetalness& a = g.albedo[i];
+    t.color_a = glm::vec3(lut[a.albedo_srgb[0]], lut[a.albedo_srgb[1]], lut[a.albedo_srgb[2]]);
+    t.color_b = glm::vec3(static_cast<float>(a.metalness) / 255.0f, 0.0f, 0.0f);
+  } else {
+    const DiffuseSpecular& d = g.diffspec[i];
+    t.color_a = glm::vec3(lut[d.diffuse_srgb[0]], lut[d.diffuse_srgb[1]], lut[d.diffuse_srgb[2]]);
+    t.color_b = glm::vec3(lut[d.specular_srgb[0]], lut[d.specular_srgb[1]], lut[d.specular_srgb[2]]);
+  }
   if (!g.emissive.empty()) t.emissive = unpack_rgb9e5(g.emissive[i].rgb9e5);
   if (!g.occlusion.empty()) t.occlusion = static_cast<float>(g.occlusion[i]) / 255.0f;
   return t;
 }
 
-GBufferTexel read_before(const GBuffer& g, size_t i) {
-  GBufferTexel t;
-  t.covered = std::isfinite(g.depth[i]);
-  if (!t.covered) return t;
-  const auto& lut = srgb_decode().linear;
-  t.normal = normal_of(g.normal[i]);
-  t.scalar = scalar_of(g.normal[i]);
-  const DiffuseSpecular& d = g.diffspec[i];
-  t.color_a = glm::vec3(lut[d.diffuse_srgb[0]], lut[d.diffuse_srgb[1]], lut[d.diffuse_srgb[2]]);
-  t.color_b = glm::vec3(lut[d.specular_srgb[0]], lut[d.specular_srgb[1]], lut[d.specular_srgb[2]]);
-  if (!g.emissive.empty()) t.emissive = unpack_rgb9e5(g.emissive[i].rgb9e5);
-  if (!g.occlusion.empty()) t.occlusion = static_cast<float>(g.occlusion[i]) / 255.0f;
-  return t;
-}
+}  // namespace
+
+GBufferTexel read_after(const GBuffer& g, size_t i) { return read_side(g, i, true, true); }
+GBufferTexel read_before(const GBuffer& g, size_t i) { return read_side(g, i, false, true); }
+GBufferTexel read_before_material(const GBuffer& g, size_t i) { return read_side(g, i, false, false); }
 
 GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, const Camera& camera) {
   GBuffers out;
   const size_t count = visibility.samples.size();
+  // Sized, not cleared: the loop below writes every pixel, empty ones with the defaults.
   for (GBuffer* g : {&out.before, &out.after}) {
     g->width = visibility.width;
     g->height = visibility.height;
-    g->depth.assign(count, std::numeric_limits<float>::infinity());
-    g->normal.assign(count, NormalAndScalar{0});
-    if (scene.stats.uses_emission) g->emissive.assign(count, Emissive{0});
-    if (scene.stats.uses_occlusion) g->occlusion.assign(count, 255);
+    g->depth.resize(count);
+    g->normal.resize(count);
+    if (scene.stats.uses_emission) g->emissive.resize(count);
+    if (scene.stats.uses_occlusion) g->occlusion.resize(count);
   }
-  out.after.albedo.assign(count, AlbedoMetalness{});
-  out.before.diffspec.assign(count, DiffuseSpecular{});
+  out.after.albedo.resize(count);
+  out.before.diffspec.resize(count);
   const int width = visibility.width;
   const RayGenerator rays(camera, visibility.width, visibility.height);
+  // Which of a material's textures share texel coordinates and mip level (texture_sampler.hpp).
+  std::vector<MaterialSamplingPlan> plans;
+  plans.reserve(scene.materials.size());
+  for (const PreviewMaterial& material : scene.materials) plans.push_back(plan_sampling(material));
   parallel_dynamic(visibility.height, [&](std::int64_t y) {
     for (int x = 0; x < width; ++x) {
       const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
       const VisibilitySample& s = visibility.samples[i];
-      if (s.empty()) continue;
+      if (s.empty()) {
+        out.after.depth[i] = out.before.depth[i] = std::numeric_limits<float>::infinity();
+        out.after.normal[i] = out.before.normal[i] = NormalAndScalar{0};
+        out.after.albedo[i] = AlbedoMetalness{};
+        out.before.diffspec[i] = DiffuseSpecular{};
+        if (scene.stats.uses_occlusion) out.after.occlusion[i] = out.before.occlusion[i] = 255;
+        if (scene.stats.uses_emission) out.after.emissive[i] = out.before.emissive[i] = Emissive{0};
+        continue;
+      }
       const std::uint32_t triangle_index = s.index();
       const Triangle& triangle = scene.triangles[triangle_index];
       const PreviewMaterial& m = scene.materials[static_cast<size_t>(triangle.material)];
+      const MaterialSamplingPlan& plan = plans[static_cast<size_t>(triangle.material)];
       const SurfacePoint p = interpolate(scene, triangle_index, glm::vec3(1.0f - s.b1 - s.b2, s.b1, s.b2));
       // Texture footprint by ray differentials (Igehy 1999, "Tracing Ray Differentials"): the
       // rays through the next pixel in x and in y, intersected with the triangle's plane
       // (Moller & Trumbore 1997), give the change of barycentrics and so of each UV set.
       UvDerivatives derivatives;
-      const bool textured = m.base_color_texture || m.metallic_roughness_texture || m.diffuse_texture ||
-                            m.spec_gloss_texture || m.normal_texture || m.occlusion_texture || m.emissive_texture ||
-                            m.original_base_color_texture || m.original_metallic_roughness_texture;
-      if (textured) {
+      if (plan.textured) {
         const Vertex& v0 = scene.vertices[triangle.vertex[0]];
         const Vertex& v1 = scene.vertices[triangle.vertex[1]];
         const Vertex& v2 = scene.vertices[triangle.vertex[2]];
@@ -206,7 +232,7 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
             derivatives.dy[set] = du1 * step_y.x + du2 * step_y.y;
           }
       }
-      const UvDerivatives* footprint = &derivatives;
+      PixelSampler sample(plan, p.uv, &derivatives);
       // Shading normal (glTF 2.0 section 3.7.2.1: flat normals without NORMAL; back faces of
       // double-sided materials reverse their normals, section 3.9.5).
       const float face_length = glm::length(p.face_normal);
@@ -222,7 +248,7 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
         if (t_length > 1e-12f) {
           const glm::vec3 tangent = t / t_length;
           const glm::vec3 bitangent = glm::cross(n, tangent) * (p.tangent.w < 0.0f ? -1.0f : 1.0f);
-          const glm::vec4 texel = sample(m.normal_texture, p.uv, footprint);
+          const glm::vec4 texel = sample(m.normal_texture, kNormalSlot);
           const glm::vec3 local = glm::vec3((texel.x * 2.0f - 1.0f) * m.normal_scale,
                                             (texel.y * 2.0f - 1.0f) * m.normal_scale, texel.z * 2.0f - 1.0f);
           const glm::vec3 mapped = tangent * local.x + bitangent * local.y + n * local.z;
@@ -233,10 +259,10 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
       const float depth = 1.0f / s.inverse_depth;
       // "after": core metal-rough (section 3.9.2), COLOR_0 multiplies the base colour.
       glm::vec4 base = m.base_color_factor * p.color;
-      if (m.base_color_texture) base *= sample(m.base_color_texture, p.uv, footprint);
+      if (m.base_color_texture) base *= sample(m.base_color_texture, kBaseColorSlot);
       float metallic = m.metallic_factor, roughness = m.roughness_factor;
       if (m.metallic_roughness_texture) {
-        const glm::vec4 mr = sample(m.metallic_roughness_texture, p.uv, footprint);
+        const glm::vec4 mr = sample(m.metallic_roughness_texture, kMetallicRoughnessSlot);
         roughness *= mr.y;
         metallic *= mr.z;
       }
@@ -246,18 +272,18 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
       float glossiness;
       if (m.has_spec_gloss) {
         glm::vec4 d = m.diffuse_factor * p.color;
-        if (m.diffuse_texture) d *= sample(m.diffuse_texture, p.uv, footprint);
+        if (m.diffuse_texture) d *= sample(m.diffuse_texture, kDiffuseSlot);
         glm::vec4 sg(m.specular_factor, m.glossiness_factor);
-        if (m.spec_gloss_texture) sg *= sample(m.spec_gloss_texture, p.uv, footprint);
+        if (m.spec_gloss_texture) sg *= sample(m.spec_gloss_texture, kSpecGlossSlot);
         diffuse = glm::vec3(d);
         specular = glm::vec3(sg);
         glossiness = sg.w;
       } else {
         glm::vec4 ob = m.original_base_color_factor * p.color;
-        if (m.original_base_color_texture) ob *= sample(m.original_base_color_texture, p.uv, footprint);
+        if (m.original_base_color_texture) ob *= sample(m.original_base_color_texture, kOriginalBaseColorSlot);
         MetalRough core{glm::vec3(ob), m.original_metallic_factor, m.original_roughness_factor};
         if (m.original_metallic_roughness_texture) {
-          const glm::vec4 mr = sample(m.original_metallic_roughness_texture, p.uv, footprint);
+          const glm::vec4 mr = sample(m.original_metallic_roughness_texture, kOriginalMetallicRoughnessSlot);
           core.roughness *= mr.y;
           core.metalness *= mr.z;
         }
@@ -265,20 +291,21 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
         diffuse = legacy.diffuse, specular = legacy.specular, glossiness = legacy.glossiness;
       }
       out.after.depth[i] = out.before.depth[i] = depth;
-      out.after.normal[i] = pack_normal_and_scalar(n, roughness);
-      out.before.normal[i] = pack_normal_and_scalar(n, glossiness);
+      const std::uint32_t normal_bits = pack_octahedral_12_12(n);  // one encoding for both sides
+      out.after.normal[i] = {normal_bits | (static_cast<std::uint32_t>(unorm8(roughness)) << 24)};
+      out.before.normal[i] = {normal_bits | (static_cast<std::uint32_t>(unorm8(glossiness)) << 24)};
       out.after.albedo[i] = {{srgb8(base.x), srgb8(base.y), srgb8(base.z)}, unorm8(metallic)};
       out.before.diffspec[i] = {{srgb8(diffuse.x), srgb8(diffuse.y), srgb8(diffuse.z)},
                                 {srgb8(specular.x), srgb8(specular.y), srgb8(specular.z)}};
       if (scene.stats.uses_occlusion) {
         float occlusion = 1.0f;  // section 3.9.4: lerp(1, sampled R, strength)
         if (m.occlusion_texture)
-          occlusion = 1.0f + m.occlusion_strength * (sample(m.occlusion_texture, p.uv, footprint).x - 1.0f);
+          occlusion = 1.0f + m.occlusion_strength * (sample(m.occlusion_texture, kOcclusionSlot).x - 1.0f);
         out.after.occlusion[i] = out.before.occlusion[i] = unorm8(occlusion);
       }
       if (scene.stats.uses_emission) {
         glm::vec3 emissive = m.emissive_factor;
-        if (m.emissive_texture) emissive *= glm::vec3(sample(m.emissive_texture, p.uv, footprint));
+        if (m.emissive_texture) emissive *= glm::vec3(sample(m.emissive_texture, kEmissiveSlot));
         out.after.emissive[i] = out.before.emissive[i] = Emissive{pack_rgb9e5(emissive)};
       }
     }

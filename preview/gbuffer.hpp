@@ -9,6 +9,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "preview/texel_buffer.hpp"
+
 namespace gltf_pbr::preview {
 
 // Octahedral unit-vector encoding (Cigolle et al. 2014, "A Survey of Efficient Representations
@@ -64,12 +66,12 @@ struct BufferSize {
 // One side's G-buffer. Vectors that the scene does not need stay empty.
 struct GBuffer {
   int width = 0, height = 0;
-  std::vector<Depth> depth;
-  std::vector<NormalAndScalar> normal;     // + roughness (after) or gloss (before)
-  std::vector<AlbedoMetalness> albedo;     // after only
-  std::vector<DiffuseSpecular> diffspec;   // before only
-  std::vector<Emissive> emissive;          // when something emits
-  std::vector<Occlusion> occlusion;        // when a material has an occlusion texture
+  TexelBuffer<Depth> depth;
+  TexelBuffer<NormalAndScalar> normal;     // + roughness (after) or gloss (before)
+  TexelBuffer<AlbedoMetalness> albedo;     // after only
+  TexelBuffer<DiffuseSpecular> diffspec;   // before only
+  TexelBuffer<Emissive> emissive;          // when something emits
+  TexelBuffer<Occlusion> occlusion;        // when a material has an occlusion texture
   std::vector<BufferSize> layout() const;  // what is allocated, bytes per pixel each
   int bytes_per_pixel() const;
 };
@@ -99,5 +101,7 @@ struct GBufferTexel {
 };
 GBufferTexel read_after(const GBuffer& buffer, size_t pixel);
 GBufferTexel read_before(const GBuffer& buffer, size_t pixel);
+// read_before without unpacking the normal, for a pass that has it from the "after" side.
+GBufferTexel read_before_material(const GBuffer& buffer, size_t pixel);
 
 }  // namespace gltf_pbr::preview

@@ -61,7 +61,10 @@ glm::vec3 shade_texel(const GBufferTexel& t, Side side, const PixelGeometry& g, 
 }
 
 HdrImage empty_image(const GBuffer& g) {
-  return {g.width, g.height, std::vector<glm::vec3>(g.depth.size()), std::vector<std::uint8_t>(g.depth.size())};
+  HdrImage image{g.width, g.height, {}, {}};
+  image.radiance.resize(g.depth.size());
+  image.covered.resize(g.depth.size());
+  return image;
 }
 
 }  // namespace
@@ -83,6 +86,7 @@ HdrImage light(const GBuffer& g, Side side, const Environment& env, const Camera
       const GBufferTexel t = side == Side::After ? read_after(g, i) : read_before(g, i);
       if (!t.covered) {
         out.radiance[i] = env.background(ray);
+        out.covered[i] = 0;
         continue;
       }
       out.covered[i] = 1;
@@ -105,9 +109,10 @@ LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camer
       const GBufferTexel after = read_after(a, i);
       if (!after.covered) {
         out.before.radiance[i] = out.after.radiance[i] = env.background(ray);
+        out.before.covered[i] = out.after.covered[i] = 0;
         continue;
       }
-      const GBufferTexel before = read_before(gbuffers.before, i);
+      const GBufferTexel before = read_before_material(gbuffers.before, i);  // normal: after's
       out.before.covered[i] = out.after.covered[i] = 1;
       // Both sides share the normal buffer's geometry: one set of environment look-ups.
       const PixelGeometry geometry = prepare(after.normal, -ray, env);

@@ -22,8 +22,8 @@ struct LightingOptions {
 
 struct HdrImage {
   int width = 0, height = 0;
-  std::vector<glm::vec3> radiance;
-  std::vector<std::uint8_t> covered;  // 1 where geometry was drawn
+  TexelBuffer<glm::vec3> radiance;    // sized, not cleared: the lighting pass writes every pixel
+  TexelBuffer<std::uint8_t> covered;  // 1 where geometry was drawn
 };
 
 enum class Side { Before, After };

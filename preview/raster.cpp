@@ -13,6 +13,10 @@ namespace {
 constexpr int kTileSize = 32;
 constexpr int kSubpixelBits = 8;  // 1/256 pixel: vertex snapping as in GPUs (D3D11 uses 8 bits)
 constexpr double kSubpixel = 1 << kSubpixelBits;
+
+// Round half away from zero, as std::llround, without its libm call (six per triangle: a tenth
+// of the setup of a 100k-triangle mesh). Inputs are guard-band bounded, far inside int64.
+inline std::int64_t round_to_subpixel(double v) { return static_cast<std::int64_t>(v + (v >= 0.0 ? 0.5 : -0.5)); }
 constexpr float kGuardBand = 4.0f;  // clip x, y to +-4 w: screen coordinates stay inside int64 edge range
 
 struct ClipVertex {
@@ -208,8 +212,8 @@ VisibilityBuffer rasterize(const Scene& scene, const Camera& camera, int width, 
           const ClipVertex& v = *corners[j];
           const float inv_w = 1.0f / v.w;
           const double sx = (v.x * inv_w * 0.5 + 0.5) * width, sy = (0.5 - v.y * inv_w * 0.5) * height;
-          piece.x[j] = std::llround(sx * kSubpixel);
-          piece.y[j] = std::llround(sy * kSubpixel);
+          piece.x[j] = round_to_subpixel(sx * kSubpixel);
+          piece.y[j] = round_to_subpixel(sy * kSubpixel);
           piece.inverse_w[j] = inv_w;
           piece.barycentric_over_w[j] = v.barycentric * inv_w;
         }

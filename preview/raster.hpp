@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "preview/scene.hpp"
+#include "preview/texel_buffer.hpp"
 
 namespace gltf_pbr::preview {
 
@@ -56,7 +57,7 @@ static_assert(sizeof(VisibilitySample) == 16);
 
 struct VisibilityBuffer {
   int width = 0, height = 0;
-  std::vector<VisibilitySample> samples;
+  TexelBuffer<VisibilitySample> samples;  // huge pages when large (texel_buffer.hpp)
 };
 
 struct RasterStats {

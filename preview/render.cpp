@@ -50,7 +50,7 @@ PreviewResult light_and_compare(const GBuffers& gbuffers, const Camera& camera, 
   result.after = to_srgb8(result.after_hdr, options.lighting);
   result.times.lighting_ms = ms_since(start);
   start = Clock::now();
-  result.covered = result.after_hdr.covered;
+  result.covered.assign(result.after_hdr.covered.begin(), result.after_hdr.covered.end());
   std::vector<float> delta_e;
   result.metrics = compare_images(result.before, result.after, result.covered, result.width, result.height, &delta_e);
   result.difference = heat_map(delta_e, result.covered, result.after);

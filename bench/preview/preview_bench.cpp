@@ -2,14 +2,19 @@
 // and the lighting pass (both sides in one sweep), at 512^2 and 1024^2, in ms per megapixel.
 // Each stage reports wall time (best of REPEATS) and process CPU time (all threads): on a shared
 // machine the CPU figure divided by the core count is the unloaded wall time.
-//   gltf-pbr-preview-bench [ASSETS_DIR] [REPEATS]
+//   gltf-pbr-preview-bench [ASSETS_DIR] [REPEATS] [SIZES] [ASSET]
+// SIZES is a comma-separated list (default 512,1024); ASSET keeps only the assets whose name
+// contains it (for profiling one asset under valgrind --tool=callgrind).
 #include <time.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "preview/preview.hpp"
 
@@ -47,6 +52,11 @@ Clocks measure(int repeats, const Work& work) {
 int main(int argc, char** argv) {
   const fs::path assets = argc > 1 ? fs::path(argv[1]) : fs::path("/work/shared/assets");
   const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
+  std::vector<int> sizes;
+  std::stringstream size_list(argc > 3 ? argv[3] : "512,1024");
+  for (std::string item; std::getline(size_list, item, ',');)
+    if (std::atoi(item.c_str()) > 0) sizes.push_back(std::atoi(item.c_str()));
+  const std::string only = argc > 4 ? argv[4] : "";
   const char* files[] = {"Avocado/specgloss/Avocado.gltf", "CesiumMilkTruck/specgloss/CesiumMilkTruck.gltf",
                          "2CylinderEngine/specgloss/2CylinderEngine.gltf", "VC/specgloss/VC.gltf"};
   const Environment& env = default_environment();  // built once per process; not part of a frame
@@ -56,11 +66,12 @@ int main(int argc, char** argv) {
   std::printf("%-16s %5s %7s | %15s %15s | %15s %15s | %s\n", "asset", "size", "tris", "raster wall/cpu",
               "resolve wall/cpu", "gbuffer ms/MP", "light/side ms/MP", "total ms/MP (wall; cpu/cores)");
   for (const char* file : files) {
+    if (std::string(file).find(only) == std::string::npos) continue;
     const Asset asset = load_asset(assets / file);
     Asset converted = asset;
     convert(converted);
     const Scene scene = build_scene(asset, converted);
-    for (int size : {512, 1024}) {
+    for (int size : sizes) {
       const Camera camera = frame_camera(scene.bounds, 35, 20, 40, 1.0);
       VisibilityBuffer visibility;
       GBuffers gbuffers;
