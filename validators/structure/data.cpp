@@ -7,26 +7,13 @@
 #include <cstring>
 #include <fstream>
 
+#include "core/files.hpp"
 #include "validators/structure/images.hpp"
 #include "validators/structure/structure_internal.hpp"
 
 namespace gltf_pbr::structure {
 
 namespace {
-
-std::string percent_decode(const std::string& uri) {
-  std::string out;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += uri[i];
-    }
-  }
-  return out;
-}
 
 std::optional<std::vector<std::uint8_t>> read_resource(const Context& context, const std::string& uri) {
   const std::filesystem::path path = context.base_dir / percent_decode(uri);
