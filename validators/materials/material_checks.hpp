@@ -23,11 +23,10 @@ void add_issue(const RuleSet& rules, const std::string& code, const std::vector<
 // reported once (IMAGE_UNDECODABLE, when enabled) and then reads as nullptr.
 class TexelSource {
  public:
-  explicit TexelSource(const tinygltf::Model& model) : model_(model), decoded_(model) {}
+  explicit TexelSource(const tinygltf::Model& model) : decoded_(model) {}
   const Pixels* get(int image, const RuleSet& rules, Report& report);
 
  private:
-  const tinygltf::Model& model_;
   DecodedImages decoded_;
   std::set<int> failed_;
 };

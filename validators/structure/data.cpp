@@ -34,7 +34,7 @@ inline double load(const std::uint8_t* base) {
 
 class AccessorData {
  public:
-  AccessorData(Context& context) : context_(context), issues_(context.issues), doc_(context.doc) {}
+  explicit AccessorData(Context& context) : issues_(context.issues), doc_(context.doc) {}
 
   void run() {
     // One allocation for the largest accessor: its pages are touched once, not per accessor.
@@ -452,7 +452,6 @@ class AccessorData {
     }
   }
 
-  Context& context_;
   IssueSink& issues_;
   Document& doc_;
   std::vector<double> values_;

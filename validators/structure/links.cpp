@@ -488,8 +488,9 @@ class Linker {
       for (std::size_t t = 0; t < primitive.target_attributes.size(); ++t) {
         for (const auto& [name, index] : primitive.target_attributes[t]) {
           const std::string tp = p + "/targets/" + std::to_string(t) + "/" + escape_pointer_token(name);
+          const std::string& semantic = name;  // C++20 lambdas may not capture a structured binding in clang 14
           const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
-                                           [&](const auto& attribute) { return attribute.first == name; });
+                                           [&](const auto& attribute) { return attribute.first == semantic; });
           if (!in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (!accessor) continue;
