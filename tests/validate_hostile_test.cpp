@@ -2,6 +2,7 @@
 // memory (ASan's allocation limit catches the last in the sanitizer build).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "test_support.hpp"
@@ -65,6 +66,18 @@ TEST(ValidateHostileInput, EveryConstructedAttackGetsAnErrorReportNotACrash) {
     EXPECT_GT(report.count(Severity::Error), 0u) << name << ": a hostile input passed validation";
     EXPECT_LE(report.messages.size(), 10000u) << name << ": the report itself blew up";
   }
+}
+
+TEST(ValidateHostileInput, AStepThatCannotFinishLeavesAnErrorInTheReportNotAnException) {
+  test::ScratchDir dir;
+  const fs::path not_a_folder = dir / "heatmaps";
+  std::ofstream(not_a_folder) << "a file where the heat-map folder should be";
+  ValidateOptions options;
+  options.heatmaps_dir = not_a_folder;  // Avocado fails texel rules, so a heat map must be written
+  const fs::path avocado = test::assets_dir() / "Avocado/specgloss/Avocado.gltf";
+  const Report report = validate_file(avocado, avocado.string(), builtin_rules(), {}, options);
+  EXPECT_TRUE(std::any_of(report.messages.begin(), report.messages.end(),
+                          [](const Issue& issue) { return issue.code == "IO_ERROR"; }));
 }
 
 TEST(ValidateHostileInput, FuzzRegressionsGiveReports) {

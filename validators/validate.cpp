@@ -1,5 +1,7 @@
 #include "validators/validate.hpp"
 
+#include <optional>
+
 #include "core/asset.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
@@ -43,24 +45,33 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   }
 
   const bool needs_document = wants(options, "materials") || wants(options, "textures") || wants(options, "meshes");
+  std::optional<Asset> asset;
   if (needs_document) {
     try {
-      const Asset asset = load_asset(file, LoadOptions{options.allow_outside_uris});
-      for (const auto& material : asset.model.materials) report.material_names.push_back(material.name);
+      asset = load_asset(file, LoadOptions{options.allow_outside_uris});
+    } catch (const InputError& error) {
+      // The structure step owns saying why a document is unreadable (in the reference's codes, which
+      // the config may silence); without it, say it here.
+      if (!wants(options, "structure")) report.add(load_failure_issue(error));
+    }
+  }
+  if (asset) {
+    for (const auto& material : asset->model.materials) report.material_names.push_back(material.name);
+    try {
       if (wants(options, "materials") || wants(options, "textures")) {
         MaterialCheckOptions material_options;
         material_options.materials = wants(options, "materials");
         material_options.textures = wants(options, "textures");
         material_options.heatmaps_dir = options.heatmaps_dir;
         material_options.power_of_two = !(wants(options, "structure") && rules.enabled("IMAGE_NPOT_DIMENSIONS"));
-        validate_materials(asset, rules, material_options, report);
+        validate_materials(*asset, rules, material_options, report);
       }
       if (wants(options, "meshes"))
-        validate_meshes(asset, rules, MeshCheckOptions{options.self_intersections}, report);
-    } catch (const InputError& error) {
-      // The structure step owns saying why a document is unreadable (in the reference's codes, which
-      // the config may silence); without it, say it here.
-      if (!wants(options, "structure")) report.add(load_failure_issue(error));
+        validate_meshes(*asset, rules, MeshCheckOptions{options.self_intersections}, report);
+    } catch (const std::exception& error) {
+      // A step that cannot finish (a heat map that cannot be written, memory) still leaves a report
+      // that says so, rather than ending the whole batch.
+      report.add({"IO_ERROR", error.what(), Severity::Error, "", std::nullopt, 1});
     }
   }
   apply_policy(policy, report);
