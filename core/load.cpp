@@ -297,10 +297,17 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   loader.SetFsCallbacks(callbacks);
   std::string err, warn;
   const std::string base_dir = context.folder.string();
-  const bool ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, bytes->data(),
-                                                             static_cast<unsigned>(bytes->size()), base_dir)
-                               : loader.LoadASCIIFromString(&asset.model, &err, &warn, json_text.c_str(),
-                                                            static_cast<unsigned>(json_text.size()), base_dir);
+  bool ok = false;
+  try {
+    ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, bytes->data(),
+                                                    static_cast<unsigned>(bytes->size()), base_dir)
+                      : loader.LoadASCIIFromString(&asset.model, &err, &warn, json_text.c_str(),
+                                                   static_cast<unsigned>(json_text.size()), base_dir);
+  } catch (const std::exception& error) {
+    // tinygltf 2.7 indexes with .at() on some inputs it does not check (found by the fuzzer: a GLB
+    // buffer of byteLength 0 beside a BIN chunk).
+    throw InputError(file, "", std::string("cannot load glTF: ") + error.what());
+  }
   if (!ok) throw InputError(file, "", "cannot load glTF: " + (err.empty() ? warn : err));
   // tinygltf reports an unreadable image only as a warning; after check_resources any such
   // warning is unexpected, so it is an error too.
