@@ -40,17 +40,6 @@ struct SrgbEncode {
   }
 };
 
-struct SrgbDecode {
-  float linear[256];
-  SrgbDecode() {
-    for (int i = 0; i < 256; ++i) linear[i] = srgb_to_linear(static_cast<float>(i) / 255.0f);
-  }
-};
-const SrgbDecode& srgb_decode() {
-  static const SrgbDecode table;
-  return table;
-}
-
 }  // namespace
 
 std::uint8_t encode_srgb8(float linear) {
@@ -59,7 +48,7 @@ std::uint8_t encode_srgb8(float linear) {
   return table.code[static_cast<size_t>(clamped * 65535.0f + 0.5f)];
 }
 
-float decode_srgb8(std::uint8_t encoded) { return srgb_decode().linear[encoded]; }
+float decode_srgb8(std::uint8_t encoded) { return srgb8_to_linear(encoded); }
 
 namespace {
 
@@ -142,7 +131,7 @@ GBufferTexel read_side(const GBuffer& g, size_t i, bool after, bool unpack_norma
   GBufferTexel t;
   t.covered = std::isfinite(g.depth[i]);
   if (!t.covered) return t;
-  const auto& lut = srgb_decode().linear;
+  const auto& lut = srgb8_to_linear_table();
   if (unpack_normal) t.normal = normal_of(g.normal[i]);
   t.scalar = scalar_of(g.normal[i]);
   if (after) {

@@ -65,12 +65,13 @@ bool same_footprint(const TextureSlot& a, const TextureSlot& b) {
 
 }  // namespace
 
-// 8-bit code -> float, as scene.cpp's decode_texel computes it: sRGB through srgb_to_linear
+// 8-bit code -> float, as scene.cpp's decode_texel computes it: sRGB through core's table
 // (IEC 61966-2-1), linear as code / 255.
 const TexelDecodeTables kTexelDecode = [] {
   TexelDecodeTables tables;
+  const auto& srgb = srgb8_to_linear_table();
   for (int i = 0; i < 256; ++i) {
-    tables.srgb[i] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+    tables.srgb[i] = srgb[static_cast<std::size_t>(i)];
     tables.linear[i] = static_cast<float>(i) * (1.0f / 255.0f);
   }
   return tables;

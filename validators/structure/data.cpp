@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 #include "core/files.hpp"
 #include "validators/structure/images.hpp"
@@ -19,9 +18,7 @@ std::optional<std::vector<std::uint8_t>> read_resource(const Context& context, c
   const std::filesystem::path path = context.base_dir / percent_decode(uri);
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) return std::nullopt;
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) return std::nullopt;
-  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+  return read_file(path);  // one sized read, not a byte-by-byte stream: external .bin files are large
 }
 
 // Reads component `c` of element `e` as a double; the caller has checked the bounds.

@@ -123,25 +123,33 @@ std::optional<bool> SchemaReader::boolean(const Json& object, const std::string&
   return value->get<bool>();
 }
 
-std::optional<std::vector<double>> SchemaReader::numbers(const Json& object, const std::string& pointer,
-                                                         std::string_view key, std::initializer_list<int> lengths,
-                                                         Range range, bool required) {
+const Json* SchemaReader::non_empty_array(const Json& object, const std::string& pointer, std::string_view key,
+                                          bool required) {
   const Json* value = find(object, key);
   if (!value) {
     if (required) missing(pointer, key);
-    return std::nullopt;
+    return nullptr;
   }
   const std::string here = child(pointer, key);
   if (!value->is_array()) {
     issues_.at("TYPE_MISMATCH", here, {arg_json(*value), arg("array")});
     if (required) ++missing_count_;  // a required property that is unusable counts as missing
-    return std::nullopt;
+    return nullptr;
   }
   if (value->empty()) {
     issues_.at("EMPTY_ENTITY", here);
-    if (required) ++missing_count_;
-    return std::nullopt;
+    if (required) ++missing_count_;  // a required property that is unusable counts as missing
+    return nullptr;
   }
+  return value;
+}
+
+std::optional<std::vector<double>> SchemaReader::numbers(const Json& object, const std::string& pointer,
+                                                         std::string_view key, std::initializer_list<int> lengths,
+                                                         Range range, bool required) {
+  const Json* value = non_empty_array(object, pointer, key, required);
+  if (!value) return std::nullopt;
+  const std::string here = child(pointer, key);
   if (lengths.size() > 0 &&
       std::find(lengths.begin(), lengths.end(), static_cast<int>(std::min<std::size_t>(value->size(), 1u << 30))) ==
           lengths.end()) {
@@ -174,22 +182,9 @@ std::optional<std::vector<double>> SchemaReader::numbers(const Json& object, con
 
 std::optional<std::vector<std::int64_t>> SchemaReader::indices(const Json& object, const std::string& pointer,
                                                                std::string_view key, bool required) {
-  const Json* value = find(object, key);
-  if (!value) {
-    if (required) missing(pointer, key);
-    return std::nullopt;
-  }
+  const Json* value = non_empty_array(object, pointer, key, required);
+  if (!value) return std::nullopt;
   const std::string here = child(pointer, key);
-  if (!value->is_array()) {
-    issues_.at("TYPE_MISMATCH", here, {arg_json(*value), arg("array")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
-    return std::nullopt;
-  }
-  if (value->empty()) {
-    issues_.at("EMPTY_ENTITY", here);
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
-    return std::nullopt;
-  }
   std::vector<std::int64_t> result;
   std::set<std::int64_t> seen;
   for (std::size_t i = 0; i < value->size(); ++i) {
@@ -229,22 +224,9 @@ const Json* SchemaReader::object(const Json& object, const std::string& pointer,
 std::optional<std::vector<const Json*>> SchemaReader::object_array(const Json& object, const std::string& pointer,
                                                                    std::string_view key, bool required,
                                                                    bool root_level) {
-  const Json* value = find(object, key);
-  if (!value) {
-    if (required) missing(pointer, key);
-    return std::nullopt;
-  }
+  const Json* value = non_empty_array(object, pointer, key, required);
+  if (!value) return std::nullopt;
   const std::string here = child(pointer, key);
-  if (!value->is_array()) {
-    issues_.at("TYPE_MISMATCH", here, {arg_json(*value), arg("array")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
-    return std::nullopt;
-  }
-  if (value->empty()) {
-    issues_.at("EMPTY_ENTITY", here);
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
-    return std::nullopt;
-  }
   std::vector<const Json*> result;
   result.reserve(value->size());
   for (std::size_t i = 0; i < value->size(); ++i) {

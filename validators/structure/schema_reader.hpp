@@ -58,6 +58,10 @@ class SchemaReader {
                                                        std::string_view key, bool required, bool root_level);
   void extras(const Json& object, const std::string& pointer);
 
+  // The array under `key`, or nullptr after reporting why not: absent (UNDEFINED_PROPERTY when required), not
+  // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY); the last two count as missing when required.
+  const Json* non_empty_array(const Json& object, const std::string& pointer, std::string_view key, bool required);
+
   // UNDEFINED_PROPERTY, counted: an object that misses a required property is reported but not
   // linked or checked further (the reference drops it after its schema errors).
   void missing(const std::string& pointer, std::string_view key) {
