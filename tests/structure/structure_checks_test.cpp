@@ -86,6 +86,73 @@ TEST(StructureChecks, WeightsThatDoNotSumToOneAreReported) {
   EXPECT_EQ(issue->pointer, "/meshes/0/primitives/0/attributes/WEIGHTS_0");
 }
 
+// Two weight sets of one vertex: {0.5, 0.25, 0, 0} and {0.25, 0, 0, 0} sum to one together
+// (spec 3.7.3.3); {0.5, 0.25, 0, 0} and {0.5, 0, 0, 0} sum to 1.25.
+Report two_weight_sets(float second_set_first_weight) {
+  const std::string buffer = float_buffer({0.5f, 0.25f, 0, 0, second_set_first_weight, 0, 0, 0});
+  return validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":32,"uri":")" + buffer +
+      R"("}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":16,"target":34962},{"buffer":0,"byteOffset":16,"byteLength":16,"target":34962}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":1,"type":"VEC4"},)"
+      R"({"bufferView":1,"componentType":5126,"count":1,"type":"VEC4"}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"WEIGHTS_0":0,"WEIGHTS_1":1}}]}]})");
+}
+
+TEST(StructureChecks, WeightsAreSummedAcrossEverySet) {
+  EXPECT_EQ(find(two_weight_sets(0.25f), "ACCESSOR_WEIGHTS_NON_NORMALIZED"), nullptr);
+  const Report report = two_weight_sets(0.5f);
+  const Issue* issue = find(report, "ACCESSOR_WEIGHTS_NON_NORMALIZED");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/meshes/0/primitives/0/attributes/WEIGHTS_1");
+  EXPECT_EQ(issue->message, "Weights accessor elements (at indices 0..3) have non-normalized sum: 1.25.");
+}
+
+// One morph target (a single POSITION delta), the mesh's default weight, and nodes that may
+// override it.
+Report morph_mesh_under(const std::string& nodes) {
+  const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  return validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":")" + buffer +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":0}]}],"weights":[0.5]}],)"
+      R"("nodes":)" + nodes + R"(,"scenes":[{"nodes":[0]}]})");
+}
+
+TEST(StructureChecks, MeshWeightsThatEveryNodeOverridesAreUnused) {
+  const Report overridden = morph_mesh_under(R"([{"mesh":0,"weights":[1],"children":[1]},{"mesh":0,"weights":[0]}])");
+  const Issue* issue = find(overridden, "UNUSED_MESH_WEIGHTS");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/meshes/0/weights");
+  EXPECT_EQ(issue->severity, Severity::Information);
+  const Report read = morph_mesh_under(R"([{"mesh":0,"weights":[1],"children":[1]},{"mesh":0}])");
+  EXPECT_EQ(find(read, "UNUSED_MESH_WEIGHTS"), nullptr);
+}
+
+// A skinned triangle on node 0; its skin's joint is node 1, in scene `joint_scene`.
+Report skinned_mesh_with_joint_in_scene(int joint_scene) {
+  const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+  const std::string scenes = joint_scene == 0 ? R"([{"nodes":[0,1]}])" : R"([{"nodes":[0]},{"nodes":[1]}])";
+  return validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":84,"uri":")" + buffer +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":48,"target":34962}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+      R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC4"},)"
+      R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC4"}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}}]}],)"
+      R"("skins":[{"joints":[1]}],"nodes":[{"mesh":0,"skin":0},{}],"scenes":)" + scenes + "}");
+}
+
+TEST(StructureChecks, SkinnedMeshInASceneWithoutItsJointsIsAnError) {
+  const Report apart = skinned_mesh_with_joint_in_scene(1);
+  const Issue* issue = find(apart, "NODE_SKIN_NO_SCENE");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/nodes/0");
+  EXPECT_EQ(issue->severity, Severity::Error);
+  EXPECT_EQ(find(skinned_mesh_with_joint_in_scene(0), "NODE_SKIN_NO_SCENE"), nullptr);
+}
+
 TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
   std::string json = R"({"asset":{"version":"2.0"}})";
   while (json.size() % 4) json += ' ';

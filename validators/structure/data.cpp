@@ -346,23 +346,50 @@ class AccessorData {
     } else if (semantic.starts_with("JOINTS_") && components == 4) {
       joints_checks(a, use, count);
     } else if (semantic.starts_with("WEIGHTS_") && components == 4) {
-      for (std::size_t e = 0; e < count; ++e) {
-        double sum = 0;
-        for (int c = 0; c < 4; ++c) {
-          const double w = normalized(a, values_[e * 4 + c]);
-          if (w < 0)
-            issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", use,
-                       {arg(static_cast<std::uint64_t>(e * 4 + c)), arg(c), value_arg(a, values_[e * 4 + c])});
-          sum += w;
-        }
-        // Spec 3.7.3.3: weights sum to one, within the precision of their component type.
-        const double tolerance = a.component_type == 5126 ? 5e-4 : 1.0 / 255.0;
-        if (a.weights_single_set && std::fabs(sum - 1.0) > tolerance)
-          issues_.at(
-              "ACCESSOR_WEIGHTS_NON_NORMALIZED", use,
-              {arg(static_cast<std::uint64_t>(e * 4)), arg(static_cast<std::uint64_t>(e * 4 + 3)), arg_double(sum)});
-      }
+      weights_checks(a, use, count);
     }
+  }
+
+  // Spec 3.7.3.3: weights are non-negative and, over all the primitive's sets, sum to one within
+  // the precision of their component type.
+  void weights_checks(const AccessorModel& a, const std::string& use, std::size_t count) {
+    std::optional<std::vector<double>> earlier_sums = a.weights_sum_here ? sum_earlier_weight_sets(a) : std::nullopt;
+    const bool all_float = a.component_type == 5126 && a.earlier_weight_sets.empty();
+    const double tolerance = all_float ? 5e-4 : 1.0 / 255.0;
+    for (std::size_t e = 0; e < count; ++e) {
+      double sum = earlier_sums ? (*earlier_sums)[e] : 0.0;
+      for (int c = 0; c < 4; ++c) {
+        const double w = normalized(a, values_[e * 4 + c]);
+        if (w < 0)
+          issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", use,
+                     {arg(static_cast<std::uint64_t>(e * 4 + c)), arg(c), value_arg(a, values_[e * 4 + c])});
+        sum += w;
+      }
+      if (earlier_sums && std::fabs(sum - 1.0) > tolerance)
+        issues_.at(
+            "ACCESSOR_WEIGHTS_NON_NORMALIZED", use,
+            {arg(static_cast<std::uint64_t>(e * 4)), arg(static_cast<std::uint64_t>(e * 4 + 3)), arg_double(sum)});
+    }
+  }
+
+  // Per vertex, the sum of the weights in the primitive's earlier WEIGHTS_n sets (zeros when there
+  // are none); nullopt when one of them cannot be read or does not match, so the sum is unknown.
+  // `values_` is left holding `a`'s values.
+  std::optional<std::vector<double>> sum_earlier_weight_sets(const AccessorModel& a) {
+    std::vector<double> sums(static_cast<std::size_t>(a.count), 0.0);
+    if (a.earlier_weight_sets.empty()) return sums;
+    const std::vector<double> own = values_;
+    bool known = true;
+    for (std::int64_t index : a.earlier_weight_sets) {
+      const AccessorModel* earlier =
+          index >= 0 && static_cast<std::size_t>(index) < doc_.accessors.size() ? &doc_.accessors[index] : nullptr;
+      known = earlier && earlier->object && earlier->count == a.count && component_count(earlier->type) == 4 &&
+              decode(*earlier, false);
+      if (!known) break;
+      for (std::size_t k = 0; k < values_.size(); ++k) sums[k / 4] += normalized(*earlier, values_[k]);
+    }
+    values_ = own;
+    return known ? std::optional(std::move(sums)) : std::nullopt;
   }
 
   // Spec 3.7.3.3: a vertex names each joint at most once among its non-zero weights, every joint

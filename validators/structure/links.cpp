@@ -4,6 +4,9 @@
 // UNUSED_OBJECT pass over whatever nothing references.
 #include <algorithm>
 #include <functional>
+#include <map>
+#include <optional>
+#include <string_view>
 #include <set>
 
 #include "validators/structure/structure_internal.hpp"
@@ -42,12 +45,17 @@ std::int64_t last_element_size(const AccessorModel& accessor) {
   return static_cast<std::int64_t>(size) * component_count(accessor.type);
 }
 
-bool valid_texcoord(const std::string& name) {
-  if (!name.starts_with("TEXCOORD_")) return false;
-  const std::string digits = name.substr(9);
-  return !digits.empty() && digits.size() <= 6 && (digits.size() == 1 || digits[0] != '0') &&
-         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+// The set number n of a semantic PREFIXn ("TEXCOORD_1" → 1), when n is written the schema's way.
+std::optional<int> set_number(const std::string& name, std::string_view prefix) {
+  if (!name.starts_with(prefix)) return std::nullopt;
+  const std::string digits = name.substr(prefix.size());
+  if (digits.empty() || digits.size() > 6 || (digits.size() > 1 && digits[0] == '0') ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  return std::stoi(digits);
 }
+
+bool valid_texcoord(const std::string& name) { return set_number(name, "TEXCOORD_").has_value(); }
 
 class Linker {
  public:
@@ -516,15 +524,25 @@ class Linker {
 
   // Spec 3.7.3.3: JOINTS_n and WEIGHTS_n are read together, set by set.
   void pair_joints_and_weights(const PrimitiveModel& primitive) {
-    int weight_sets = 0;
+    // Spec 3.7.3.3: with several sets, the weights of all sets together sum to one.
+    std::map<int, std::int64_t> weight_sets;  // set number → accessor
     for (const auto& [name, index] : primitive.attributes)
-      if (name.starts_with("WEIGHTS_")) ++weight_sets;
-    for (const auto& [name, index] : primitive.attributes) {
-      if (name.starts_with("WEIGHTS_")) {
-        if (AccessorModel* weights = accessor_at(index); weights && weight_sets > 1)
-          weights->weights_single_set = false;
-        continue;
+      if (name.starts_with("WEIGHTS_"))
+        if (const auto set = set_number(name, "WEIGHTS_")) weight_sets[*set] = index;
+    if (weight_sets.size() > 1) {
+      std::vector<std::int64_t> earlier;
+      for (const auto& [set, index] : weight_sets) {
+        AccessorModel* weights = accessor_at(index);
+        if (!weights) continue;
+        if (set == weight_sets.rbegin()->first) {
+          if (weights->earlier_weight_sets.empty()) weights->earlier_weight_sets = earlier;
+        } else {
+          weights->weights_sum_here = false;
+          earlier.push_back(index);
+        }
       }
+    }
+    for (const auto& [name, index] : primitive.attributes) {
       if (!name.starts_with("JOINTS_")) continue;
       AccessorModel* joints = accessor_at(index);
       if (!joints || joints->paired_weights >= 0) continue;
@@ -711,6 +729,7 @@ class Linker {
   // empty nodes.
   void node_graph() {
     const std::size_t count = doc_.nodes.size();
+    const std::vector<char> skin_outside_scene = skinned_nodes_apart_from_their_joints();
     for (std::size_t i = 0; i < count; ++i) {
       const NodeModel& node = doc_.nodes[i];
       if (!node.object) continue;
@@ -732,8 +751,35 @@ class Linker {
         if (transformed) issues_.at("NODE_SKINNED_MESH_PARENT_TRANSFORMS", p);
         issues_.at("NODE_SKINNED_MESH_NON_ROOT", p);
       }
+      if (skin_outside_scene[i]) issues_.at("NODE_SKIN_NO_SCENE", p);
       if (node.empty && !node.joint) issues_.at("NODE_EMPTY", p);
     }
+  }
+
+  // Per node: it draws a skinned mesh in a scene that lacks some of its skin's joints (spec 3.7.3:
+  // joints are nodes of the same scene, or the mesh cannot be posed there).
+  std::vector<char> skinned_nodes_apart_from_their_joints() {
+    std::vector<char> flagged(doc_.nodes.size(), 0);
+    std::vector<char> in_scene(doc_.nodes.size());
+    for (const auto& roots : doc_.scenes) {
+      std::fill(in_scene.begin(), in_scene.end(), 0);
+      std::vector<std::int64_t> stack(roots.begin(), roots.end());
+      while (!stack.empty()) {
+        const std::int64_t n = stack.back();
+        stack.pop_back();
+        if (n < 0 || static_cast<std::size_t>(n) >= doc_.nodes.size() || in_scene[n]) continue;
+        in_scene[n] = 1;
+        for (std::int64_t child : doc_.nodes[n].children) stack.push_back(child);
+      }
+      for (std::size_t n = 0; n < doc_.nodes.size(); ++n) {
+        const NodeModel& node = doc_.nodes[n];
+        if (!in_scene[n] || node.mesh < 0 || node.skin < 0 || static_cast<std::size_t>(node.skin) >= doc_.skins.size())
+          continue;
+        for (std::int64_t joint : doc_.skins[node.skin].joints)
+          if (joint >= 0 && static_cast<std::size_t>(joint) < doc_.nodes.size() && !in_scene[joint]) flagged[n] = 1;
+      }
+    }
+    return flagged;
   }
 
   // A node and its ancestors, nearest first; the walk stops at a loop.
@@ -805,7 +851,17 @@ void report_unused(Context& context) {
   each(doc.materials, "materials");
   for (std::size_t i = 0; i < doc.meshes.size(); ++i) {
     if (!doc.meshes[i].object) continue;
-    if (!doc.meshes[i].used) issues.at("UNUSED_OBJECT", "/meshes/" + std::to_string(i));
+    if (!doc.meshes[i].used) {
+      issues.at("UNUSED_OBJECT", "/meshes/" + std::to_string(i));
+      continue;
+    }
+    // Spec 3.7.2.2: a node's weights override its mesh's; when every node has its own, the mesh's
+    // are never seen.
+    const bool some_node_reads_mesh_weights = std::any_of(doc.nodes.begin(), doc.nodes.end(), [&](const NodeModel& n) {
+      return n.object && n.mesh == static_cast<std::int64_t>(i) && n.weights < 0;
+    });
+    if (doc.meshes[i].weights >= 0 && !some_node_reads_mesh_weights)
+      issues.at("UNUSED_MESH_WEIGHTS", "/meshes/" + std::to_string(i) + "/weights");
   }
   each(doc.nodes, "nodes");
   each(doc.samplers, "samplers");

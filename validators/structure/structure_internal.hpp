@@ -91,7 +91,10 @@ struct AccessorModel {
   std::int64_t paired_weights = -1;
   std::int64_t skin = -1;
   std::int64_t joint_count = -1;
-  bool weights_single_set = true;  // WEIGHTS_n: the primitive has only WEIGHTS_0
+  // WEIGHTS_n: the primitive's weights are summed per vertex across every set. The last set
+  // carries the earlier ones; the earlier sets are not summed on their own.
+  bool weights_sum_here = true;
+  std::vector<std::int64_t> earlier_weight_sets;
 };
 
 struct BufferViewModel {
