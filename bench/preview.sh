@@ -8,9 +8,10 @@
 #     report's camera and our built-in sky written out as .hdr (the sun as a small disc of the same
 #     irradiance), Cycles on the CPU at 32 samples (16 leaves ΔE2000 1.6 of noise against 64, 32
 #     leaves 0.9), no denoiser, whole process by wall clock;
-#   - fidelity: CIEDE2000 of our "before" image against Blender's over the pixels the asset
-#     covers, and RMS-dB over the image. Blender imports spec-gloss as Diffuse + Glossy added (no
-#     Fresnel, no energy split): a peer, not a reference.
+#   - fidelity: LDR-FLIP mean of our "before" image against Blender's (the reference) over the
+#     image, CIEDE2000 over the pixels the asset covers, and RMS-dB over the image. Blender
+#     imports spec-gloss as Diffuse + Glossy added (no Fresnel, no energy split): a peer, not a
+#     ground truth.
 # Usage: bench/preview.sh [OUT_DIR]   (env: SAMPLES=32, SIZES="512 1024", ASSETS="Avocado ...")
 set -euo pipefail
 
@@ -41,8 +42,8 @@ wall_seconds() {  # wall_seconds LOG COMMAND...: runs COMMAND, prints its wall t
 }
 
 echo "load average: $(cut -d' ' -f1-3 /proc/loadavg); $(nproc) cores; Cycles CPU, $samples samples"
-printf '%-16s %5s | %9s %9s %9s %8s | %8s | %8s %8s | %8s %8s\n' asset size "gbuf/MP" "light/MP" "render ms" \
-  "ours s" "blender s" "x render" "x proc" "ΔE mean" "RMS dB"
+printf '%-16s %5s | %9s %9s %9s %8s | %8s | %8s %8s | %6s %8s %8s\n' asset size "gbuf/MP" "light/MP" "render ms" \
+  "ours s" "blender s" "x render" "x proc" "FLIP" "ΔE mean" "RMS dB"
 for asset in $assets; do
   input=$assets_dir/$asset/specgloss/$asset.gltf
   for size in $sizes; do
@@ -74,9 +75,10 @@ asset, size, ours_s, blender_s = sys.argv[2], int(sys.argv[3]), float(sys.argv[4
 fidelity = json.loads(sys.argv[6])
 t, per_mp = report["times_ms"], report["ms_per_megapixel"]
 render_ms = t["raster"] + t["gbuffer"] + t["lighting_both_sides"]
-print("%-16s %5d | %9.1f %9.1f %9.1f %8.2f | %8.2f | %7.0fx %7.1fx | %8.2f %8.1f" % (
+print("%-16s %5d | %9.1f %9.1f %9.1f %8.2f | %8.2f | %7.0fx %7.1fx | %6.3f %8.2f %8.1f" % (
     asset, size, per_mp["gbuffer_pass"], per_mp["lighting_per_side"], render_ms, ours_s, blender_s,
-    blender_s * 1000 / render_ms, blender_s / ours_s, fidelity["delta_e_2000_mean"], fidelity["rms_db"]))
+    blender_s * 1000 / render_ms, blender_s / ours_s, fidelity["flip_mean"], fidelity["delta_e_2000_mean"],
+    fidelity["rms_db"]))
 EOF
   done
 done

@@ -9,6 +9,7 @@ namespace gltf_pbr::preview {
 struct DifferenceMetrics {
   double delta_e_mean = 0, delta_e_p95 = 0, delta_e_max = 0;  // CIEDE2000 over pixels either side covers
   double rms_db = -200;                                       // over all pixels; see compare_images
+  double flip_mean = 0;                                       // LDR-FLIP over all pixels (flip.hpp)
   long long pixels_compared = 0;
 };
 

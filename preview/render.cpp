@@ -5,6 +5,7 @@
 #include "core/color.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "preview/flip.hpp"
 #include "preview/preview.hpp"
 
 namespace gltf_pbr::preview {
@@ -53,6 +54,7 @@ PreviewResult light_and_compare(const GBuffers& gbuffers, const Camera& camera, 
   result.covered.assign(result.after_hdr.covered.begin(), result.after_hdr.covered.end());
   std::vector<float> delta_e;
   result.metrics = compare_images(result.before, result.after, result.covered, result.width, result.height, &delta_e);
+  result.metrics.flip_mean = flip(result.before, result.after, result.width, result.height).mean;
   result.difference = heat_map(delta_e, result.covered, result.after);
   result.sheet = side_by_side({&result.before, &result.after, &result.difference}, result.width, result.height, 4,
                               &result.sheet_width);
@@ -197,6 +199,7 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
   report["difference"] = {
       {"delta_e_2000",
        {{"mean", r.metrics.delta_e_mean}, {"p95", r.metrics.delta_e_p95}, {"max", r.metrics.delta_e_max}}},
+      {"flip", {{"mean", r.metrics.flip_mean}, {"pixels_per_degree", kFlipPixelsPerDegree}}},
       {"rms_db", r.metrics.rms_db},
       {"rms_db_fail_above", -22.0},
       {"rms_pass", r.metrics.rms_db <= -22.0},

@@ -4,6 +4,7 @@
 //     the procedural sky, plus the analytic sun as a small disc carrying the same irradiance.
 //     Columns are turned to Blender's equirectangular convention (see kBlenderQuarterTurn).
 //   gltf-pbr-preview-peer fidelity IN.gltf OURS.png PEER.png
+//     LDR-FLIP mean over the whole image with Blender's as the reference (preview/flip.hpp),
 //     CIEDE2000 mean and p95 over the pixels our default framing covers, and RMS-dB over the
 //     whole image (preview/metrics.hpp), as one JSON line.
 #include <algorithm>
@@ -14,6 +15,7 @@
 
 #include "core/files.hpp"
 #include "core/image.hpp"
+#include "preview/flip.hpp"
 #include "preview/preview.hpp"
 
 using namespace gltf_pbr;
@@ -107,8 +109,11 @@ int fidelity(const fs::path& gltf, const fs::path& ours_png, const fs::path& pee
   std::vector<std::uint8_t> covered(visibility.samples.size());
   for (size_t i = 0; i < covered.size(); ++i) covered[i] = !visibility.samples[i].empty();
   const DifferenceMetrics m = compare_images(ours, peer, covered, size, size);
-  std::printf("{\"delta_e_2000_mean\": %.3f, \"delta_e_2000_p95\": %.3f, \"rms_db\": %.2f, \"pixels\": %lld}\n",
-              m.delta_e_mean, m.delta_e_p95, m.rms_db, m.pixels_compared);
+  const double flip_mean = flip(peer, ours, size, size).mean;
+  std::printf(
+      "{\"flip_mean\": %.4f, \"delta_e_2000_mean\": %.3f, \"delta_e_2000_p95\": %.3f, \"rms_db\": %.2f, "
+      "\"pixels\": %lld}\n",
+      flip_mean, m.delta_e_mean, m.delta_e_p95, m.rms_db, m.pixels_compared);
   return 0;
 }
 

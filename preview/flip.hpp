@@ -1,0 +1,22 @@
+// LDR-FLIP: the perceptual difference of two images as they alternate on a screen.
+// Andersson, Nilsson, Akenine-Möller, Oskarsson, Åström, Fairchild, "FLIP: A Difference Evaluator
+// for Alternating Images", Proc. ACM Comput. Graph. Interact. Tech. 3(2), HPG 2020.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace gltf_pbr::preview {
+
+// The paper's default viewing condition: a 0.7 m wide 4K monitor seen from 0.7 m (section 5).
+inline constexpr double kFlipPixelsPerDegree = 67.0;
+
+struct FlipResult {
+  std::vector<float> per_pixel;  // in [0, 1], row-major
+  double mean = 0;
+};
+
+// reference, test: 8-bit sRGB RGB images of one size.
+FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<std::uint8_t>& test, int width,
+                int height, double pixels_per_degree = kFlipPixelsPerDegree);
+
+}  // namespace gltf_pbr::preview

@@ -1,0 +1,70 @@
+// LDR-FLIP (preview/flip.hpp): zero for identical images, the paper's colour metric alone on flat
+// images, and feature errors concentrated where an edge moved.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "preview/flip.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+std::vector<std::uint8_t> flat(int width, int height, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  std::vector<std::uint8_t> image;
+  for (int i = 0; i < width * height; ++i) image.insert(image.end(), {r, g, b});
+  return image;
+}
+
+// Black left of column `edge`, white from it.
+std::vector<std::uint8_t> step(int width, int height, int edge) {
+  std::vector<std::uint8_t> image;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) image.insert(image.end(), 3, x < edge ? 0 : 255);
+  return image;
+}
+
+TEST(Flip, IdenticalImagesHaveNoError) {
+  std::mt19937 random(7);
+  std::vector<std::uint8_t> noise(48 * 40 * 3);
+  for (auto& value : noise) value = static_cast<std::uint8_t>(random());
+  const FlipResult result = flip(noise, noise, 48, 40);
+  ASSERT_EQ(result.per_pixel.size(), 48u * 40u);
+  for (float error : result.per_pixel) EXPECT_EQ(error, 0.0f);
+  EXPECT_EQ(result.mean, 0.0);
+}
+
+TEST(Flip, BlackAgainstWhiteIsNearlyTheLargestColourError) {
+  // Flat images have no features, so the error is the colour term alone (section 4.1): HyAB of
+  // Hunt-adjusted Lab, L 0 against 100, is 100; 100^0.7 = 25.12 lies above the knee 0.4·c_max,
+  // c_max = HyAB(green, blue)^0.7 = 203.3^0.7 = 41.27, so the error is
+  // 0.95 + (25.12 - 16.51) / (41.27 - 16.51) · 0.05 = 0.967.
+  const FlipResult result = flip(flat(32, 32, 0, 0, 0), flat(32, 32, 255, 255, 255), 32, 32);
+  EXPECT_NEAR(result.mean, 0.967, 0.002);
+  for (float error : result.per_pixel) EXPECT_NEAR(error, result.mean, 1e-4);
+}
+
+TEST(Flip, SmallFlatColourChangesStayBelowTheKneeAndGrowWithTheChange) {
+  const FlipResult near = flip(flat(16, 16, 120, 120, 120), flat(16, 16, 124, 120, 120), 16, 16);
+  const FlipResult far = flip(flat(16, 16, 120, 120, 120), flat(16, 16, 160, 120, 120), 16, 16);
+  EXPECT_GT(near.mean, 0.0);
+  EXPECT_LT(near.mean, far.mean);
+  EXPECT_LT(far.mean, 0.95);  // below the redistribution's knee output
+}
+
+TEST(Flip, AMovedEdgeIsAnErrorAtTheEdgeOnly) {
+  const int width = 96, height = 24;
+  const FlipResult result = flip(step(width, height, 48), step(width, height, 50), width, height);
+  const int row = height / 2;
+  auto at = [&](int x) { return result.per_pixel[static_cast<std::size_t>(row * width + x)]; };
+  EXPECT_GT(at(49), 0.5f);
+  EXPECT_LT(at(5), 1e-3f);
+  EXPECT_LT(at(width - 6), 1e-3f);
+  for (float error : result.per_pixel) {
+    EXPECT_GE(error, 0.0f);
+    EXPECT_LE(error, 1.0f);
+  }
+}
+
+}  // namespace
+}  // namespace gltf_pbr::preview
