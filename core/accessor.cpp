@@ -31,8 +31,9 @@ std::size_t component_size(int component_type) {
   }
 }
 
-// Components per element of the vector types; 0 for matrices (their columns are padded to 4
-// bytes, section 3.6.2.4, and neither caller reads them) and anything else.
+// Components per element of the vector types and MAT4; 0 for MAT2 and MAT3 (their byte and short
+// columns are padded to 4 bytes, section 3.6.2.4, and no caller reads them) and anything else.
+// A MAT4 column is 4, 8 or 16 bytes, never padded; its 16 components come column by column.
 int vector_components(int type) {
   switch (type) {
     case TINYGLTF_TYPE_SCALAR:
@@ -43,6 +44,8 @@ int vector_components(int type) {
       return 3;
     case TINYGLTF_TYPE_VEC4:
       return 4;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
     default:
       return 0;
   }
@@ -151,7 +154,7 @@ std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model
   const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
   const int components = vector_components(accessor.type);
   if (components == 0) {
-    problem = {where + "/type", "is not SCALAR or VEC2-VEC4"};
+    problem = {where + "/type", "is not SCALAR, VEC2-VEC4 or MAT4"};
     return std::nullopt;
   }
   const std::size_t size = component_size(accessor.componentType);

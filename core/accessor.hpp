@@ -28,15 +28,15 @@ struct AccessorProblem {
 template <typename Number>
 struct AccessorValues {
   std::vector<Number> values;
-  int components = 0;  // 1 SCALAR, 2 VEC2, 3 VEC3, 4 VEC4
+  int components = 0;  // 1 SCALAR, 2 VEC2, 3 VEC3, 4 VEC4, 16 MAT4 (column-major)
   std::size_t count() const { return components > 0 ? values.size() / static_cast<std::size_t>(components) : 0; }
 };
 
-// Accessor `index` of a SCALAR or VEC2-VEC4 type (what vertex attributes and indices use; matrices
-// are refused). Normalized integers map to [0, 1] or [-1, 1] by the section 3.11 equations, e.g.
-// max(c / 127, -1) for signed bytes, computed in Number. Number is float or double (double holds
-// every component value exactly). Returns nothing, with `problem` set, when the accessor does not
-// fit its buffers or names something that does not exist.
+// Accessor `index` of a SCALAR, VEC2-VEC4 or MAT4 type (vertex attributes, indices, inverse bind
+// matrices; MAT2 and MAT3 are refused). Normalized integers map to [0, 1] or [-1, 1] by the
+// section 3.11 equations, e.g. max(c / 127, -1) for signed bytes, computed in Number. Number is
+// float or double (double holds every component value exactly). Returns nothing, with `problem`
+// set, when the accessor does not fit its buffers or names something that does not exist.
 template <typename Number>
 std::optional<AccessorValues<Number>> read_accessor(const tinygltf::Model& model, int index, AccessorProblem& problem);
 extern template std::optional<AccessorValues<float>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);

@@ -215,6 +215,8 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
                      {"meshes_drawn", r.scene.meshes_drawn},
                      {"draco_primitives", r.scene.draco_primitives},
                      {"skipped_primitives", r.scene.skipped_primitives},
+                     {"skinned_primitives", r.scene.skinned_primitives},
+                     {"morphed_primitives", r.scene.morphed_primitives},
                      {"textures_decoded", r.scene.textures_decoded},
                      {"uses_emission", r.scene.uses_emission},
                      {"uses_occlusion", r.scene.uses_occlusion},

@@ -48,6 +48,63 @@ glm::dmat4 local_transform(const tinygltf::Node& node) {
   return m;
 }
 
+// --- The pose the file stores (glTF 2.0 sections 3.7.2.2 and 3.7.3) ---
+
+// World matrix of every node, drawn or not: a skin's joints may sit outside the drawn scene.
+// A node in a loop or deeper than the visit limit keeps its local matrix.
+std::vector<glm::dmat4> node_world_matrices(const tinygltf::Model& model) {
+  const std::size_t count = model.nodes.size();
+  std::vector<int> parent(count, -1);
+  for (std::size_t i = 0; i < count; ++i)
+    for (int child : model.nodes[i].children)
+      if (child >= 0 && static_cast<std::size_t>(child) < count && parent[static_cast<std::size_t>(child)] < 0)
+        parent[static_cast<std::size_t>(child)] = static_cast<int>(i);
+  std::vector<glm::dmat4> world(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    glm::dmat4 m = local_transform(model.nodes[i]);
+    int up = parent[i];
+    for (int depth = 0; up >= 0 && depth < 256; ++depth, up = parent[static_cast<std::size_t>(up)])
+      m = local_transform(model.nodes[static_cast<std::size_t>(up)]) * m;
+    world[i] = m;
+  }
+  return world;
+}
+
+// How a node deforms its mesh at rest: morph target weights (the node's, else the mesh's, else
+// none) and, for a skinned mesh, one matrix per joint, world(joint) · inverseBindMatrix. When the
+// joints are stored at their bind pose this draws the mesh as stored.
+struct Deformation {
+  std::vector<double> morph_weights;
+  std::vector<glm::dmat4> joint_matrices;  // empty: not skinned
+};
+
+Deformation node_deformation(const Asset& asset, int node_index, const std::vector<glm::dmat4>& node_world) {
+  const tinygltf::Model& model = asset.model;
+  const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(node_index)];
+  Deformation d;
+  d.morph_weights = !node.weights.empty() ? node.weights : model.meshes[static_cast<std::size_t>(node.mesh)].weights;
+  if (node.skin < 0) return d;
+  if (static_cast<std::size_t>(node.skin) >= model.skins.size())
+    throw InputError(asset.path.string(), pointer("nodes", node_index) + "/skin", "skin does not exist");
+  const tinygltf::Skin& skin = model.skins[static_cast<std::size_t>(node.skin)];
+  const std::string skin_pointer = pointer("skins", node.skin);
+  AccessorData inverse_bind;
+  if (skin.inverseBindMatrices >= 0) {
+    inverse_bind = read_attribute(asset, skin.inverseBindMatrices);
+    if (inverse_bind.components != 16 || inverse_bind.count() < skin.joints.size())
+      throw InputError(asset.path.string(), skin_pointer + "/inverseBindMatrices",
+                       "needs one MAT4 per joint (" + std::to_string(skin.joints.size()) + ")");
+  }
+  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+    const int joint = skin.joints[j];
+    if (joint < 0 || static_cast<std::size_t>(joint) >= node_world.size())
+      throw InputError(asset.path.string(), skin_pointer + "/joints/" + std::to_string(j), "node does not exist");
+    const glm::dmat4 bind = inverse_bind.values.empty() ? glm::dmat4(1.0) : glm::make_mat4(&inverse_bind.values[j * 16]);
+    d.joint_matrices.push_back(node_world[static_cast<std::size_t>(joint)] * bind);
+  }
+  return d;
+}
+
 std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
   std::uint64_t hash = 1469598103934665603ull;
   for (std::uint8_t b : bytes) hash = (hash ^ b) * 1099511628211ull;
@@ -268,7 +325,58 @@ void generate_tangents(Scene& scene, size_t first_vertex, size_t first_triangle,
   }
 }
 
-void add_primitive(const Asset& asset, int mesh_index, int primitive_index, const glm::dmat4& world, Scene& scene) {
+// Section 3.7.2.2: the rest shape is the base plus each target's deltas times its weight.
+void apply_morph_targets(const Asset& asset, const tinygltf::Primitive& primitive, const std::vector<double>& weights,
+                         std::map<std::string, AccessorData>& attributes, const std::string& primitive_pointer) {
+  for (std::size_t t = 0; t < primitive.targets.size() && t < weights.size(); ++t) {
+    if (weights[t] == 0.0) continue;
+    for (const auto& [semantic, index] : primitive.targets[t]) {
+      auto base = attributes.find(semantic);
+      if (base == attributes.end() || (semantic != "POSITION" && semantic != "NORMAL" && semantic != "TANGENT")) continue;
+      const AccessorData delta = read_attribute(asset, index);
+      const std::size_t stride = static_cast<std::size_t>(base->second.components);
+      if (delta.components != 3 || delta.count() != base->second.count() || stride < 3)
+        throw InputError(asset.path.string(), primitive_pointer + "/targets/" + std::to_string(t) + "/" + semantic,
+                         "does not match the base attribute");
+      for (std::size_t v = 0; v < delta.count(); ++v)
+        for (std::size_t c = 0; c < 3; ++c) base->second.values[v * stride + c] += weights[t] * delta.values[v * 3 + c];
+    }
+  }
+}
+
+// Section 3.7.3.3: a skinned vertex moves by the weighted sum of its joints' matrices, over every
+// JOINTS_n/WEIGHTS_n set. Weights are renormalised (the validator reports sums off one); a
+// vertex with no weight at all stays as stored.
+std::vector<glm::dmat4> skinning_matrices(const std::map<std::string, AccessorData>& attributes,
+                                          const std::vector<glm::dmat4>& joint_matrices, std::size_t vertex_count,
+                                          const std::string& asset_path, const std::string& primitive_pointer) {
+  std::vector<glm::dmat4> blended(vertex_count, glm::dmat4(0.0));
+  std::vector<double> total(vertex_count, 0.0);
+  for (int set = 0;; ++set) {
+    auto joints = attributes.find("JOINTS_" + std::to_string(set));
+    auto weights = attributes.find("WEIGHTS_" + std::to_string(set));
+    if (joints == attributes.end() || weights == attributes.end()) break;
+    if (joints->second.components != 4 || weights->second.components != 4)
+      throw InputError(asset_path, primitive_pointer + "/attributes/" + joints->first, "JOINTS and WEIGHTS are VEC4");
+    for (std::size_t v = 0; v < vertex_count; ++v)
+      for (std::size_t c = 0; c < 4; ++c) {
+        const double weight = weights->second.values[v * 4 + c];
+        if (weight == 0.0) continue;
+        const double joint = joints->second.values[v * 4 + c];
+        if (!(joint >= 0 && joint < static_cast<double>(joint_matrices.size())))
+          throw InputError(asset_path, primitive_pointer + "/attributes/" + joints->first,
+                           "joint " + std::to_string(static_cast<long long>(joint)) + " of vertex " +
+                               std::to_string(v) + " is not in the skin");
+        blended[v] += weight * joint_matrices[static_cast<std::size_t>(joint)];
+        total[v] += weight;
+      }
+  }
+  for (std::size_t v = 0; v < vertex_count; ++v) blended[v] = total[v] > 0.0 ? blended[v] / total[v] : glm::dmat4(1.0);
+  return blended;
+}
+
+void add_primitive(const Asset& asset, int mesh_index, int primitive_index, const glm::dmat4& world,
+                   const Deformation& deformation, Scene& scene) {
   const tinygltf::Primitive& primitive =
       asset.model.meshes[static_cast<size_t>(mesh_index)].primitives[static_cast<size_t>(primitive_index)];
   const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
@@ -292,9 +400,13 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
     indices = std::move(decoded.indices);
     has_indices = true;
   } else {
-    for (const char* semantic : {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"})
-      if (auto it = primitive.attributes.find(semantic); it != primitive.attributes.end())
-        attributes[semantic] = read_attribute(asset, it->second);
+    for (const auto& [semantic, index] : primitive.attributes) {
+      const bool drawn = semantic == "POSITION" || semantic == "NORMAL" || semantic == "TANGENT" ||
+                         semantic == "TEXCOORD_0" || semantic == "TEXCOORD_1" || semantic == "COLOR_0";
+      const bool skinning = !deformation.joint_matrices.empty() &&
+                            (semantic.starts_with("JOINTS_") || semantic.starts_with("WEIGHTS_"));
+      if (drawn || skinning) attributes[semantic] = read_attribute(asset, index);
+    }
     if (primitive.indices >= 0) {
       indices = read_index_accessor_or_throw(asset, primitive.indices);
       has_indices = true;
@@ -323,9 +435,20 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
           "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index) + "/indices",
           "index " + std::to_string(index) + " is past the last vertex");
 
-  const glm::dmat3 normal_matrix = glm::inverseTranspose(glm::dmat3(world));
-  const double determinant = glm::determinant(glm::dmat3(world));
-  const bool mirrored = determinant < 0.0;  // section 3.7.4: a negative determinant flips winding
+  const std::string primitive_pointer =
+      "/meshes/" + std::to_string(mesh_index) + "/primitives/" + std::to_string(primitive_index);
+  apply_morph_targets(asset, primitive, deformation.morph_weights, attributes, primitive_pointer);
+  // Section 3.7.3.3: a skinned mesh ignores its node's transform; its joints place it.
+  const bool skinned = !deformation.joint_matrices.empty();
+  const std::vector<glm::dmat4> skinning =
+      skinned ? skinning_matrices(attributes, deformation.joint_matrices, vertex_count, asset.path.string(),
+                                  primitive_pointer)
+              : std::vector<glm::dmat4>{};
+  if (skinned) ++scene.stats.skinned_primitives;
+  if (!primitive.targets.empty()) ++scene.stats.morphed_primitives;
+  const glm::dmat3 node_normal_matrix = glm::inverseTranspose(glm::dmat3(world));
+  const glm::dmat4& winding_matrix = skinned ? deformation.joint_matrices.front() : world;
+  const bool mirrored = glm::determinant(glm::dmat3(winding_matrix)) < 0.0;  // section 3.7.4: flips winding
   const size_t first_vertex = scene.vertices.size();
   const size_t first_triangle = scene.triangles.size();
   auto get = [&](const char* semantic) -> const AccessorData* {
@@ -338,8 +461,10 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
   const AccessorData* colors = get("COLOR_0");
   for (size_t i = 0; i < vertex_count; ++i) {
     Vertex v;
+    const glm::dmat4& to_world = skinned ? skinning[i] : world;
+    const glm::dmat3 normal_matrix = skinned ? glm::inverseTranspose(glm::dmat3(to_world)) : node_normal_matrix;
     const double* p = position_it->second.values.data() + i * 3;
-    const glm::dvec3 world_position = glm::dvec3(world * glm::dvec4(p[0], p[1], p[2], 1.0));
+    const glm::dvec3 world_position = glm::dvec3(to_world * glm::dvec4(p[0], p[1], p[2], 1.0));
     v.position = glm::vec3(world_position);
     scene.bounds.add(world_position);
     if (normals && normals->components == 3) {
@@ -350,7 +475,7 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
     }
     if (tangents && tangents->components == 4) {
       const double* t = tangents->values.data() + i * 4;
-      const glm::dvec3 wt = glm::dmat3(world) * glm::dvec3(t[0], t[1], t[2]);
+      const glm::dvec3 wt = glm::dmat3(to_world) * glm::dvec3(t[0], t[1], t[2]);
       const double length = glm::length(wt);
       if (length > 0.0)
         v.tangent =
@@ -395,15 +520,18 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
   ++scene.stats.meshes_drawn;
 }
 
-void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, Scene& scene, int depth) {
+void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, const std::vector<glm::dmat4>& node_world,
+                Scene& scene, int depth) {
   const auto& nodes = asset.model.nodes;
   if (node_index < 0 || node_index >= static_cast<int>(nodes.size()) || depth > 256) return;
   const tinygltf::Node& node = nodes[static_cast<size_t>(node_index)];
   const glm::dmat4 world = parent * local_transform(node);
-  // Skins and morph targets are drawn at bind pose: positions as stored, under the node transform.
-  if (node.mesh >= 0 && node.mesh < static_cast<int>(asset.model.meshes.size()))
+  // Skins and morph targets are drawn at rest: no animation, the pose the nodes and weights store.
+  if (node.mesh >= 0 && node.mesh < static_cast<int>(asset.model.meshes.size())) {
+    const Deformation deformation = node_deformation(asset, node_index, node_world);
     for (size_t p = 0; p < asset.model.meshes[static_cast<size_t>(node.mesh)].primitives.size(); ++p)
-      add_primitive(asset, node.mesh, static_cast<int>(p), world, scene);
+      add_primitive(asset, node.mesh, static_cast<int>(p), world, deformation, scene);
+  }
   if (node.camera >= 0 && node.camera < static_cast<int>(asset.model.cameras.size())) {
     const tinygltf::Camera& camera = asset.model.cameras[static_cast<size_t>(node.camera)];
     if (camera.type == "perspective") {
@@ -415,7 +543,7 @@ void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, Sc
       scene.cameras.push_back(c);
     }
   }
-  for (int child : node.children) visit_node(asset, child, world, scene, depth + 1);
+  for (int child : node.children) visit_node(asset, child, world, node_world, scene, depth + 1);
 }
 
 float wrap_coordinate(float t, int mode) {
@@ -544,7 +672,8 @@ Scene build_scene(const Asset& original, const Asset& converted) {
     for (size_t i = 0; i < model.nodes.size(); ++i)
       if (!is_child[i]) roots.push_back(static_cast<int>(i));
   }
-  for (int root : roots) visit_node(original, root, glm::dmat4(1.0), scene, 0);
+  const std::vector<glm::dmat4> node_world = node_world_matrices(model);
+  for (int root : roots) visit_node(original, root, glm::dmat4(1.0), node_world, scene, 0);
   loader.finish();
   scene.stats.triangles = static_cast<long long>(scene.triangles.size());
   scene.stats.vertices = static_cast<long long>(scene.vertices.size());

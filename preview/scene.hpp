@@ -115,6 +115,7 @@ struct SceneCamera {  // a glTF perspective camera under its node transform
 struct SceneStats {
   long long triangles = 0, vertices = 0;
   int meshes_drawn = 0, draco_primitives = 0, skipped_primitives = 0, textures_decoded = 0;
+  int skinned_primitives = 0, morphed_primitives = 0;  // drawn at rest (no animation)
   bool uses_emission = false, uses_occlusion = false;
   std::vector<std::string> warnings;
 };

@@ -123,6 +123,18 @@ TEST(Accessor, NormalizedIntegersFollowSection3_11ForEveryCode) {
 
 // Interleaved vertices, 20 bytes apart: VEC3 float position, VEC2 normalized uint16 UV, 4 bytes of
 // padding. Two accessors share the view through byteOffset and byteStride.
+TEST(Accessor, Mat4ReadsSixteenComponentsColumnByColumn) {
+  // Two inverse bind matrices (section 3.7.3.2), column-major as stored.
+  std::vector<float> matrices(32);
+  for (std::size_t i = 0; i < matrices.size(); ++i) matrices[i] = static_cast<float>(i) - 7.5f;
+  tinygltf::Model model;
+  const int index = append_accessor(model, matrices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4);
+  const auto values = read_ok<double>(model, index);
+  EXPECT_EQ(values.components, 16);
+  ASSERT_EQ(values.count(), 2u);
+  for (std::size_t i = 0; i < matrices.size(); ++i) EXPECT_EQ(values.values[i], matrices[i]);
+}
+
 TEST(Accessor, InterleavedAttributesReadThroughByteStride) {
   struct Vertex {
     float position[3];
@@ -235,7 +247,7 @@ TEST(Accessor, RangesThatDoNotFitAreRefusedWithAPointer) {
               m.bufferViews[0].byteOffset = std::numeric_limits<std::size_t>::max() - 2;
             }).pointer,
             "/bufferViews/0");
-  EXPECT_EQ(broken([](tinygltf::Accessor& a, tinygltf::Model&) { a.type = TINYGLTF_TYPE_MAT4; }).pointer,
+  EXPECT_EQ(broken([](tinygltf::Accessor& a, tinygltf::Model&) { a.type = TINYGLTF_TYPE_MAT3; }).pointer,
             "/accessors/0/type");
   EXPECT_EQ(broken([](tinygltf::Accessor& a, tinygltf::Model&) { a.componentType = 5130; }).pointer,  // double
             "/accessors/0/componentType");

@@ -1,0 +1,133 @@
+// Skins and morph targets drawn at rest (glTF 2.0 sections 3.7.2.2 and 3.7.3): the pose the nodes
+// and weights store, without animation.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "core/error.hpp"
+#include "preview/preview.hpp"
+
+namespace gltf_pbr::preview {
+namespace {
+
+// One triangle (0,0,0) (1,0,0) (0,1,0) on node 0, built piece by piece by each test.
+struct TriangleAsset {
+  Asset asset;
+  tinygltf::Primitive primitive;
+
+  TriangleAsset() {
+    asset.path = "pose.gltf";
+    asset.model.buffers.emplace_back();
+    const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    primitive.attributes["POSITION"] = add(positions, sizeof positions, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                           TINYGLTF_TYPE_VEC3, 3);
+    primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  }
+
+  int add(const void* data, size_t bytes, int component, int type, size_t count) {
+    tinygltf::Model& m = asset.model;
+    std::vector<unsigned char>& buffer = m.buffers[0].data;
+    while (buffer.size() % 4) buffer.push_back(0);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = buffer.size();
+    view.byteLength = bytes;
+    buffer.resize(buffer.size() + bytes);
+    std::memcpy(buffer.data() + view.byteOffset, data, bytes);
+    m.bufferViews.push_back(view);
+    tinygltf::Accessor a;
+    a.bufferView = static_cast<int>(m.bufferViews.size() - 1);
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    m.accessors.push_back(a);
+    return static_cast<int>(m.accessors.size() - 1);
+  }
+
+  Scene build(tinygltf::Node node, std::vector<double> mesh_weights = {}, std::vector<tinygltf::Node> more = {}) {
+    tinygltf::Mesh mesh;
+    mesh.primitives.push_back(primitive);
+    mesh.weights = std::move(mesh_weights);
+    asset.model.meshes = {mesh};
+    node.mesh = 0;
+    if (!asset.model.skins.empty()) node.skin = 0;
+    asset.model.nodes = {node};
+    for (auto& extra : more) asset.model.nodes.push_back(extra);
+    tinygltf::Scene scene;
+    scene.nodes = {0};
+    asset.model.scenes = {scene};
+    return build_scene(asset, asset);
+  }
+
+  // Every vertex bound with weight 1 to joint `joint` of a skin whose joints are nodes 1 and 2.
+  void bind_all_vertices_to(std::uint8_t joint, const std::vector<float>& inverse_bind_matrices = {}) {
+    const std::uint8_t joints[] = {joint, 0, 0, 0, joint, 0, 0, 0, joint, 0, 0, 0};
+    const float weights[] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    primitive.attributes["JOINTS_0"] = add(joints, sizeof joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                           TINYGLTF_TYPE_VEC4, 3);
+    primitive.attributes["WEIGHTS_0"] = add(weights, sizeof weights, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 3);
+    tinygltf::Skin skin;
+    skin.joints = {1, 2};
+    if (!inverse_bind_matrices.empty())
+      skin.inverseBindMatrices = add(inverse_bind_matrices.data(), inverse_bind_matrices.size() * sizeof(float),
+                                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, 2);
+    asset.model.skins = {skin};
+  }
+};
+
+tinygltf::Node translated(double x, double y, double z) {
+  tinygltf::Node node;
+  node.translation = {x, y, z};
+  return node;
+}
+
+TEST(Pose, MorphTargetsApplyTheMeshWeightsUnlessTheNodeHasItsOwn) {
+  TriangleAsset triangle;
+  const float delta[] = {0, 2, 0, 0, 2, 0, 0, 2, 0};
+  tinygltf::Primitive& primitive = triangle.primitive;
+  primitive.targets.push_back(
+      {{"POSITION", triangle.add(delta, sizeof delta, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3)}});
+  const Scene by_mesh = triangle.build(tinygltf::Node{}, {0.5});
+  EXPECT_EQ(by_mesh.vertices[1].position, glm::vec3(1, 1, 0));
+  EXPECT_EQ(by_mesh.stats.morphed_primitives, 1);
+  tinygltf::Node overriding;
+  overriding.weights = {1.5};
+  EXPECT_EQ(triangle.build(overriding, {0.5}).vertices[1].position, glm::vec3(1, 3, 0));
+  EXPECT_EQ(triangle.build(tinygltf::Node{}).vertices[1].position, glm::vec3(1, 0, 0));  // no weights: base
+}
+
+TEST(Pose, SkinnedVerticesFollowTheirJointAndIgnoreTheirNode) {
+  TriangleAsset triangle;
+  triangle.bind_all_vertices_to(1);
+  // The mesh's node is moved far away; spec 3.7.3.3 says its transform does not apply.
+  const Scene scene = triangle.build(translated(100, 0, 0), {}, {translated(1, 0, 0), translated(0, 0, 5)});
+  EXPECT_EQ(scene.stats.skinned_primitives, 1);
+  EXPECT_EQ(scene.vertices[0].position, glm::vec3(0, 0, 5));  // joint 1 is node 2
+  EXPECT_EQ(scene.vertices[1].position, glm::vec3(1, 0, 5));
+}
+
+TEST(Pose, JointsAtTheirBindPoseDrawTheMeshAsStored) {
+  TriangleAsset triangle;
+  // Inverse bind matrices (column-major) undo the joints' translations (1,0,0) and (0,0,5).
+  const std::vector<float> inverse_bind = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -1, 0, 0, 1,
+                                           1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1};
+  triangle.bind_all_vertices_to(1, inverse_bind);
+  const Scene scene = triangle.build(tinygltf::Node{}, {}, {translated(1, 0, 0), translated(0, 0, 5)});
+  EXPECT_EQ(scene.stats.skinned_primitives, 1);
+  EXPECT_EQ(scene.vertices[1].position, glm::vec3(1, 0, 0));
+  EXPECT_EQ(scene.vertices[2].position, glm::vec3(0, 1, 0));
+}
+
+TEST(Pose, JointIndexOutsideTheSkinIsBadInputNamingTheAttribute) {
+  TriangleAsset triangle;
+  triangle.bind_all_vertices_to(7);
+  try {
+    triangle.build(tinygltf::Node{}, {}, {translated(1, 0, 0), translated(0, 0, 5)});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/meshes/0/primitives/0/attributes/JOINTS_0"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace gltf_pbr::preview
