@@ -35,7 +35,8 @@ int material_of(const Issue& issue) {
 }
 
 std::string location(const Issue& issue) {
-  return issue.offset ? "@" + std::to_string(*issue.offset) : issue.pointer.empty() ? std::string("/") : issue.pointer;
+  if (issue.offset) return std::string(1, '@').append(std::to_string(*issue.offset));  // not "@" + ...: GCC 12 -O3 -Wrestrict
+  return issue.pointer.empty() ? std::string("/") : issue.pointer;
 }
 
 const char* sarif_level(Severity severity) {

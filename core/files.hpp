@@ -15,6 +15,25 @@ using Bytes = std::vector<std::uint8_t>;
 // Reads a whole file; std::nullopt when it cannot be opened.
 std::optional<Bytes> read_file(const fs::path& path);
 
+// A whole file mapped read-only, for readers that only look: no copy and no zero-filled buffer,
+// the pages come straight from the page cache (validating a 224 MB GLB saves ~0.1 s). The file
+// must not shrink while mapped (as with any mmap reader).
+class MappedFile {
+ public:
+  // std::nullopt when the file cannot be opened or mapped.
+  static std::optional<MappedFile> open(const fs::path& path);
+  MappedFile(MappedFile&& other) noexcept;
+  MappedFile& operator=(MappedFile&&) = delete;
+  MappedFile(const MappedFile&) = delete;
+  ~MappedFile();
+  std::span<const std::uint8_t> bytes() const { return {data_, size_}; }
+
+ private:
+  MappedFile(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  const std::uint8_t* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 // A set of files written to temporary names and renamed into place only by commit(),
 // so a failure never leaves partial output. Destroying it without commit() removes the temporaries.
 class AtomicWriteSet {

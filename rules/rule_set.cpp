@@ -14,6 +14,14 @@ const std::vector<std::pair<std::string, std::string>>& embedded_rule_files();  
 
 namespace {
 
+// "/" + the escaped key, built by appending: GCC 12 -O3 warns falsely (-Wrestrict) on
+// operator+(const char*, std::string&&) here.
+std::string pointer_to(const std::string& key) {
+  std::string pointer(1, '/');
+  pointer += escape_pointer_token(key);
+  return pointer;
+}
+
 Severity parse_severity(const std::string& text, const std::string& file, const std::string& pointer) {
   if (text == "0" || text == "error") return Severity::Error;
   if (text == "1" || text == "warning") return Severity::Warning;
@@ -28,6 +36,22 @@ double Rule::threshold(const std::string& name) const {
   auto found = thresholds.find(name);
   if (found == thresholds.end()) check_failed("rule has threshold", code + " has no threshold '" + name + "'", file.c_str());
   return found->second;
+}
+
+std::string Rule::format(const std::vector<std::string>& arguments) const {
+  std::string text;
+  for (size_t i = 0; i < message.size(); ++i) {
+    if (message[i] == '%' && i + 1 < message.size() && message[i + 1] >= '1' && message[i + 1] <= '9') {
+      const size_t argument = static_cast<size_t>(message[i + 1] - '1');
+      if (argument < arguments.size()) {
+        text += arguments[argument];
+        ++i;
+        continue;
+      }
+    }
+    text += message[i];
+  }
+  return text;
 }
 
 const Rule* RuleSet::find(const std::string& code) const {
@@ -125,7 +149,7 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
 
   for (const auto& entry : root) {
     const std::string key = entry.first.as<std::string>();
-    const std::string pointer = "/" + escape_pointer_token(key);
+    const std::string pointer = pointer_to(key);
     const YAML::Node& value = entry.second;
     if (key == "max-issues") {
       long long count = -1;

@@ -16,13 +16,15 @@ struct Rule {
   Severity severity = Severity::Error;
   bool enabled = true;                       // off: the check does not run at all (and costs nothing)
   std::map<std::string, double> thresholds;  // named numbers the check compares against
-  std::string message;                       // message template, placeholders like {0} or %1
+  std::string message;                       // message template, placeholders %1, %2, ...
   std::string explanation;                   // one line: why this is implausible or wrong
   std::string source;                        // where the threshold comes from
   std::string file;                          // the rules/ file it came from (for error messages)
 
   // The named threshold; a missing name is a defect of the shipped rules, so it is a CHECK.
   double threshold(const std::string& name) const;
+  // The message with %1, %2, ... replaced by `arguments` (a placeholder past them stays as it is).
+  std::string format(const std::vector<std::string>& arguments) const;
 };
 
 class RuleSet {

@@ -30,12 +30,12 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
                      const IssuePolicy& policy, const ValidateOptions& options) {
   Report report;
   report.uri = uri;
-  const std::optional<Bytes> read = read_file(file);
-  if (!read) {
+  const std::optional<MappedFile> mapped = MappedFile::open(file);
+  if (!mapped) {
     report.add({"IO_ERROR", "Cannot read the file.", Severity::Error, "", {}, 1});
     return report;
   }
-  const Bytes& bytes = *read;
+  const std::span<const std::uint8_t> bytes = mapped->bytes();
 
   if (wants(options, "structure")) {
     validate_structure(file, bytes, rules, StructureOptions{}, report);

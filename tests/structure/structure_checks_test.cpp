@@ -24,11 +24,9 @@ const Issue* find(const Report& report, const std::string& code) {
   return nullptr;
 }
 
-// A data URI holding `floats` as little-endian float32 (base64).
-std::string float_buffer(const std::vector<float>& floats) {
+// A data URI holding `bytes` (base64).
+std::string data_uri(const std::vector<std::uint8_t>& bytes) {
   static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<std::uint8_t> bytes(floats.size() * 4);
-  std::memcpy(bytes.data(), floats.data(), bytes.size());
   std::string text;
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
     const std::uint32_t chunk =
@@ -40,6 +38,16 @@ std::string float_buffer(const std::vector<float>& floats) {
   }
   return "data:application/octet-stream;base64," + text;
 }
+
+// A data URI holding `values` as little-endian bytes.
+template <typename T>
+std::string buffer_of(const std::vector<T>& values) {
+  std::vector<std::uint8_t> bytes(values.size() * sizeof(T));
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  return data_uri(bytes);
+}
+
+std::string float_buffer(const std::vector<float>& floats) { return buffer_of(floats); }
 
 TEST(StructureChecks, OrthographicCameraWithZeroMagnificationIsAnError) {
   const Report report = validate_text(
@@ -151,6 +159,48 @@ TEST(StructureChecks, SkinnedMeshInASceneWithoutItsJointsIsAnError) {
   EXPECT_EQ(issue->pointer, "/nodes/0");
   EXPECT_EQ(issue->severity, Severity::Error);
   EXPECT_EQ(find(skinned_mesh_with_joint_in_scene(0), "NODE_SKIN_NO_SCENE"), nullptr);
+}
+
+// Accessor data is read in chunks of 49,152 elements: issues across a chunk boundary keep their
+// element indices, order and counts.
+TEST(StructureChecks, LargeAccessorsAreCheckedAcrossChunkBoundaries) {
+  const std::size_t count = 120000, boundary = 49152;
+  std::vector<std::uint32_t> indices(count);
+  for (std::size_t k = 0; k < count; ++k) indices[k] = static_cast<std::uint32_t>(k % 3);  // triangles 0 1 2
+  indices[boundary - 1] = indices[boundary - 2];  // last triangle of the first chunk degenerate
+  indices[boundary + 1] = indices[boundary];      // first triangle of the second chunk degenerate
+  indices[2 * boundary + 5] = 7;                  // past the 3 vertices, in the third chunk
+  std::vector<float> times(count);
+  for (std::size_t k = 0; k < count; ++k) times[k] = static_cast<float>(k);
+  times[boundary] = times[boundary - 1];  // not increasing, right at the boundary
+  const std::string text =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":")" + float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
+      R"("},{"byteLength":480000,"uri":")" + buffer_of(indices) + R"("},{"byteLength":480000,"uri":")" +
+      buffer_of(times) + R"("},{"byteLength":16,"uri":")" + float_buffer({0, 0, 0, 1}) +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":1,"byteLength":480000,"target":34963},)"
+      R"({"buffer":2,"byteLength":480000},{"buffer":3,"byteLength":16}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+      R"({"bufferView":1,"componentType":5125,"count":120000,"type":"SCALAR"},)"
+      R"({"bufferView":2,"componentType":5126,"count":120000,"type":"SCALAR","min":[0],"max":[119999]},)"
+      R"({"bufferView":3,"componentType":5126,"count":1,"type":"VEC4"}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],)"
+      R"("animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"rotation"}}],)"
+      R"("samplers":[{"input":2,"output":3,"interpolation":"STEP"}]}],"scenes":[{"nodes":[0]}]})";
+  const Report report = validate_text(text);
+  std::vector<const Issue*> out_of_bounds, non_increasing;
+  for (const Issue& issue : report.messages) {
+    if (issue.code == "ACCESSOR_INDEX_OOB") out_of_bounds.push_back(&issue);
+    if (issue.code == "ACCESSOR_ANIMATION_INPUT_NON_INCREASING") non_increasing.push_back(&issue);
+  }
+  ASSERT_EQ(out_of_bounds.size(), 1u);
+  EXPECT_EQ(out_of_bounds[0]->message,
+            "Indices accessor element at index 98309 has value 7 that is greater than the maximum vertex index "
+            "available (2).");
+  ASSERT_EQ(non_increasing.size(), 1u);
+  EXPECT_NE(non_increasing[0]->message.find("index 49152"), std::string::npos) << non_increasing[0]->message;
+  const Issue* degenerate = find(report, "ACCESSOR_INDEX_TRIANGLE_DEGENERATE");
+  ASSERT_NE(degenerate, nullptr);
+  EXPECT_EQ(degenerate->message.substr(0, 40), "Indices accessor contains 2 degenerate t");
 }
 
 TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {

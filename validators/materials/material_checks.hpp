@@ -12,8 +12,6 @@
 
 namespace gltf_pbr {
 
-// The rule's message template with %1, %2, ... replaced by `arguments`.
-std::string fill_message(const Rule& rule, const std::vector<std::string>& arguments);
 
 // Adds an issue for `code` with its rule's severity.
 void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,

@@ -334,27 +334,10 @@ void write_heat_map(const fs::path& file, int width, int height, const std::vect
 
 }  // namespace
 
-std::string fill_message(const Rule& rule, const std::vector<std::string>& arguments) {
-  std::string text;
-  const std::string& pattern = rule.message;
-  for (size_t i = 0; i < pattern.size(); ++i) {
-    if (pattern[i] == '%' && i + 1 < pattern.size() && pattern[i + 1] >= '1' && pattern[i + 1] <= '9') {
-      const size_t argument = static_cast<size_t>(pattern[i + 1] - '1');
-      if (argument < arguments.size()) {
-        text += arguments[argument];
-        ++i;
-        continue;
-      }
-    }
-    text += pattern[i];
-  }
-  return text;
-}
-
 void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,
                const std::string& pointer, Report& report) {
   const Rule& rule = rules.at(code);
-  report.add({code, fill_message(rule, arguments), rule.severity, pointer, {}, 1});
+  report.add({code, rule.format(arguments), rule.severity, pointer, {}, 1});
 }
 
 const Pixels* TexelSource::get(int image, const RuleSet& rules, Report& report) {

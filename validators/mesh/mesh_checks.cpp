@@ -11,17 +11,6 @@ namespace gltf_pbr {
 
 namespace {
 
-// Replaces {0}, {1}, ... in a rule's message template.
-std::string fill_template(std::string text, const std::vector<std::string>& arguments) {
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    const std::string placeholder = "{" + std::to_string(i) + "}";
-    for (std::size_t at = text.find(placeholder); at != std::string::npos;
-         at = text.find(placeholder, at + arguments[i].size()))
-      text.replace(at, placeholder.size(), arguments[i]);
-  }
-  return text;
-}
-
 std::string format_number(double value) {
   std::ostringstream out;
   out << value;
@@ -48,7 +37,7 @@ class PrimitiveReporter {
     const std::string threshold_text = threshold.empty() ? "" : format_number(rule.threshold(threshold));
     report_.add(
         {code,
-         fill_template(rule.message, {std::to_string(count), std::to_string(total), listed_text, threshold_text}),
+         rule.format({std::to_string(count), std::to_string(total), listed_text, threshold_text}),
          rule.severity,
          pointer_,
          {},
@@ -60,7 +49,7 @@ class PrimitiveReporter {
   }
   void add_text(const std::string& code, const std::string& text) const {
     const Rule& rule = rules_.at(code);
-    report_.add({code, fill_template(rule.message, {text}), rule.severity, pointer_, {}, 1});
+    report_.add({code, rule.format({text}), rule.severity, pointer_, {}, 1});
   }
 
  private:
@@ -156,7 +145,7 @@ void check_primitive(const Asset& asset, int mesh_index, int primitive_index, co
       const Rule& rule = rules.at("MESH_SELF_INTERSECTION");
       const std::string count = (found.stopped_at_limit ? "At least " : "") + std::to_string(found.pairs.size());
       report.add({rule.code,
-                  fill_template(rule.message, {count, std::to_string(triangle_count), pairs}),
+                  rule.format({count, std::to_string(triangle_count), pairs}),
                   rule.severity,
                   where,
                   {},

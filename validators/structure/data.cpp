@@ -3,6 +3,7 @@
 // of mesh attributes, 3.11 "Animations", 3.7.3 "Skins"). Every read is bounded by the bytes that
 // are really there, whatever the JSON claims.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -21,7 +22,7 @@ std::optional<std::vector<std::uint8_t>> read_resource(const Context& context, c
   return read_file(path);  // one sized read, not a byte-by-byte stream: external .bin files are large
 }
 
-// Reads component `c` of element `e` as a double; the caller has checked the bounds.
+// Reads one component at `base` as a double; the caller has checked the bounds.
 template <typename T>
 inline double load(const std::uint8_t* base) {
   T value;
@@ -29,17 +30,18 @@ inline double load(const std::uint8_t* base) {
   return static_cast<double>(value);
 }
 
+using Values = std::vector<double>;
+
+// Accessor values are read in chunks of this many elements (a multiple of 3, so a chunk of
+// triangle indices holds whole triangles): memory stays flat whatever the accessor's size, and a
+// chunk stays in cache between its decode and its checks.
+constexpr std::int64_t kChunkElements = 3 * 16384;
+
 class AccessorData {
  public:
   explicit AccessorData(Context& context) : issues_(context.issues), doc_(context.doc) {}
 
   void run() {
-    // One allocation for the largest accessor: its pages are touched once, not per accessor.
-    std::uint64_t largest = 0;
-    for (const AccessorModel& a : doc_.accessors)
-      if (a.object && a.valid && a.fits && a.count > 0)
-        largest = std::max(largest, static_cast<std::uint64_t>(a.count) * component_count(a.type));
-    values_.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(largest, 1ull << 31)));
     for (std::size_t i = 0; i < doc_.accessors.size(); ++i)
       if (doc_.accessors[i].object && doc_.accessors[i].valid) accessor(i);
   }
@@ -60,11 +62,11 @@ class AccessorData {
     return buffer.data.subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
   }
 
-  // Decodes the accessor's values (sparse substitution applied) into `values_`, component-major
-  // per element. Returns false when the data is unavailable. Sparse issues are reported only
-  // when `report_sparse` (each accessor's own pass), not when it is read as a partner.
-  bool decode(const AccessorModel& a, bool report_sparse = true) {
-    report_sparse_ = report_sparse;
+  // Decodes elements [first, first + count) of the accessor (sparse substitution applied) into
+  // `out`, component-major per element. Returns false when the data is unavailable. Sparse
+  // accessors are decoded whole (first 0, count all), and their issues reported only when
+  // `report_sparse` (the accessor's own first pass), not when it is read again or as a partner.
+  bool decode(const AccessorModel& a, bool report_sparse, std::int64_t first, std::int64_t count, Values& out) {
     const int components = component_count(a.type);
     const int size = component_size(a.component_type);
     if (components == 0 || size == 0 || a.count <= 0) return false;
@@ -76,14 +78,14 @@ class AccessorData {
     } else if (!a.sparse) {
       return false;  // all zeros: nothing to check
     }
-    const std::uint64_t total = static_cast<std::uint64_t>(a.count) * static_cast<std::uint64_t>(components);
+    const std::uint64_t total = static_cast<std::uint64_t>(count) * static_cast<std::uint64_t>(components);
     // Without a buffer view the JSON alone sets the count: refuse what no real file could hold.
     if (!bytes && total > (1u << 26)) return false;
-    // Every value is written below (or is zero for sparse-only accessors); keep the capacity.
+    // Every value is written below (or is zero for sparse-only accessors).
     if (bytes && !a.sparse)
-      values_.resize(static_cast<std::size_t>(total));
+      out.resize(static_cast<std::size_t>(total));
     else
-      values_.assign(static_cast<std::size_t>(total), 0.0);
+      out.assign(static_cast<std::size_t>(total), 0.0);
     if (bytes) {
       const std::int64_t view_stride = doc_.buffer_views[static_cast<std::size_t>(a.buffer_view)].byte_stride;
       const bool matrix_padding = a.type.starts_with("MAT") && size < 4;
@@ -91,38 +93,44 @@ class AccessorData {
       const int column_bytes = matrix_padding ? (rows * size + 3) / 4 * 4 : rows * size;
       const std::int64_t element_bytes = matrix_padding ? column_bytes * (components / rows) : size * components;
       const std::int64_t stride = view_stride > 0 ? view_stride : element_bytes;
-      const std::uint8_t* base = bytes->data() + a.byte_offset;
+      const std::uint8_t* base = bytes->data() + a.byte_offset + first * stride;
       switch (a.component_type) {
         case 5120:
-          fill<std::int8_t>(base, stride, a.count, components, rows, column_bytes);
+          fill<std::int8_t>(base, stride, count, components, rows, column_bytes, out);
           break;
         case 5121:
-          fill<std::uint8_t>(base, stride, a.count, components, rows, column_bytes);
+          fill<std::uint8_t>(base, stride, count, components, rows, column_bytes, out);
           break;
         case 5122:
-          fill<std::int16_t>(base, stride, a.count, components, rows, column_bytes);
+          fill<std::int16_t>(base, stride, count, components, rows, column_bytes, out);
           break;
         case 5123:
-          fill<std::uint16_t>(base, stride, a.count, components, rows, column_bytes);
+          fill<std::uint16_t>(base, stride, count, components, rows, column_bytes, out);
           break;
         case 5125:
-          fill<std::uint32_t>(base, stride, a.count, components, rows, column_bytes);
+          fill<std::uint32_t>(base, stride, count, components, rows, column_bytes, out);
           break;
         case 5126:
-          fill<float>(base, stride, a.count, components, rows, column_bytes);
+          fill<float>(base, stride, count, components, rows, column_bytes, out);
           break;
         default:
           return false;
       }
     }
-    if (a.sparse && !apply_sparse(a, components)) return false;
+    if (a.sparse && !apply_sparse(a, components, report_sparse, out)) return false;
     return true;
   }
 
   template <typename T>
-  void fill(const std::uint8_t* base, std::int64_t stride, std::int64_t count, int components, int rows,
-            int column_bytes) {
-    double* out = values_.data();
+  static void fill(const std::uint8_t* base, std::int64_t stride, std::int64_t count, int components, int rows,
+                   int column_bytes, Values& values) {
+    double* out = values.data();
+    if (rows == components && stride == static_cast<std::int64_t>(sizeof(T)) * components) {
+      // Tightly packed (most vertex data and all indices): one straight run of components.
+      const std::int64_t total = count * components;
+      for (std::int64_t k = 0; k < total; ++k) out[k] = load<T>(base + k * static_cast<std::int64_t>(sizeof(T)));
+      return;
+    }
     const int columns = components / rows;
     for (std::int64_t e = 0; e < count; ++e) {
       const std::uint8_t* element = base + e * stride;
@@ -131,7 +139,7 @@ class AccessorData {
     }
   }
 
-  bool apply_sparse(const AccessorModel& a, int components) {
+  bool apply_sparse(const AccessorModel& a, int components, bool report, Values& out) {
     auto indices = view_bytes(a.sparse_indices_view);
     auto values = view_bytes(a.sparse_values_view);
     const int index_size = component_size(a.sparse_indices_component_type);
@@ -142,7 +150,7 @@ class AccessorData {
     if (static_cast<std::uint64_t>(a.sparse_indices_offset) + n * index_size > indices->size()) return false;
     if (static_cast<std::uint64_t>(a.sparse_values_offset) + n * components * value_size > values->size()) return false;
     const std::string pointer = "/accessors/" + std::to_string(&a - doc_.accessors.data()) + "/sparse";
-    IssueSink* issues = report_sparse_ ? &issues_ : nullptr;
+    IssueSink* issues = report ? &issues_ : nullptr;
     std::int64_t previous = -1;
     for (std::uint64_t k = 0; k < n; ++k) {
       const std::uint8_t* at = indices->data() + a.sparse_indices_offset + k * index_size;
@@ -184,7 +192,7 @@ class AccessorData {
             number = load<float>(v);
             break;
         }
-        values_[static_cast<std::size_t>(index * components + c)] = number;
+        out[static_cast<std::size_t>(index * components + c)] = number;
       }
     }
     return true;
@@ -195,7 +203,7 @@ class AccessorData {
     return a.component_type == 5126 ? arg_double(value) : arg(static_cast<std::int64_t>(value));
   }
 
-  double normalized(const AccessorModel& a, double value) const {
+  static double normalized(const AccessorModel& a, double value) {
     if (!a.normalized) return value;
     switch (a.component_type) {
       case 5120:
@@ -211,60 +219,168 @@ class AccessorData {
     }
   }
 
+  const AccessorModel* accessor_at(std::int64_t index) const {
+    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
+    const AccessorModel& a = doc_.accessors[static_cast<std::size_t>(index)];
+    return a.object ? &a : nullptr;
+  }
+
+  // An accessor read alongside `a`, element for element (WEIGHTS_n beside JOINTS_n, earlier weight
+  // sets beside the last): only when it is a VEC4 of the same count.
+  const AccessorModel* partner_of(const AccessorModel& a, std::int64_t index) const {
+    const AccessorModel* partner = accessor_at(index);
+    return partner && partner->count == a.count && component_count(partner->type) == 4 ? partner : nullptr;
+  }
+
+  // What a chunked pass over `a` shares with the accessors it reads alongside.
+  struct Partners {
+    const AccessorModel* weights = nullptr;     // JOINTS_n: its WEIGHTS_n
+    std::vector<const AccessorModel*> earlier;  // last WEIGHTS_n: the earlier sets
+    bool earlier_complete = true;               // every earlier set can be read alongside
+  };
+
+  Partners partners(const AccessorModel& a) const {
+    Partners p;
+    if (a.usage != AccessorModel::Usage::Vertex) return p;
+    if (a.semantic.starts_with("JOINTS_")) p.weights = partner_of(a, a.paired_weights);
+    if (a.semantic.starts_with("WEIGHTS_"))
+      for (std::int64_t index : a.earlier_weight_sets) {
+        const AccessorModel* earlier = partner_of(a, index);
+        if (earlier)
+          p.earlier.push_back(earlier);
+        else
+          p.earlier_complete = false;
+      }
+    return p;
+  }
+
+  // State carried from chunk to chunk by the usage checks.
+  struct Carry {
+    std::uint64_t degenerate_triangles = 0;
+    double previous_time = 0.0;
+  };
+
   void accessor(std::size_t i) {
-    AccessorModel& a = doc_.accessors[i];
-    if (!decode(a)) return;
+    const AccessorModel& a = doc_.accessors[i];
     const std::string p = "/accessors/" + std::to_string(i);
     const std::string& use = a.usage_pointer.empty() ? p : a.usage_pointer;
     const int components = component_count(a.type);
-    const std::size_t count = static_cast<std::size_t>(a.count);
     const bool is_float = a.component_type == 5126;
+    if (components == 0 || a.count <= 0) return;
+    const Partners with = partners(a);
+    // Sparse data is substituted over the whole accessor, so sparse accessors (and their
+    // partners) are read in one piece.
+    bool whole = a.sparse || (with.weights && with.weights->sparse);
+    for (const AccessorModel* earlier : with.earlier) whole = whole || earlier->sparse;
+    const std::int64_t chunk = whole ? a.count : kChunkElements;
 
-    std::vector<double> actual_min(components, INFINITY), actual_max(components, -INFINITY);
+    // Pass 1: invalid floats in element order, then the declared bounds against the actual ones.
+    // Declared bounds of float accessors are compared at float precision: the JSON double is
+    // what a writer printed for the float it stored.
+    auto as_stored = [&](double declared) { return is_float ? static_cast<double>(static_cast<float>(declared)) : declared; };
+    const bool min_declared = a.has_min && static_cast<int>(a.min.size()) == components;
+    const bool max_declared = a.has_max && static_cast<int>(a.max.size()) == components;
+    std::array<double, 16> actual_min, actual_max, declared_min, declared_max;
+    std::array<std::uint64_t, 16> below{}, above{};
+    for (int c = 0; c < components; ++c) {
+      actual_min[c] = INFINITY;
+      actual_max[c] = -INFINITY;
+      declared_min[c] = min_declared ? as_stored(a.min[c]) : -INFINITY;
+      declared_max[c] = max_declared ? as_stored(a.max[c]) : INFINITY;
+    }
+    const bool usage = has_usage_checks(a);
+    // Only floats can hold invalid values and only declared bounds can be broken: without either,
+    // pass 1 has nothing to say and the usage checks run alone (sparse issues are reported by the
+    // first decode, so a sparse accessor always has one).
+    const bool pass_one = is_float || min_declared || max_declared || a.sparse;
+    const bool one_chunk = chunk >= a.count;
     bool invalid_float = false;
-    const double* value = values_.data();
-    for (std::size_t e = 0; e < count; ++e) {
-      for (int c = 0; c < components; ++c, ++value) {
-        if (is_float && !std::isfinite(*value)) {
-          issues_.at("ACCESSOR_INVALID_FLOAT", use,
-                     {arg(static_cast<std::uint64_t>(e * components + c)), arg_double(*value)});
-          invalid_float = true;
-          continue;
+    for (std::int64_t first = 0; pass_one && first < a.count; first += chunk) {
+      const std::int64_t n = std::min(chunk, a.count - first);
+      if (!decode(a, first == 0, first, n, values_)) return;
+      const double* value = values_.data();
+      for (std::int64_t e = first; e < first + n; ++e) {
+        for (int c = 0; c < components; ++c, ++value) {
+          const double v = *value;
+          if (is_float && !std::isfinite(v)) {
+            issues_.at("ACCESSOR_INVALID_FLOAT", use, {arg(static_cast<std::uint64_t>(e * components + c)), arg_double(v)});
+            invalid_float = true;
+            continue;
+          }
+          actual_min[c] = std::min(actual_min[c], v);
+          actual_max[c] = std::max(actual_max[c], v);
+          below[c] += v < declared_min[c];
+          above[c] += v > declared_max[c];
         }
-        actual_min[c] = std::min(actual_min[c], *value);
-        actual_max[c] = std::max(actual_max[c], *value);
       }
     }
-    if (!invalid_float) bounds(a, p, actual_min, actual_max);
+    if (!invalid_float) bounds(a, p, components, actual_min, actual_max, below, above);
 
+    // Pass 2: what the accessor's user requires, chunk by chunk in element order. A single
+    // chunk already decoded by pass 1 is checked as it is.
+    if (!usage) return;
+    Carry carry;
+    for (std::int64_t first = 0; first < a.count; first += chunk) {
+      const std::int64_t n = std::min(chunk, a.count - first);
+      if (!(pass_one && one_chunk) && !decode(a, !pass_one && first == 0, first, n, values_)) return;
+      usage_checks(a, use, with, static_cast<std::size_t>(first), static_cast<std::size_t>(n), carry);
+    }
+    if (a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
+      issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
+                 {arg(carry.degenerate_triangles), arg(static_cast<std::uint64_t>(a.count / 3))});
+  }
+
+  static bool has_usage_checks(const AccessorModel& a) {
+    using Usage = AccessorModel::Usage;
+    const int components = component_count(a.type);
+    const std::string& semantic = a.semantic;
+    switch (a.usage) {
+      case Usage::Index:
+        return components == 1;
+      case Usage::Vertex:
+        return (semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4) ||
+               (semantic.starts_with("COLOR_") && a.component_type == 5126) ||
+               ((semantic.starts_with("JOINTS_") || semantic.starts_with("WEIGHTS_")) && components == 4);
+      case Usage::AnimationInput:
+        return components == 1 && a.component_type == 5126;
+      case Usage::AnimationOutput:
+        return a.animation_path == "rotation" && components == 4;
+      case Usage::InverseBindMatrices:
+        return components == 16;
+      default:
+        return false;
+    }
+  }
+
+  // `values_` holds elements [first, first + count).
+  void usage_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
+                    std::size_t count, Carry& carry) {
     using Usage = AccessorModel::Usage;
     switch (a.usage) {
       case Usage::Index:
-        index_checks(a, use);
+        index_checks(a, use, first, carry);
         break;
       case Usage::Vertex:
-        vertex_checks(a, use, count, components);
+        vertex_checks(a, use, with, first, count);
         break;
       case Usage::AnimationInput:
-        animation_input(a, use);
+        animation_input(use, first, carry);
         break;
       case Usage::AnimationOutput:
-        if (a.animation_path == "rotation" && components == 4) quaternions(a, use, count);
+        quaternions(a, use, first, count);
         break;
       case Usage::InverseBindMatrices:
-        if (components == 16) inverse_bind_matrices(use, count);
+        inverse_bind_matrices(use, first, count);
         break;
       default:
         break;
     }
   }
 
-  void bounds(const AccessorModel& a, const std::string& p, const std::vector<double>& actual_min,
-              const std::vector<double>& actual_max) {
-    const int components = static_cast<int>(actual_min.size());
+  void bounds(const AccessorModel& a, const std::string& p, int components, const std::array<double, 16>& actual_min,
+              const std::array<double, 16>& actual_max, const std::array<std::uint64_t, 16>& below,
+              const std::array<std::uint64_t, 16>& above) {
     const bool is_float = a.component_type == 5126;
-    // Declared bounds of float accessors are compared at float precision: the JSON double is what
-    // a writer printed for the float it stored.
     auto same = [&](double declared, double actual) {
       return is_float ? static_cast<float>(declared) == static_cast<float>(actual) : declared == actual;
     };
@@ -273,12 +389,7 @@ class AccessorData {
         const std::string pointer = p + "/min/" + std::to_string(c);
         if (!same(a.min[c], actual_min[c]))
           issues_.at("ACCESSOR_MIN_MISMATCH", pointer, {value_arg(a, a.min[c]), value_arg(a, actual_min[c])});
-        std::uint64_t below = 0;
-        const double declared = is_float ? static_cast<double>(static_cast<float>(a.min[c])) : a.min[c];
-        if (actual_min[c] < declared)  // only then can an element lie below: scan for the count
-          for (std::size_t k = static_cast<std::size_t>(c); k < values_.size(); k += components)
-            if (values_[k] < declared) ++below;
-        if (below) issues_.at("ACCESSOR_ELEMENT_OUT_OF_MIN_BOUND", pointer, {arg(below), value_arg(a, a.min[c])});
+        if (below[c]) issues_.at("ACCESSOR_ELEMENT_OUT_OF_MIN_BOUND", pointer, {arg(below[c]), value_arg(a, a.min[c])});
       }
     }
     if (a.has_max && static_cast<int>(a.max.size()) == components) {
@@ -286,183 +397,152 @@ class AccessorData {
         const std::string pointer = p + "/max/" + std::to_string(c);
         if (!same(a.max[c], actual_max[c]))
           issues_.at("ACCESSOR_MAX_MISMATCH", pointer, {value_arg(a, a.max[c]), value_arg(a, actual_max[c])});
-        std::uint64_t above = 0;
-        const double declared = is_float ? static_cast<double>(static_cast<float>(a.max[c])) : a.max[c];
-        if (actual_max[c] > declared)
-          for (std::size_t k = static_cast<std::size_t>(c); k < values_.size(); k += components)
-            if (values_[k] > declared) ++above;
-        if (above) issues_.at("ACCESSOR_ELEMENT_OUT_OF_MAX_BOUND", pointer, {arg(above), value_arg(a, a.max[c])});
+        if (above[c]) issues_.at("ACCESSOR_ELEMENT_OUT_OF_MAX_BOUND", pointer, {arg(above[c]), value_arg(a, a.max[c])});
       }
     }
   }
 
-  void index_checks(const AccessorModel& a, const std::string& use) {
-    if (component_count(a.type) != 1) return;
+  void index_checks(const AccessorModel& a, const std::string& use, std::size_t first, Carry& carry) {
     const double restart = a.component_type == 5121 ? 255.0 : a.component_type == 5123 ? 65535.0 : 4294967295.0;
+    const double limit = a.vertex_limit > 0 ? static_cast<double>(a.vertex_limit) : INFINITY;
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
       if (value == restart) {
         issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use,
-                   {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(k))});
-      } else if (a.vertex_limit > 0 && value >= static_cast<double>(a.vertex_limit)) {
-        issues_.at(
-            "ACCESSOR_INDEX_OOB", use,
-            {arg(static_cast<std::uint64_t>(k)), arg(static_cast<std::int64_t>(value)), arg(a.vertex_limit - 1)});
+                   {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
+      } else if (value >= limit) {
+        issues_.at("ACCESSOR_INDEX_OOB", use,
+                   {arg(static_cast<std::uint64_t>(first + k)), arg(static_cast<std::int64_t>(value)),
+                    arg(a.vertex_limit - 1)});
       }
     }
-    if (a.primitive_mode == 4 && values_.size() >= 3) {
-      std::uint64_t degenerate = 0;
-      const std::size_t triangles = values_.size() / 3;
-      for (std::size_t t = 0; t < triangles; ++t) {
-        const double i0 = values_[3 * t], i1 = values_[3 * t + 1], i2 = values_[3 * t + 2];
-        if (i0 == i1 || i1 == i2 || i0 == i2) ++degenerate;
+    // Chunks hold whole triangles (kChunkElements is a multiple of 3; a whole accessor is one chunk).
+    if (a.primitive_mode == 4 && a.count >= 3)
+      for (std::size_t t = 0; t + 2 < values_.size(); t += 3) {
+        const double i0 = values_[t], i1 = values_[t + 1], i2 = values_[t + 2];
+        carry.degenerate_triangles += i0 == i1 || i1 == i2 || i0 == i2;
       }
-      if (degenerate)
-        issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
-                   {arg(degenerate), arg(static_cast<std::uint64_t>(triangles))});
-    }
   }
 
-  void vertex_checks(const AccessorModel& a, const std::string& use, std::size_t count, int components) {
+  void vertex_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
+                     std::size_t count) {
     const std::string& semantic = a.semantic;
+    const int components = component_count(a.type);
     if ((semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4)) {
       for (std::size_t e = 0; e < count; ++e) {
         const double* v = &values_[e * components];
         const double x = normalized(a, v[0]), y = normalized(a, v[1]), z = normalized(a, v[2]);
         const double length = std::sqrt(x * x + y * y + z * z);
-        const std::uint64_t first = e * components;
+        const std::uint64_t index = (first + e) * components;
         if (std::fabs(length - 1.0) > 0.0005)
-          issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(first), arg(first + 2), arg_double(length)});
+          issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(index), arg(index + 2), arg_double(length)});
         if (components == 4) {
           const double w = normalized(a, v[3]);
-          if (w != 1.0 && w != -1.0)
-            issues_.at("ACCESSOR_INVALID_SIGN", use, {arg(first), arg(first + 3), arg_double(w)});
+          if (w != 1.0 && w != -1.0) issues_.at("ACCESSOR_INVALID_SIGN", use, {arg(index), arg(index + 3), arg_double(w)});
         }
       }
     } else if (semantic.starts_with("COLOR_") && a.component_type == 5126) {
       for (std::size_t k = 0; k < values_.size(); ++k)
         if (values_[k] < 0.0 || values_[k] > 1.0)
-          issues_.at("ACCESSOR_NON_CLAMPED", use, {arg(static_cast<std::uint64_t>(k)), arg_double(values_[k])});
+          issues_.at("ACCESSOR_NON_CLAMPED", use,
+                     {arg(static_cast<std::uint64_t>(first * components + k)), arg_double(values_[k])});
     } else if (semantic.starts_with("JOINTS_") && components == 4) {
-      joints_checks(a, use, count);
+      joints_checks(a, use, with, first, count);
     } else if (semantic.starts_with("WEIGHTS_") && components == 4) {
-      weights_checks(a, use, count);
+      weights_checks(a, use, with, first, count);
     }
   }
 
   // Spec 3.7.3.3: weights are non-negative and, over all the primitive's sets, sum to one within
   // the precision of their component type.
-  void weights_checks(const AccessorModel& a, const std::string& use, std::size_t count) {
-    std::optional<std::vector<double>> earlier_sums = a.weights_sum_here ? sum_earlier_weight_sets(a) : std::nullopt;
+  void weights_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
+                      std::size_t count) {
+    // The earlier sets' sums, when every one of them can be read: otherwise the sum is unknown.
+    std::vector<double> earlier_sums(count, 0.0);
+    bool sum_known = a.weights_sum_here && with.earlier_complete;
+    for (const AccessorModel* earlier : with.earlier) {
+      if (!sum_known) break;
+      sum_known = decode(*earlier, false, static_cast<std::int64_t>(first), static_cast<std::int64_t>(count), partner_);
+      for (std::size_t k = 0; sum_known && k < partner_.size(); ++k) earlier_sums[k / 4] += normalized(*earlier, partner_[k]);
+    }
     const bool all_float = a.component_type == 5126 && a.earlier_weight_sets.empty();
     const double tolerance = all_float ? 5e-4 : 1.0 / 255.0;
     for (std::size_t e = 0; e < count; ++e) {
-      double sum = earlier_sums ? (*earlier_sums)[e] : 0.0;
+      double sum = earlier_sums[e];
+      const std::uint64_t index = (first + e) * 4;
       for (int c = 0; c < 4; ++c) {
         const double w = normalized(a, values_[e * 4 + c]);
         if (w < 0)
-          issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", use,
-                     {arg(static_cast<std::uint64_t>(e * 4 + c)), arg(c), value_arg(a, values_[e * 4 + c])});
+          issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", use, {arg(index + c), arg(c), value_arg(a, values_[e * 4 + c])});
         sum += w;
       }
-      if (earlier_sums && std::fabs(sum - 1.0) > tolerance)
-        issues_.at(
-            "ACCESSOR_WEIGHTS_NON_NORMALIZED", use,
-            {arg(static_cast<std::uint64_t>(e * 4)), arg(static_cast<std::uint64_t>(e * 4 + 3)), arg_double(sum)});
+      if (sum_known && std::fabs(sum - 1.0) > tolerance)
+        issues_.at("ACCESSOR_WEIGHTS_NON_NORMALIZED", use, {arg(index), arg(index + 3), arg_double(sum)});
     }
-  }
-
-  // Per vertex, the sum of the weights in the primitive's earlier WEIGHTS_n sets (zeros when there
-  // are none); nullopt when one of them cannot be read or does not match, so the sum is unknown.
-  // `values_` is left holding `a`'s values.
-  std::optional<std::vector<double>> sum_earlier_weight_sets(const AccessorModel& a) {
-    std::vector<double> sums(static_cast<std::size_t>(a.count), 0.0);
-    if (a.earlier_weight_sets.empty()) return sums;
-    const std::vector<double> own = values_;
-    bool known = true;
-    for (std::int64_t index : a.earlier_weight_sets) {
-      const AccessorModel* earlier =
-          index >= 0 && static_cast<std::size_t>(index) < doc_.accessors.size() ? &doc_.accessors[index] : nullptr;
-      known = earlier && earlier->object && earlier->count == a.count && component_count(earlier->type) == 4 &&
-              decode(*earlier, false);
-      if (!known) break;
-      for (std::size_t k = 0; k < values_.size(); ++k) sums[k / 4] += normalized(*earlier, values_[k]);
-    }
-    values_ = own;
-    return known ? std::optional(std::move(sums)) : std::nullopt;
   }
 
   // Spec 3.7.3.3: a vertex names each joint at most once among its non-zero weights, every joint
   // index is inside its skin's joints, and a zero weight should pair with joint 0.
-  void joints_checks(const AccessorModel& a, const std::string& use, std::size_t count) {
-    std::vector<double> joints = values_;
-    std::vector<double> weights;
-    if (a.paired_weights >= 0 && static_cast<std::size_t>(a.paired_weights) < doc_.accessors.size()) {
-      const AccessorModel& partner = doc_.accessors[static_cast<std::size_t>(a.paired_weights)];
-      if (partner.object && partner.count == a.count && component_count(partner.type) == 4 && decode(partner, false))
-        weights = values_;
-    }
-    values_ = std::move(joints);
+  void joints_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
+                     std::size_t count) {
+    const bool weighted = with.weights && decode(*with.weights, false, static_cast<std::int64_t>(first),
+                                                 static_cast<std::int64_t>(count), partner_);
     std::vector<double> seen;
     for (std::size_t e = 0; e < count; ++e) {
       seen.clear();
       for (int c = 0; c < 4; ++c) {
         const std::size_t k = e * 4 + static_cast<std::size_t>(c);
+        const std::uint64_t index = first * 4 + k;
         const double joint = values_[k];
-        const bool zero_weight = !weights.empty() && weights[k] == 0.0;
-        if (zero_weight) {
+        if (weighted && partner_[k] == 0.0) {
           if (joint != 0)
-            issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", use,
-                       {arg(static_cast<std::uint64_t>(k)), arg(c), arg(static_cast<std::int64_t>(joint))});
+            issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", use, {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
           continue;
         }
         if (a.joint_count >= 0 && joint >= static_cast<double>(a.joint_count))
           issues_.at("ACCESSOR_JOINTS_INDEX_OOB", use,
-                     {arg(static_cast<std::uint64_t>(k)), arg(c), arg(static_cast<std::int64_t>(joint)),
-                      arg(a.joint_count - 1), arg(a.skin)});
-        if (!weights.empty() && std::find(seen.begin(), seen.end(), joint) != seen.end())
-          issues_.at("ACCESSOR_JOINTS_INDEX_DUPLICATE", use,
-                     {arg(static_cast<std::uint64_t>(k)), arg(c), arg(static_cast<std::int64_t>(joint))});
+                     {arg(index), arg(c), arg(static_cast<std::int64_t>(joint)), arg(a.joint_count - 1), arg(a.skin)});
+        if (weighted && std::find(seen.begin(), seen.end(), joint) != seen.end())
+          issues_.at("ACCESSOR_JOINTS_INDEX_DUPLICATE", use, {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
         seen.push_back(joint);
       }
     }
   }
 
-  void animation_input(const AccessorModel& a, const std::string& use) {
-    if (component_count(a.type) != 1 || a.component_type != 5126) return;
+  void animation_input(const std::string& use, std::size_t first, Carry& carry) {
     // Spec 3.11: times are non-negative and strictly increasing. A negative time is reported once
     // and not used as the predecessor of the next (the reference compares against the last valid
     // time, starting from 0).
-    double previous = 0.0;
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
+      const std::uint64_t index = first + k;
       if (value < 0) {
-        issues_.at("ACCESSOR_ANIMATION_INPUT_NEGATIVE", use, {arg(static_cast<std::uint64_t>(k)), arg_double(value)});
+        issues_.at("ACCESSOR_ANIMATION_INPUT_NEGATIVE", use, {arg(index), arg_double(value)});
         continue;
       }
-      if (k > 0 && value <= previous)
+      if (index > 0 && value <= carry.previous_time)
         issues_.at("ACCESSOR_ANIMATION_INPUT_NON_INCREASING", use,
-                   {arg(static_cast<std::uint64_t>(k)), arg_double(value), arg_double(previous)});
-      previous = value;
+                   {arg(index), arg_double(value), arg_double(carry.previous_time)});
+      carry.previous_time = value;
     }
   }
 
-  void quaternions(const AccessorModel& a, const std::string& use, std::size_t count) {
+  void quaternions(const AccessorModel& a, const std::string& use, std::size_t first, std::size_t count) {
     const bool cubic = a.interpolation == "CUBICSPLINE";
     for (std::size_t e = 0; e < count; ++e) {
-      if (cubic && e % 3 != 1) continue;  // in- and out-tangents need not be unit
+      const std::uint64_t element = first + e;
+      if (cubic && element % 3 != 1) continue;  // in- and out-tangents need not be unit
       const double* q = &values_[e * 4];
       double sum = 0;
       for (int c = 0; c < 4; ++c) sum += normalized(a, q[c]) * normalized(a, q[c]);
       const double length = std::sqrt(sum);
       if (std::fabs(length - 1.0) > 0.0005)
-        issues_.at(
-            "ACCESSOR_ANIMATION_SAMPLER_OUTPUT_NON_NORMALIZED_QUATERNION", use,
-            {arg(static_cast<std::uint64_t>(e * 4)), arg(static_cast<std::uint64_t>(e * 4 + 3)), arg_double(length)});
+        issues_.at("ACCESSOR_ANIMATION_SAMPLER_OUTPUT_NON_NORMALIZED_QUATERNION", use,
+                   {arg(element * 4), arg(element * 4 + 3), arg_double(length)});
     }
   }
 
-  void inverse_bind_matrices(const std::string& use, std::size_t count) {
+  void inverse_bind_matrices(const std::string& use, std::size_t first, std::size_t count) {
     // Spec 3.7.3.1: inverse bind matrices are affine; their last row is (0, 0, 0, 1).
     static constexpr int last_row[4] = {3, 7, 11, 15};
     for (std::size_t e = 0; e < count; ++e) {
@@ -471,15 +551,15 @@ class AccessorData {
         const double expected = r == 3 ? 1.0 : 0.0;
         if (values_[k] != expected)
           issues_.at("ACCESSOR_INVALID_IBM", use,
-                     {arg(static_cast<std::uint64_t>(k)), arg(last_row[r]), arg_double(values_[k])});
+                     {arg(static_cast<std::uint64_t>(first * 16 + k)), arg(last_row[r]), arg_double(values_[k])});
       }
     }
   }
 
   IssueSink& issues_;
   Document& doc_;
-  std::vector<double> values_;
-  bool report_sparse_ = true;
+  Values values_;   // the chunk being checked
+  Values partner_;  // the same elements of an accessor read alongside
 };
 
 void load_buffers(Context& context) {
