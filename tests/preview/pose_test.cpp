@@ -2,8 +2,7 @@
 // and weights store, without animation.
 #include <gtest/gtest.h>
 
-#include <cstring>
-
+#include "core/accessor.hpp"
 #include "core/error.hpp"
 #include "preview/preview.hpp"
 
@@ -17,31 +16,14 @@ struct TriangleAsset {
 
   TriangleAsset() {
     asset.path = "pose.gltf";
-    asset.model.buffers.emplace_back();
-    const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    primitive.attributes["POSITION"] = add(positions, sizeof positions, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                           TINYGLTF_TYPE_VEC3, 3);
+    primitive.attributes["POSITION"] =
+        add(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3);
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
   }
 
-  int add(const void* data, size_t bytes, int component, int type, size_t count) {
-    tinygltf::Model& m = asset.model;
-    std::vector<unsigned char>& buffer = m.buffers[0].data;
-    while (buffer.size() % 4) buffer.push_back(0);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = buffer.size();
-    view.byteLength = bytes;
-    buffer.resize(buffer.size() + bytes);
-    std::memcpy(buffer.data() + view.byteOffset, data, bytes);
-    m.bufferViews.push_back(view);
-    tinygltf::Accessor a;
-    a.bufferView = static_cast<int>(m.bufferViews.size() - 1);
-    a.componentType = component;
-    a.type = type;
-    a.count = count;
-    m.accessors.push_back(a);
-    return static_cast<int>(m.accessors.size() - 1);
+  template <typename T>
+  int add(const std::vector<T>& values, int component, int type) {
+    return append_accessor(asset.model, values, component, type);
   }
 
   Scene build(tinygltf::Node node, std::vector<double> mesh_weights = {}, std::vector<tinygltf::Node> more = {}) {
@@ -61,16 +43,14 @@ struct TriangleAsset {
 
   // Every vertex bound with weight 1 to joint `joint` of a skin whose joints are nodes 1 and 2.
   void bind_all_vertices_to(std::uint8_t joint, const std::vector<float>& inverse_bind_matrices = {}) {
-    const std::uint8_t joints[] = {joint, 0, 0, 0, joint, 0, 0, 0, joint, 0, 0, 0};
-    const float weights[] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-    primitive.attributes["JOINTS_0"] = add(joints, sizeof joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                           TINYGLTF_TYPE_VEC4, 3);
-    primitive.attributes["WEIGHTS_0"] = add(weights, sizeof weights, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 3);
+    const std::vector<std::uint8_t> joints = {joint, 0, 0, 0, joint, 0, 0, 0, joint, 0, 0, 0};
+    const std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    primitive.attributes["JOINTS_0"] = add(joints, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4);
+    primitive.attributes["WEIGHTS_0"] = add(weights, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4);
     tinygltf::Skin skin;
     skin.joints = {1, 2};
     if (!inverse_bind_matrices.empty())
-      skin.inverseBindMatrices = add(inverse_bind_matrices.data(), inverse_bind_matrices.size() * sizeof(float),
-                                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, 2);
+      skin.inverseBindMatrices = add(inverse_bind_matrices, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4);
     asset.model.skins = {skin};
   }
 };
@@ -83,10 +63,9 @@ tinygltf::Node translated(double x, double y, double z) {
 
 TEST(Pose, MorphTargetsApplyTheMeshWeightsUnlessTheNodeHasItsOwn) {
   TriangleAsset triangle;
-  const float delta[] = {0, 2, 0, 0, 2, 0, 0, 2, 0};
-  tinygltf::Primitive& primitive = triangle.primitive;
-  primitive.targets.push_back(
-      {{"POSITION", triangle.add(delta, sizeof delta, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3)}});
+  const std::vector<float> delta = {0, 2, 0, 0, 2, 0, 0, 2, 0};
+  triangle.primitive.targets.push_back(
+      {{"POSITION", triangle.add(delta, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3)}});
   const Scene by_mesh = triangle.build(tinygltf::Node{}, {0.5});
   EXPECT_EQ(by_mesh.vertices[1].position, glm::vec3(1, 1, 0));
   EXPECT_EQ(by_mesh.stats.morphed_primitives, 1);
