@@ -20,7 +20,7 @@ std::uint8_t quantize(float value) {
 float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   if (c == 3 && pixels.channels != 2 && pixels.channels != 4) return 1.0f;
   const int source = c == 3 ? pixels.channels - 1 : (pixels.channels >= 3 ? c : 0);
-  const float value = pixels.values[texel * static_cast<size_t>(pixels.channels) + static_cast<size_t>(source)];
+  const float value = pixels.value(texel * static_cast<size_t>(pixels.channels) + static_cast<size_t>(source));
   if (!srgb) return value;
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }

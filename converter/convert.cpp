@@ -290,7 +290,7 @@ class Converter {
     const size_t n = static_cast<size_t>(diffuse.channels);
     for (size_t i = 0; i < texels; ++i) {
       for (size_t c = 0; c < n; ++c)
-        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.values[i * n + c] * 255.0f)))
+        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.value(i * n + c) * 255.0f)))
           return false;
       if (n == 3 && t.base_color[i * 4 + 3] != t.base_color[3]) return false;
     }

@@ -1,5 +1,6 @@
 // Pixel access through OpenImageIO: decoding only when a step needs texels, and PNG encoding.
 #pragma once
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -8,15 +9,28 @@
 
 namespace gltf_pbr {
 
-// Decoded pixels as stored (no colour conversion), normalised to [0, 1], channels interleaved.
+// Decoded pixels as stored (no colour conversion), channels interleaved, read normalised to
+// [0, 1] through value()/at(). They are kept at the encoded precision: an 8-bit image holds one
+// byte per value (a 2048² RGBA map takes 16 MB, not 64 as floats), 16-bit two, anything else
+// (half, float) a float. Exactly one of the three vectors is filled.
 struct Pixels {
   int width = 0, height = 0, channels = 0;
   int bits = 8;  // bits per channel in the encoded image
-  std::vector<float> values;
+  std::vector<std::uint8_t> bytes;
+  std::vector<std::uint16_t> shorts;
+  std::vector<float> floats;
+
+  std::size_t size() const { return !bytes.empty() ? bytes.size() : !shorts.empty() ? shorts.size() : floats.size(); }
+  // Value i (texel i / channels, channel i % channels) in [0, 1] for integer images.
+  float value(std::size_t i) const {
+    if (!bytes.empty()) return static_cast<float>(bytes[i]) / 255.0f;
+    if (!shorts.empty()) return static_cast<float>(shorts[i]) / 65535.0f;
+    return floats[i];
+  }
   float at(int x, int y, int c) const {
-    return values[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
-                      static_cast<size_t>(channels) +
-                  static_cast<size_t>(c)];
+    return value((static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
+                     static_cast<size_t>(channels) +
+                 static_cast<size_t>(c));
   }
 };
 

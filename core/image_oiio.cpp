@@ -44,23 +44,45 @@ Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, const std::string
   pixels.height = spec.height;
   pixels.channels = spec.nchannels;
   pixels.bits = static_cast<int>(spec.format.size()) * 8;
-  pixels.values.resize(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) *
-                       static_cast<size_t>(spec.nchannels));
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.values.data()))
-    throw std::runtime_error("cannot decode image " + name_for_errors + ": " + input->geterror());
+  const size_t count =
+      static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) * static_cast<size_t>(spec.nchannels);
+  // Read at the stored precision (Pixels keeps 8- and 16-bit images as integers).
+  bool read = false;
+  if (spec.format == OIIO::TypeDesc::UINT8) {
+    pixels.bytes.resize(count);
+    read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.bytes.data());
+  } else if (spec.format == OIIO::TypeDesc::UINT16) {
+    pixels.shorts.resize(count);
+    read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT16, pixels.shorts.data());
+  } else {
+    pixels.floats.resize(count);
+    read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.floats.data());
+  }
+  if (!read) throw std::runtime_error("cannot decode image " + name_for_errors + ": " + input->geterror());
   return pixels;
 }
 
 Pixels resample_with_oiio(const Pixels& pixels, int width, int height) {
-  OIIO::ImageSpec source_spec(pixels.width, pixels.height, pixels.channels, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf source(source_spec, const_cast<float*>(pixels.values.data()));
+  // The source as it is stored; the result in float, so no precision is lost to the filter.
+  const OIIO::TypeDesc stored = !pixels.bytes.empty()    ? OIIO::TypeDesc::UINT8
+                                : !pixels.shorts.empty() ? OIIO::TypeDesc::UINT16
+                                                         : OIIO::TypeDesc::FLOAT;
+  const void* data = !pixels.bytes.empty()    ? static_cast<const void*>(pixels.bytes.data())
+                     : !pixels.shorts.empty() ? static_cast<const void*>(pixels.shorts.data())
+                                              : static_cast<const void*>(pixels.floats.data());
+  OIIO::ImageSpec source_spec(pixels.width, pixels.height, pixels.channels, stored);
+  OIIO::ImageBuf source(source_spec, const_cast<void*>(data));
   OIIO::ImageSpec target_spec(width, height, pixels.channels, OIIO::TypeDesc::FLOAT);
   OIIO::ImageBuf target(target_spec);
   // A triangle filter does not ring, so resampled texels stay inside the input's range.
   OIIO::ImageBufAlgo::resize(target, source, "triangle", 0.0f);
-  Pixels out{width, height, pixels.channels, pixels.bits, {}};
-  out.values.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(pixels.channels));
-  target.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.values.data());
+  Pixels out;
+  out.width = width;
+  out.height = height;
+  out.channels = pixels.channels;
+  out.bits = pixels.bits;
+  out.floats.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(pixels.channels));
+  target.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.floats.data());
   return out;
 }
 

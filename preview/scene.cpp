@@ -172,14 +172,15 @@ class TextureLoader {
         const int ch = pixels.channels;
         auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
         for (size_t p = 0; p < count; ++p) {
-          const float* in = pixels.values.data() + p * static_cast<size_t>(ch);
+          const size_t in = p * static_cast<size_t>(ch);
+          auto channel = [&](int c) { return to8(pixels.value(in + static_cast<size_t>(c))); };
           std::uint8_t* out = texture->rgba.data() + p * 4;
           if (ch <= 2) {
-            out[0] = out[1] = out[2] = to8(in[0]);
-            out[3] = ch == 2 ? to8(in[1]) : 255;
+            out[0] = out[1] = out[2] = channel(0);
+            out[3] = ch == 2 ? channel(1) : 255;
           } else {
-            out[0] = to8(in[0]), out[1] = to8(in[1]), out[2] = to8(in[2]);
-            out[3] = ch >= 4 ? to8(in[3]) : 255;
+            out[0] = channel(0), out[1] = channel(1), out[2] = channel(2);
+            out[3] = ch >= 4 ? channel(3) : 255;
           }
         }
         texture->build_mips();

@@ -91,7 +91,7 @@ std::vector<std::uint8_t> read_rgb8(const fs::path& path) {
   for (size_t p = 0; p < static_cast<size_t>(pixels.width) * pixels.height; ++p)
     for (size_t c = 0; c < 3; ++c)
       rgb[p * 3 + c] = static_cast<std::uint8_t>(
-          std::lround(std::clamp(pixels.values[p * static_cast<size_t>(pixels.channels) + c], 0.0f, 1.0f) * 255.0f));
+          std::lround(std::clamp(pixels.value(p * static_cast<size_t>(pixels.channels) + c), 0.0f, 1.0f) * 255.0f));
   return rgb;
 }
 

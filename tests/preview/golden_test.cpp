@@ -30,7 +30,7 @@ void expect_matches_golden(const std::vector<std::uint8_t>& rgb, int width, int 
   double sum = 0;
   long outliers = 0;
   for (size_t i = 0; i < rgb.size(); ++i) {
-    const double d = std::abs(golden.values[i] * 255.0 - rgb[i]);
+    const double d = std::abs(golden.value(i) * 255.0 - rgb[i]);
     sum += d;
     outliers += d > 16.0;
   }

@@ -71,9 +71,9 @@ struct ChannelRange {
 ChannelRange channel_range(const Pixels& p) {
   ChannelRange r;
   const size_t channels = static_cast<size_t>(p.channels);
-  for (size_t i = 0; i < p.values.size(); ++i) {
+  for (size_t i = 0; i < p.size(); ++i) {
     const size_t c = i % channels;
-    const float v = p.values[i] * 255.0f;
+    const float v = p.value(i) * 255.0f;
     r.low[c] = std::min(r.low[c], v);
     r.high[c] = std::max(r.high[c], v);
   }
