@@ -80,6 +80,29 @@ TEST(ValidateHostileInput, AStepThatCannotFinishLeavesAnErrorInTheReportNotAnExc
                           [](const Issue& issue) { return issue.code == "IO_ERROR"; }));
 }
 
+TEST(ValidateHostileInput, ADocumentTheLoaderRefusesButTheSpecAllowsSaysTheChecksDidNotRun) {
+  // A buffer beside the asset's folder: valid glTF (the Khronos validator reads it), but our
+  // loader refuses URIs that leave the folder unless allowed.
+  test::ScratchDir dir;
+  fs::create_directories(dir / "asset");
+  const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::ofstream(dir / "triangle.bin", std::ios::binary)
+      .write(reinterpret_cast<const char*>(positions.data()), static_cast<std::streamsize>(positions.size() * 4));
+  const fs::path file = dir / "asset/outside.gltf";
+  std::ofstream(file) << R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"../triangle.bin"}],)"
+                         R"("bufferViews":[{"buffer":0,"byteLength":36,"target":34962}],)"
+                         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
+                         R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
+  const Report refused = validate_file(file, "outside.gltf", builtin_rules(), {}, ValidateOptions{});
+  ASSERT_EQ(refused.messages.size(), 1u);
+  EXPECT_EQ(refused.messages[0].code, "IO_ERROR");
+  EXPECT_EQ(refused.messages[0].pointer, "/buffers/0/uri");
+  EXPECT_NE(refused.messages[0].message.find("checks did not run"), std::string::npos) << refused.messages[0].message;
+  ValidateOptions allowed;
+  allowed.allow_outside_uris = true;
+  EXPECT_TRUE(validate_file(file, "outside.gltf", builtin_rules(), {}, allowed).messages.empty());
+}
+
 TEST(ValidateHostileInput, FuzzRegressionsGiveReports) {
   const fs::path folder = fs::path(GLTF_PBR_SOURCE_DIR) / "tests/fuzz_regressions";
   for (const auto& entry : fs::directory_iterator(folder)) {

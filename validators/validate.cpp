@@ -37,8 +37,9 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   }
   const std::span<const std::uint8_t> bytes = mapped->bytes();
 
+  bool structure_found_errors = false;
   if (wants(options, "structure")) {
-    validate_structure(file, bytes, rules, StructureOptions{}, report);
+    structure_found_errors = validate_structure(file, bytes, rules, StructureOptions{}, report);
   } else {
     const bool glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
     report.mime_type = glb ? "model/gltf-binary" : "model/gltf+json";
@@ -50,9 +51,15 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     try {
       asset = load_asset(file, LoadOptions{options.allow_outside_uris});
     } catch (const InputError& error) {
-      // The structure step owns saying why a document is unreadable (in the reference's codes, which
-      // the config may silence); without it, say it here.
-      if (!wants(options, "structure")) report.add(load_failure_issue(error));
+      // The structure step owns saying why a document is unreadable, in the reference's codes (which
+      // the config may silence). When it did not run, or found no error at all (the loader refuses
+      // more than the spec: URIs outside the asset's folder, nesting deeper than 512), say it here:
+      // the steps that needed the document must not vanish silently.
+      if (!structure_found_errors) {
+        Issue issue = load_failure_issue(error);
+        if (wants(options, "structure")) issue.message = "the material, texture and mesh checks did not run: " + issue.message;
+        report.add(std::move(issue));
+      }
     }
   }
   if (asset) {

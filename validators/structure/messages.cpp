@@ -109,6 +109,7 @@ void IssueSink::at(const std::string& code, const std::string& pointer, const st
                    const std::vector<MessageArg>& list) {
   const Rule* rule = rules_.find(code);
   if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
+  found_error_ = found_error_ || rule->severity == Severity::Error;
   if (!rule->enabled) return;
   report_.add({code, format(code, args, list), rule->severity, pointer, {}, 1});
 }
@@ -116,6 +117,7 @@ void IssueSink::at(const std::string& code, const std::string& pointer, const st
 void IssueSink::at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args) {
   const Rule* rule = rules_.find(code);
   if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
+  found_error_ = found_error_ || rule->severity == Severity::Error;
   if (!rule->enabled) return;
   report_.add({code, format(code, args, {}), rule->severity, "", offset, 1});
 }

@@ -5,7 +5,7 @@
 
 namespace gltf_pbr {
 
-void validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
+bool validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
                         const StructureOptions& options, Report& report) {
   using namespace structure;
   Context context(rules, report, options);
@@ -23,16 +23,16 @@ void validate_structure(const std::filesystem::path& file, std::span<const std::
     auto json = read_glb(bytes, context, empty_duplicate);
     if (!json) {
       if (empty_duplicate) parse_json({}, context);
-      return;
+      return context.issues.found_error();
     }
     json_text = *json;
   }
-  if (!parse_json(json_text, context)) return;
-  if (!walk_schema(context)) return;
+  if (!parse_json(json_text, context) || !walk_schema(context)) return context.issues.found_error();
   check_links(context);
   report_unused(context);
   check_resources(context);
   fill_info(context);
+  return context.issues.found_error();
 }
 
 }  // namespace gltf_pbr

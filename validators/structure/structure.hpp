@@ -17,8 +17,9 @@ struct StructureOptions {
 };
 
 // Fills report.mime_type, report.messages (in the reference validator's order, with its pointers
-// or byte offsets and severities) and report.info. `file` resolves relative URIs.
-void validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
+// or byte offsets and severities) and report.info. `file` resolves relative URIs. Returns whether
+// the document has an error-severity issue, counting those the rules leave out of the report.
+bool validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
                         const StructureOptions& options, Report& report);
 
 }  // namespace gltf_pbr

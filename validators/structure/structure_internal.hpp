@@ -46,12 +46,15 @@ class IssueSink {
           const std::vector<MessageArg>& list = {});
   void at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args = {});
   bool enabled(const std::string& code) const { return rules_.enabled(code); }
+  // Whether an error-severity issue was found, shown or silenced by the configuration.
+  bool found_error() const { return found_error_; }
 
  private:
   std::string format(const std::string& code, const std::vector<MessageArg>& args,
                      const std::vector<MessageArg>& list) const;
   const RuleSet& rules_;
   Report& report_;
+  bool found_error_ = false;
 };
 
 // ---- The document model the schema walk fills and the later passes read. Indices are -1 when
