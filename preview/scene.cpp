@@ -624,26 +624,35 @@ glm::vec4 sample_level(const TextureSlot& slot, const std::uint8_t* texels, int 
 
 }  // namespace
 
-glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
+SlotLookup slot_lookup(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
   const Texture& texture = *slot.texture;
-  glm::vec2 uv = uv_sets[slot.tex_coord];
+  SlotLookup lookup{uv_sets[slot.tex_coord]};
   auto transform_linear = [&](glm::vec2 d) {
     return slot.has_transform
                ? glm::vec2(slot.row_u.x * d.x + slot.row_u.y * d.y, slot.row_v.x * d.x + slot.row_v.y * d.y)
                : d;
   };
-  if (slot.has_transform)
-    uv = glm::vec2(glm::dot(slot.row_u, glm::vec3(uv, 1.0f)), glm::dot(slot.row_v, glm::vec3(uv, 1.0f)));
+  glm::vec2& uv = lookup.uv;
+  if (slot.has_transform)  // rows of the affine matrix
+    uv = glm::vec2(slot.row_u.x * uv.x + slot.row_u.y * uv.y + slot.row_u.z,
+                   slot.row_v.x * uv.x + slot.row_v.y * uv.y + slot.row_v.z);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
-  float lod = 0.0f;
   if (derivatives && !texture.mips.empty()) {
     const glm::vec2 size(static_cast<float>(texture.width), static_cast<float>(texture.height));
     const glm::vec2 dx = transform_linear(derivatives->dx[slot.tex_coord]) * size;
     const glm::vec2 dy = transform_linear(derivatives->dy[slot.tex_coord]) * size;
-    const float rho2 = std::max(glm::dot(dx, dx), glm::dot(dy, dy));
+    const float rho2 = std::max(dx.x * dx.x + dx.y * dx.y, dy.x * dy.x + dy.y * dy.y);
     if (rho2 > 1.0f && std::isfinite(rho2))
-      lod = std::min(0.5f * std::log2(rho2), static_cast<float>(texture.mips.size()));
+      lookup.lod = std::min(0.5f * std::log2(rho2), static_cast<float>(texture.mips.size()));
   }
+  return lookup;
+}
+
+glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
+  const Texture& texture = *slot.texture;
+  const SlotLookup lookup = slot_lookup(slot, uv_sets, derivatives);
+  const glm::vec2 uv = lookup.uv;  // named, not a structured binding: clang 14 lambdas cannot capture those
+  const float lod = lookup.lod;
   auto level = [&](int l) {
     if (l == 0) return sample_level(slot, texture.rgba.data(), texture.width, texture.height, uv);
     const TextureLevel& m = texture.mips[static_cast<size_t>(l - 1)];

@@ -48,6 +48,16 @@ struct UvDerivatives {
   glm::vec2 dx[2]{}, dy[2]{};
 };
 
+// Where a slot reads: its texCoord set through KHR_texture_transform (uv' = T R S uv; a
+// non-finite result reads (0, 0)), and the level of detail (OpenGL 4.6 section 8.14.1: log2 of
+// rho, the longer derivative scaled to texels; 0 without derivatives or mips). One definition
+// for `sample` and the G-buffer's footprints (texture_sampler.hpp).
+struct SlotLookup {
+  glm::vec2 uv{};
+  float lod = 0.0f;
+};
+SlotLookup slot_lookup(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives);
+
 // Trilinear (or nearest) sample with the sampler's wrap modes; RGB in linear space when `srgb`.
 // The mip level follows the footprint (OpenGL 4.6 section 8.14.1, rho = max of the scaled
 // derivative lengths); without derivatives, level 0 bilinear.

@@ -118,29 +118,11 @@ MaterialSamplingPlan plan_sampling(const PreviewMaterial& material) {
 }
 
 Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
-  // scene.cpp `sample`, step by step: transform, level of detail, taps of one or two levels.
+  // scene.cpp `sample`, step by step: where the slot reads, then taps of one or two levels.
   const Texture& texture = *slot.texture;
-  glm::vec2 uv = uv_sets[slot.tex_coord];
-  auto transform_linear = [&](glm::vec2 d) {
-    return slot.has_transform
-               ? glm::vec2(slot.row_u.x * d.x + slot.row_u.y * d.y, slot.row_v.x * d.x + slot.row_v.y * d.y)
-               : d;
-  };
-  // KHR_texture_transform: uv' = T R S uv (rows of the affine matrix).
-  if (slot.has_transform)
-    uv = glm::vec2(slot.row_u.x * uv.x + slot.row_u.y * uv.y + slot.row_u.z,
-                   slot.row_v.x * uv.x + slot.row_v.y * uv.y + slot.row_v.z);
-  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
-  // OpenGL 4.6 section 8.14.1: lambda = log2(rho), rho the longer scaled derivative.
-  float lod = 0.0f;
-  if (derivatives && !texture.mips.empty()) {
-    const glm::vec2 size(static_cast<float>(texture.width), static_cast<float>(texture.height));
-    const glm::vec2 dx = transform_linear(derivatives->dx[slot.tex_coord]) * size;
-    const glm::vec2 dy = transform_linear(derivatives->dy[slot.tex_coord]) * size;
-    const float rho2 = std::max(dx.x * dx.x + dx.y * dx.y, dy.x * dy.x + dy.y * dy.y);
-    if (rho2 > 1.0f && std::isfinite(rho2))
-      lod = std::min(0.5f * std::log2(rho2), static_cast<float>(texture.mips.size()));
-  }
+  const SlotLookup lookup = slot_lookup(slot, uv_sets, derivatives);
+  const glm::vec2 uv = lookup.uv;
+  const float lod = lookup.lod;
   const glm::vec2 wrapped(wrap_coordinate(uv.x, slot.wrap_s), wrap_coordinate(uv.y, slot.wrap_t));
   const int l0 = static_cast<int>(lod);
   const float t = lod - static_cast<float>(l0);

@@ -203,37 +203,36 @@ TEST(StructureChecks, LargeAccessorsAreCheckedAcrossChunkBoundaries) {
   EXPECT_EQ(degenerate->message.substr(0, 40), "Indices accessor contains 2 degenerate t");
 }
 
-TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
+// A GLB holding the smallest document in its JSON chunk, with header `version`, declaring the
+// length it really has, followed by `trailing` zero bytes it does not declare.
+std::vector<std::uint8_t> minimal_glb(std::uint32_t version, std::size_t trailing = 0) {
   std::string json = R"({"asset":{"version":"2.0"}})";
   while (json.size() % 4) json += ' ';
-  std::vector<std::uint8_t> glb(12 + 8 + json.size());
-  const std::uint32_t header[3] = {0x46546C67, 1, static_cast<std::uint32_t>(glb.size())};
+  const std::size_t length = 12 + 8 + json.size();
+  std::vector<std::uint8_t> glb(length + trailing, 0);
+  const std::uint32_t header[3] = {0x46546C67, version, static_cast<std::uint32_t>(length)};
   const std::uint32_t chunk[2] = {static_cast<std::uint32_t>(json.size()), 0x4E4F534A};
   std::memcpy(glb.data(), header, 12);
   std::memcpy(glb.data() + 12, chunk, 8);
   std::memcpy(glb.data() + 20, json.data(), json.size());
+  return glb;
+}
+
+TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
   Report report;
-  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  validate_structure("x.glb", minimal_glb(1), builtin_rules(), StructureOptions{}, report);
   ASSERT_FALSE(report.messages.empty());
   EXPECT_EQ(report.messages[0].code, "GLB_INVALID_VERSION");
   EXPECT_EQ(report.messages[0].offset, 4u);
 }
 
 TEST(StructureChecks, BytesAfterTheDeclaredGlbLengthAreExtraData) {
-  std::string json = R"({"asset":{"version":"2.0"}})";
-  while (json.size() % 4) json += ' ';
-  const std::size_t length = 12 + 8 + json.size();
-  std::vector<std::uint8_t> glb(length + 4, 0);
-  const std::uint32_t header[3] = {0x46546C67, 2, static_cast<std::uint32_t>(length)};
-  const std::uint32_t chunk[2] = {static_cast<std::uint32_t>(json.size()), 0x4E4F534A};
-  std::memcpy(glb.data(), header, 12);
-  std::memcpy(glb.data() + 12, chunk, 8);
-  std::memcpy(glb.data() + 20, json.data(), json.size());
+  const std::vector<std::uint8_t> glb = minimal_glb(2, 4);
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
   ASSERT_EQ(report.messages.size(), 1u);
   EXPECT_EQ(report.messages[0].code, "GLB_EXTRA_DATA");
-  EXPECT_EQ(report.messages[0].offset, length);
+  EXPECT_EQ(report.messages[0].offset, glb.size() - 4);
 }
 
 TEST(StructureChecks, RequiredExtensionMissingFromUsedIsAnError) {

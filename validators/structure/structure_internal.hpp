@@ -61,10 +61,15 @@ class IssueSink {
 // absent or invalid; every entity remembers whether it was a JSON object (non-objects are reported
 // once and skipped afterwards) and whether anything references it (UNUSED_OBJECT).
 
-struct AccessorModel {
+// What every entity of the model records: whether it was a JSON object, whether it has every
+// required property (only then is it linked and checked), and whether anything references it.
+struct EntityModel {
   bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
+  bool valid = true;
   bool used = false;
+};
+
+struct AccessorModel : EntityModel {
   std::int64_t buffer_view = -1;
   std::int64_t byte_offset = 0;
   bool has_byte_offset = false;
@@ -100,10 +105,7 @@ struct AccessorModel {
   std::vector<std::int64_t> earlier_weight_sets;
 };
 
-struct BufferViewModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct BufferViewModel : EntityModel {
   std::int64_t buffer = -1;
   std::int64_t byte_offset = 0;
   std::int64_t byte_length = -1;
@@ -114,10 +116,7 @@ struct BufferViewModel {
   int accessor_uses = 0;  // attribute accessors referencing it (MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE)
 };
 
-struct BufferModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct BufferModel : EntityModel {
   bool has_uri = false;
   bool uri_valid = false;
   bool data_uri = false;
@@ -135,10 +134,7 @@ struct TextureRef {
   std::int64_t tex_coord = 0;
 };
 
-struct MaterialModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct MaterialModel : EntityModel {
   std::vector<TextureRef> textures;  // in the order the reference lists texture bindings
   bool has_normal_texture = false;
   bool needs_tangents = false;  // KHR_materials_anisotropy shades along tangents
@@ -162,18 +158,12 @@ struct PrimitiveModel {
   std::vector<std::pair<std::string, std::int64_t>> variant_materials;  // pointer, material index
 };
 
-struct MeshModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct MeshModel : EntityModel {
   std::vector<PrimitiveModel> primitives;
   std::int64_t weights = -1;
 };
 
-struct NodeModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct NodeModel : EntityModel {
   std::int64_t camera = -1, skin = -1, mesh = -1, light = -1;
   std::vector<std::int64_t> children;
   bool has_matrix = false, has_trs = false;
@@ -184,18 +174,12 @@ struct NodeModel {
   bool joint = false;
 };
 
-struct SkinModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct SkinModel : EntityModel {
   std::int64_t inverse_bind_matrices = -1, skeleton = -1;
   std::vector<std::int64_t> joints;
 };
 
-struct AnimationSamplerModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct AnimationSamplerModel : EntityModel {
   std::int64_t input = -1, output = -1;
   std::string interpolation = "LINEAR";
 };
@@ -214,10 +198,7 @@ struct AnimationModel {
   std::vector<AnimationChannelModel> channels;
 };
 
-struct ImageModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct ImageModel : EntityModel {
   std::string uri;
   bool has_uri = false, uri_valid = false, data_uri = false;
   std::string mime_type;
@@ -226,18 +207,12 @@ struct ImageModel {
   std::vector<std::uint8_t> data;  // decoded data URI
 };
 
-struct TextureModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct TextureModel : EntityModel {
   std::int64_t sampler = -1, source = -1;
   std::vector<std::pair<std::string, std::int64_t>> extension_sources;  // pointer, image index
 };
 
-struct SimpleModel {
-  bool object = false;
-  bool valid = true;  // no required property missing: linked and checked
-  bool used = false;
+struct SimpleModel : EntityModel {
 };
 
 struct Document {
