@@ -205,10 +205,14 @@ HiddenIndices hide_draco_indices(nlohmann::json& root) {
   const auto meshes = root.find("meshes");
   if (meshes == root.end() || !meshes->is_array()) return hidden;
   for (size_t m = 0; m < meshes->size(); ++m) {
-    auto& primitives = (*meshes)[m]["primitives"];
-    if (!primitives.is_array()) continue;
-    for (size_t p = 0; p < primitives.size(); ++p) {
-      auto& primitive = primitives[p];
+    // Only look, never index by key: operator[] throws on a non-object (found by the fuzzer: a
+    // mesh that is a string) and would insert a null "primitives" into a mesh that has none.
+    auto& mesh = (*meshes)[m];
+    if (!mesh.is_object()) continue;
+    const auto primitives = mesh.find("primitives");
+    if (primitives == mesh.end() || !primitives->is_array()) continue;
+    for (size_t p = 0; p < primitives->size(); ++p) {
+      auto& primitive = (*primitives)[p];
       if (!primitive.is_object() || !primitive.contains("indices") || !primitive["indices"].is_number_integer())
         continue;
       const auto extensions = primitive.find("extensions");
