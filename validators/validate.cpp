@@ -60,6 +60,10 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
         if (wants(options, "structure")) issue.message = "the material, texture and mesh checks did not run: " + issue.message;
         report.add(std::move(issue));
       }
+    } catch (const std::exception& error) {
+      // Anything else is our loader's fault, not the document's: say so instead of ending the batch.
+      report.add({"IO_ERROR", std::string("the material, texture and mesh checks did not run: ") + error.what(),
+                  Severity::Error, "", std::nullopt, 1});
     }
   }
   if (asset) {
