@@ -19,7 +19,7 @@ struct MetalRough {
 };
 
 // What a material reflects at normal incidence: the diffuse weight and F0. The error model
-// compares these, channel by channel, in CIE ΔE2000.
+// compares these, colour by colour, in CIE ΔE2000.
 struct Reflectance {
   glm::vec3 diffuse{0.0f};
   glm::vec3 f0{0.0f};
@@ -50,18 +50,22 @@ struct SolverSettings {
 SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default), "exact", "reference"
 
 // Minimises, over base in [0,1]^3 and m in [0,1]:
-//   E = sum_c wd_c (D_core,c - D_legacy,c)^2 + wf_c (F0_core,c - F0_legacy,c)^2 + lambda (m - m_prior)^2
-// with D and F0 from legacy_reflectance (reading A) and core_reflectance, and weights
-// (target + 0.05)^(-4/3) that make squared residuals follow ΔE (L* ~ Y^(1/3)). For fixed m each
-// channel's best base is a closed-form weighted least squares clamped to [0,1], so the search is
-// 1-D over m. m_prior rises smoothly from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest
+//   E = |Jd (D_core - D_legacy)|^2 + |Jf (F0_core - F0_legacy)|^2 + lambda (m - m_prior)^2
+// with D and F0 from legacy_reflectance (reading A) and core_reflectance. J is CIELAB linearised
+// at the legacy colour (with a gentle CIE94-style chroma compression), so each term is a squared
+// ΔE and chroma counts: a grey F0 is not matched by a tinted metal. For fixed m the best base is
+// a closed-form 3×3 least squares, kept non-negative by an active set and scaled into [0,1] with
+// its hue kept, so the search is 1-D over m: a grid, then golden-section refinement of each local
+// minimum. m_prior rises smoothly from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest
 // metal F0 (Hoffman's table; Unity's validator). lambda is strong where the diffuse is black: a
 // black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1, base 0.04), and
 // the prior picks the dielectric without the jump of the reference formula; it fades to weak as
-// the diffuse brightens. The result is continuous in the inputs, keeps chroma, and is exact for
-// dielectrics at 0.04 and for metals (black diffuse, mean F0 >= 0.45). roughness = 1 - g, since
-// alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
-// (gold's F0) are clamped in base, never in the fit.
+// the diffuse brightens. Where two minima come close (diffuse and specular of different hues),
+// they share the answer by how close and how prominent they are, so m never jumps between them.
+// The result is continuous in the inputs, keeps chroma, and is exact for dielectrics at 0.04 and
+// for metals (black diffuse, mean F0 >= 0.45). roughness = 1 - g, since alpha_legacy = (1 - g)^2
+// and alpha_core = r^2. Finite for every finite input; inputs above 1 (gold's F0) are scaled in
+// base, never in the fit.
 // Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
 // any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings = {});

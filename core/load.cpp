@@ -1,8 +1,8 @@
 // Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
 // pointer and the reason; tinygltf then builds the document with images kept encoded.
-#include <optional>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/asset.hpp"
 #include "core/error.hpp"

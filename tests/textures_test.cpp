@@ -231,18 +231,23 @@ TEST(Textures, OneByOneDiffuseTextureBecomesFactors) {
   EXPECT_TRUE(converted.model.images.empty());
   EXPECT_TRUE(converted.model.textures.empty());
 
-  const Expected e = expected_texel(diffuse.at(0, 0), {to_byte(linear_to_srgb(0.5f)), to_byte(linear_to_srgb(0.5f)),
-                                                       to_byte(linear_to_srgb(0.5f)), to_byte(0.6f)});
+  // The specular factor enters the solve as it is, not through an 8-bit texel; the result is
+  // stored as 8-bit texels first, then found constant and written as factors.
+  SpecGloss legacy;
+  for (int c = 0; c < 3; ++c) legacy.diffuse[c] = srgb8_to_linear(diffuse.at(0, 0)[static_cast<size_t>(c)]);
+  legacy.specular = glm::vec3(0.5f);
+  legacy.glossiness = 0.6f;
+  const MetalRough expected = solve(legacy);
   const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
   EXPECT_EQ(pbr.baseColorTexture.index, -1);
   EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1);
   ASSERT_EQ(pbr.baseColorFactor.size(), 4u);
   for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(pbr.baseColorFactor[static_cast<size_t>(c)], srgb8_to_linear(e.base_color[static_cast<size_t>(c)]),
-                0.01)
+    EXPECT_NEAR(pbr.baseColorFactor[static_cast<size_t>(c)], srgb8_to_linear(to_byte(linear_to_srgb(expected.base[c]))),
+                1e-4)
         << c;
   EXPECT_DOUBLE_EQ(pbr.baseColorFactor[3], 1.0);
-  EXPECT_NEAR(pbr.metallicFactor, e.metal_rough[2] / 255.0, 1.5 / 255);
+  EXPECT_NEAR(pbr.metallicFactor, to_byte(expected.metalness) / 255.0, 1e-4);
   EXPECT_NEAR(pbr.roughnessFactor, 0.4, 1.0 / 255);
   EXPECT_GT(pbr.metallicFactor, 0.0);  // F0 0.5 is metal-like: not the dielectric fallback
 }
@@ -603,11 +608,17 @@ Bytes sixteen_bit_png(int width, int height, const std::function<std::array<std:
   for (int y = 0; y < height; ++y) {
     raw.push_back(0);
     for (int x = 0; x < width; ++x)
-      for (std::uint16_t v : texel(x, y)) raw.insert(raw.end(), {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)});
+      for (std::uint16_t v : texel(x, y))
+        raw.insert(raw.end(), {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)});
   }
   EXPECT_LT(raw.size(), 65536u);  // one stored block
-  Bytes zlib = {0x78, 0x01, 0x01, static_cast<std::uint8_t>(raw.size()), static_cast<std::uint8_t>(raw.size() >> 8),
-                static_cast<std::uint8_t>(~raw.size()), static_cast<std::uint8_t>(~raw.size() >> 8)};
+  Bytes zlib = {0x78,
+                0x01,
+                0x01,
+                static_cast<std::uint8_t>(raw.size()),
+                static_cast<std::uint8_t>(raw.size() >> 8),
+                static_cast<std::uint8_t>(~raw.size()),
+                static_cast<std::uint8_t>(~raw.size() >> 8)};
   zlib.insert(zlib.end(), raw.begin(), raw.end());
   std::uint32_t a = 1, b = 0;  // Adler-32
   for (std::uint8_t byte : raw) a = (a + byte) % 65521, b = (b + a) % 65521;

@@ -57,7 +57,8 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       // the steps that needed the document must not vanish silently.
       if (!structure_found_errors) {
         Issue issue = load_failure_issue(error);
-        if (wants(options, "structure")) issue.message = "the material, texture and mesh checks did not run: " + issue.message;
+        if (wants(options, "structure"))
+          issue.message = "the material, texture and mesh checks did not run: " + issue.message;
         report.add(std::move(issue));
       }
     } catch (const std::exception& error) {
