@@ -275,9 +275,10 @@ MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   const std::vector<Minimum> minima = local_minima(samples, settings.refine_iterations, objective);
 
   // Minima within the blend width of the lowest share the answer, weighted by how close they
-  // come to it and by how prominent they are. As the inputs move, a minimum's weight reaches 0
-  // before it stops being the lowest or vanishes, so m moves continuously where a plain argmin
-  // jumps. One clear minimum, the usual case, keeps its m exactly.
+  // come to it and by how prominent they are. As the inputs move, a minimum's weight falls
+  // smoothly to 0 as its error rises above the lowest or as it flattens out and vanishes, so m
+  // moves continuously where a plain argmin jumps. One clear minimum, the usual case, keeps its
+  // m exactly.
   float lowest = std::numeric_limits<float>::infinity(), lowest_m = 0.0f;
   for (const Minimum& minimum : minima)
     if (minimum.error < lowest) lowest = minimum.error, lowest_m = minimum.m;
