@@ -166,14 +166,23 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
     throw InputError(file, failure.pointer, "number " + failure.token + " is out of range: not finite");
   }
   if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
+  // tinygltf refuses a misshapen collection without saying where ("`meshes' does not contain an
+  // JSON object."); name the pointer instead (glTF 2.0 schema: each is an array of objects).
+  for (const char* collection : {"accessors", "animations", "buffers", "bufferViews", "cameras", "images", "materials",
+                                 "meshes", "nodes", "samplers", "scenes", "skins", "textures"}) {
+    const auto it = root.find(collection);
+    if (it == root.end()) continue;
+    if (!it->is_array()) throw InputError(file, std::string("/") + collection, "not an array");
+    for (size_t i = 0; i < it->size(); ++i)
+      if (!(*it)[i].is_object()) throw InputError(file, pointer(collection, static_cast<int>(i)), "not an object");
+  }
   const fs::path folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
   for (const char* collection : {"buffers", "images"}) {
     const auto it = root.find(collection);
-    if (it == root.end() || !it->is_array()) continue;
+    if (it == root.end()) continue;
     for (size_t i = 0; i < it->size(); ++i) {
       const nlohmann::json& entry = (*it)[i];
       const std::string where = pointer(collection, static_cast<int>(i));
-      if (!entry.is_object()) throw InputError(file, where, "not an object");
       const auto uri = entry.find("uri");
       if (uri == entry.end()) {
         if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin))

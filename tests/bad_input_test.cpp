@@ -18,13 +18,13 @@ namespace gltf_pbr {
 namespace {
 
 using test::assets_dir;
+using test::CliResult;
 using test::files_under;
+using test::quoted;
 using test::read_text;
+using test::run_cli;
 using test::ScratchDir;
 using test::write_text;
-using test::CliResult;
-using test::quoted;
-using test::run_cli;
 
 constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
 const std::string kExtensionPointer = std::string("/materials/0/extensions/") + kSpecGloss;
@@ -202,6 +202,20 @@ TEST(BadInput, TopLevelJsonThatIsNotAnObjectIsRefused) {
   write_text(file, "[1, 2, 3]");
   const InputError e = load_error(file);
   EXPECT_NE(e.reason.find("not an object"), std::string::npos) << e.reason;
+}
+
+TEST(BadInput, CollectionEntryThatIsNotAnObjectIsRefusedNamingItsPointer) {
+  ScratchDir scratch;
+  const fs::path file = scratch / "string_mesh.gltf";
+  write_text(file, R"({"asset": {"version": "2.0"}, "meshes": [{"primitives": []}, "x"]})");
+  const InputError e = load_error(file);
+  EXPECT_EQ(e.pointer, "/meshes/1");
+  EXPECT_NE(e.reason.find("not an object"), std::string::npos) << e.reason;
+
+  write_text(file, R"({"asset": {"version": "2.0"}, "nodes": {"0": {}}})");
+  const InputError not_array = load_error(file);
+  EXPECT_EQ(not_array.pointer, "/nodes");
+  EXPECT_NE(not_array.reason.find("not an array"), std::string::npos) << not_array.reason;
 }
 
 // ---------------------------------------------------------------------------------------------
