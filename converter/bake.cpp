@@ -20,7 +20,9 @@ std::uint8_t quantize(float value) {
 float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   if (c == 3 && pixels.channels != 2 && pixels.channels != 4) return 1.0f;
   const int source = c == 3 ? pixels.channels - 1 : (pixels.channels >= 3 ? c : 0);
-  const float value = pixels.value(texel * static_cast<size_t>(pixels.channels) + static_cast<size_t>(source));
+  const size_t i = texel * static_cast<size_t>(pixels.channels) + static_cast<size_t>(source);
+  if (srgb && !pixels.bytes.empty()) return srgb8_to_linear(pixels.bytes[i]);  // the common case, straight
+  const float value = pixels.value(i);
   if (!srgb) return value;
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
