@@ -214,8 +214,8 @@ HiddenIndices hide_draco_indices(nlohmann::json& root) {
   const auto meshes = root.find("meshes");
   if (meshes == root.end() || !meshes->is_array()) return hidden;
   for (size_t m = 0; m < meshes->size(); ++m) {
-    // Only look, never index by key: operator[] throws on a non-object (found by the fuzzer: a
-    // mesh that is a string) and would insert a null "primitives" into a mesh that has none.
+    // Index by key only into objects, and only for keys that exist: operator[] throws on a
+    // non-object (found by the fuzzer: a mesh that is a string) and inserts a missing key.
     auto& mesh = (*meshes)[m];
     if (!mesh.is_object()) continue;
     const auto primitives = mesh.find("primitives");

@@ -2,7 +2,8 @@
 # Fuzzes load + validate for a bounded time, seeded from ../shared/validator-suite (read in place,
 # never copied). Usage: scripts/fuzz.sh FUZZ_BINARY SECONDS
 # Crashing inputs land in fuzz-artifacts/; each one found becomes a regression test by copying it
-# into tests/fuzz_regressions/ (ValidateHostileInput.FuzzRegressionsGiveReports runs them all under the sanitizers).
+# into tests/fuzz_regressions/ (ValidateHostileInput.FuzzRegressionsGiveReports runs them all
+# under the sanitizers).
 set -euo pipefail
 binary=$1
 seconds=${2:-60}
