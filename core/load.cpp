@@ -209,15 +209,14 @@ struct HiddenIndices {
   std::vector<std::pair<std::pair<size_t, size_t>, int>> entries;  // ((mesh, primitive), indices)
 };
 
+// check_resources has already refused meshes that are not an array of objects (the fuzzer found
+// a mesh that is a string); `find`, not operator[], so a mesh without primitives gets no null one.
 HiddenIndices hide_draco_indices(nlohmann::json& root) {
   HiddenIndices hidden;
   const auto meshes = root.find("meshes");
-  if (meshes == root.end() || !meshes->is_array()) return hidden;
+  if (meshes == root.end()) return hidden;
   for (size_t m = 0; m < meshes->size(); ++m) {
-    // Index by key only into objects, and only for keys that exist: operator[] throws on a
-    // non-object (found by the fuzzer: a mesh that is a string) and inserts a missing key.
     auto& mesh = (*meshes)[m];
-    if (!mesh.is_object()) continue;
     const auto primitives = mesh.find("primitives");
     if (primitives == mesh.end() || !primitives->is_array()) continue;
     for (size_t p = 0; p < primitives->size(); ++p) {

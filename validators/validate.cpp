@@ -16,6 +16,9 @@ bool wants(const ValidateOptions& options, const char* step) { return options.st
 
 // core/load names a place in the file as a JSON pointer or, for GLB and JSON syntax errors, as
 // "byte N": the report's offset.
+// Prefixed to a loader failure when the structure step ran, so the report says what was skipped.
+constexpr const char* kChecksDidNotRun = "the material, texture and mesh checks did not run: ";
+
 Issue load_failure_issue(const InputError& error) {
   Issue issue{"IO_ERROR", error.reason, Severity::Error, error.pointer, std::nullopt, 1};
   if (error.pointer.rfind("byte ", 0) == 0) {
@@ -57,14 +60,12 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       // the steps that needed the document must not vanish silently.
       if (!structure_found_errors) {
         Issue issue = load_failure_issue(error);
-        if (wants(options, "structure"))
-          issue.message = "the material, texture and mesh checks did not run: " + issue.message;
+        if (wants(options, "structure")) issue.message = kChecksDidNotRun + issue.message;
         report.add(std::move(issue));
       }
     } catch (const std::exception& error) {
       // Anything else is our loader's fault, not the document's: say so instead of ending the batch.
-      report.add({"IO_ERROR", std::string("the material, texture and mesh checks did not run: ") + error.what(),
-                  Severity::Error, "", std::nullopt, 1});
+      report.add({"IO_ERROR", kChecksDidNotRun + std::string(error.what()), Severity::Error, "", std::nullopt, 1});
     }
   }
   if (asset) {
