@@ -4,7 +4,12 @@
 
 namespace gltf_pbr::cli {
 
-enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2 };
+// 3: the inputs were processed but a requested output (a report, stdout) could not be written.
+enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2, kCannotWrite = 3 };
+
+// Writes text to stdout; throws std::runtime_error with the errno text when it cannot (a full disk,
+// a closed pipe), so a lost report is an error and not a silent exit 0.
+void write_stdout(const std::string& text);
 
 // Each registers a subcommand; the returned callback runs it after parsing, or returns -1 when
 // another subcommand was given.

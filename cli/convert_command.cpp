@@ -11,6 +11,7 @@
 #include "cli/inputs.hpp"
 #include "cli/report.hpp"
 #include "core/asset.hpp"
+#include "core/text.hpp"
 #include "preview/preview.hpp"
 
 namespace gltf_pbr::cli {
@@ -32,12 +33,17 @@ struct Job {
   fs::path preview;  // folder for this file's before/after images; empty: none
 };
 
-// Expands inputs (files, directories searched recursively) into jobs with output paths.
-std::vector<Job> plan_jobs(const ConvertArgs& args) {
-  std::vector<InputFile> files = find_gltf_files(args.inputs);
+// Expands inputs (files, directories searched recursively) into jobs with output paths; inputs
+// under the output folder are earlier outputs, left out and counted.
+std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output) {
   const fs::path output = args.output;
-  const bool single_file_output =
-      files.size() == 1 && !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  FoundInputs found = find_gltf_files(args.inputs, args.in_place || single_file_output ? fs::path() : output);
+  skipped_under_output = found.skipped_under_output;
+  const std::vector<InputFile>& files = found.files;
+  if (single_file_output && files.size() > 1)
+    throw CLI::ValidationError("--output", output.string() + " is one file, for " + std::to_string(files.size()) +
+                                               " inputs: give a folder");
   std::vector<Job> jobs;
   for (auto& [file, relative] : files) {
     fs::path target;
@@ -53,6 +59,9 @@ std::vector<Job> plan_jobs(const ConvertArgs& args) {
     if (!args.preview.empty()) preview_folder = fs::path(args.preview) / fs::path(relative).replace_extension();
     jobs.push_back({file, target, preview_folder});
   }
+  std::vector<fs::path> outputs;
+  for (const Job& job : jobs) outputs.push_back(job.output);
+  refuse_shared_outputs(files, outputs);
   return jobs;
 }
 
@@ -90,6 +99,8 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
     }
   } catch (const InputError& e) {
     result.error = e;
+  } catch (const std::bad_alloc&) {
+    result.failure = "out of memory while converting (--max-image-pixels lowers the largest image accepted)";
   } catch (const std::exception& e) {
     result.failure = e.what();
   }
@@ -106,15 +117,19 @@ int run(const ConvertArgs& args) {
   options.png_compression = args.png_compression;
   options.jpeg_quality = args.jpeg_quality;
   options.max_error_samples = args.error_samples;
-  const std::vector<Job> jobs = plan_jobs(args);
+  std::size_t skipped = 0;
+  const std::vector<Job> jobs = plan_jobs(args, skipped);
+  if (skipped && !args.quiet)
+    std::fprintf(stderr, "skipped %zu .gltf/.glb files inside the output folder %s (earlier outputs)\n", skipped,
+                 printable(args.output).c_str());
 
   std::vector<FileResult> results(jobs.size());
-  Progress progress(jobs.size(), !args.quiet, "converting");
+  Progress progress(jobs.size(), "converting");
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t i; (i = next++) < jobs.size();) {
       results[i] = convert_file(jobs[i], args, options);
-      if (!args.quiet || results[i].status == "failed") progress.done(file_summary(results[i], args.verbose));
+      progress.done(!args.quiet || results[i].status == "failed" ? file_summary(results[i], args.verbose) : "");
     }
   };
   std::vector<std::thread> threads;
@@ -170,7 +185,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
                   "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
   cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
@@ -180,6 +195,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--error-samples", args->error_samples,
                   "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
+  add_image_limit_option(*cmd);
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
@@ -190,6 +206,9 @@ std::function<int()> add_convert_command(CLI::App& app) {
     } catch (const CLI::ValidationError& e) {
       std::fprintf(stderr, "gltf-pbr convert: %s\n", e.what());
       return kBadUsage;
+    } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
+      std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());
+      return kCannotWrite;
     }
   };
 }

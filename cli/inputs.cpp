@@ -4,7 +4,13 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <map>
+
+#include "cli/commands.hpp"
+#include "core/image.hpp"
 
 namespace gltf_pbr::cli {
 namespace fs = std::filesystem;
@@ -15,14 +21,30 @@ bool is_gltf_file(const fs::path& path) {
   return ext == ".gltf" || ext == ".glb";
 }
 
-std::vector<InputFile> find_gltf_files(const std::vector<std::string>& inputs) {
-  std::vector<InputFile> files;
+namespace {
+bool is_under(const fs::path& path, const fs::path& folder) {
+  std::error_code ec;
+  const fs::path file = fs::weakly_canonical(path, ec), root = fs::weakly_canonical(folder, ec);
+  const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
+  return root_end == root.end();
+}
+}  // namespace
+
+FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::path& output_folder) {
+  FoundInputs found_inputs;
+  std::vector<InputFile>& files = found_inputs.files;
   for (const fs::path input : inputs) {
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
       std::vector<fs::path> found;
-      for (const auto& entry : fs::recursive_directory_iterator(input, ec))
-        if (entry.is_regular_file() && is_gltf_file(entry.path())) found.push_back(entry.path());
+      for (const auto& entry : fs::recursive_directory_iterator(input, ec)) {
+        if (!entry.is_regular_file() || !is_gltf_file(entry.path())) continue;
+        if (!output_folder.empty() && is_under(entry.path(), output_folder) && !is_under(input, output_folder)) {
+          ++found_inputs.skipped_under_output;
+          continue;
+        }
+        found.push_back(entry.path());
+      }
       std::sort(found.begin(), found.end());
       for (const auto& file : found)
         files.push_back({file, input.filename().empty() ? file.lexically_relative(input)
@@ -33,20 +55,59 @@ std::vector<InputFile> find_gltf_files(const std::vector<std::string>& inputs) {
       throw CLI::ValidationError("input", input.string() + ": no such file or directory");
     }
   }
-  if (files.empty()) throw CLI::ValidationError("input", "no .gltf or .glb files found");
-  return files;
+  if (files.empty())
+    throw CLI::ValidationError("input", found_inputs.skipped_under_output
+                                            ? "no .gltf or .glb files found outside the output folder"
+                                            : "no .gltf or .glb files found");
+  return found_inputs;
 }
 
-Progress::Progress(std::size_t total, bool enabled, std::string verb)
-    : total_(total), on_terminal_(enabled && ::isatty(STDERR_FILENO)), verb_(std::move(verb)) {}
+void add_image_limit_option(CLI::App& command) {
+  command
+      .add_option_function<std::uint64_t>(
+          "--max-image-pixels", [](std::uint64_t pixels) { set_max_image_pixels(pixels); },
+          "refuse images whose header claims more pixels than this, before decoding (default 16384x16384)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+}
+
+void write_stdout(const std::string& text) {
+  if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
+    throw std::runtime_error(std::string("cannot write to standard output: ") + std::strerror(errno));
+}
+
+void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs) {
+  std::map<fs::path, std::size_t> first_input;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    std::error_code ec;
+    const auto [it, fresh] = first_input.emplace(fs::weakly_canonical(fs::absolute(outputs[i]), ec), i);
+    if (!fresh)
+      throw CLI::ValidationError("input", files[it->second].file.string() + " and " + files[i].file.string() +
+                                              " would both be written to " + outputs[i].string() +
+                                              "; give their folders instead, or run them separately");
+  }
+}
+
+Progress::Progress(std::size_t total, std::string verb)
+    : total_(total), on_terminal_(::isatty(STDERR_FILENO) && total > 1), verb_(std::move(verb)) {
+  const std::lock_guard lock(mutex_);
+  show_count();
+}
+
+Progress::~Progress() {
+  if (on_terminal_) std::fprintf(stderr, "\r\033[K");
+}
+
+void Progress::show_count() {
+  if (on_terminal_ && count_ < total_) std::fprintf(stderr, "[%zu/%zu] %s...", count_, total_, verb_.c_str());
+  std::fflush(stderr);
+}
 
 void Progress::done(const std::string& line) {
-  std::lock_guard lock(mutex_);
+  const std::lock_guard lock(mutex_);
   ++count_;
   if (on_terminal_) std::fprintf(stderr, "\r\033[K");
   std::fputs(line.c_str(), stderr);
-  if (on_terminal_ && count_ < total_) std::fprintf(stderr, "[%zu/%zu] %s...", count_, total_, verb_.c_str());
-  std::fflush(stderr);
+  show_count();
 }
 
 }  // namespace gltf_pbr::cli

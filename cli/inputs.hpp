@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace gltf_pbr::cli {
 
 struct InputFile {
@@ -13,19 +17,36 @@ struct InputFile {
   std::filesystem::path relative;  // where it goes under an output folder: the input folder's name / path inside it
 };
 
+// --max-image-pixels N, for every command that decodes images (core/image.hpp's limit).
+void add_image_limit_option(CLI::App& command);
+
+struct FoundInputs {
+  std::vector<InputFile> files;
+  std::size_t skipped_under_output = 0;  // found inside the output folder: earlier outputs, not inputs
+};
+
 // Files are taken as given; directories are searched recursively for .gltf and .glb, in sorted
-// order. Throws CLI::ValidationError for a missing input or when nothing is found.
-std::vector<InputFile> find_gltf_files(const std::vector<std::string>& inputs);
+// order, leaving out what lies under `output_folder` (when given) so a rerun never converts its own
+// outputs. Throws CLI::ValidationError for a missing input or when nothing is found.
+FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const std::filesystem::path& output_folder = {});
+
+// One run never writes an output twice: throws CLI::ValidationError naming both inputs when two
+// would go to the same output (the same file given twice, or a/Box.gltf and b/Box.gltf as files
+// under one -o folder). outputs[i] belongs to files[i].
+void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<std::filesystem::path>& outputs);
 
 bool is_gltf_file(const std::filesystem::path& path);
 
-// One line per finished file, and "[done/total] <verb>..." kept on the last line of a terminal.
+// "[done/total] <verb>..." kept on the last line of a terminal (also when quiet: it is erased at the
+// end), with the lines of finished files printed above it.
 class Progress {
  public:
-  Progress(std::size_t total, bool enabled, std::string verb);
-  void done(const std::string& line);
+  Progress(std::size_t total, std::string verb);
+  ~Progress();
+  void done(const std::string& line);  // an empty line: counted, nothing printed
 
  private:
+  void show_count();
   std::size_t total_, count_ = 0;
   bool on_terminal_;
   std::string verb_;

@@ -1,9 +1,14 @@
 // gltf-pbr: legacy glTF materials to albedo + metalness, with error reports.
 #include <cstdio>
 
+#include <string_view>
+
 #include "cli/commands.hpp"
+#include "core/files.hpp"
+#include "core/text.hpp"
 
 int main(int argc, char** argv) {
+  gltf_pbr::install_signal_cleanup();  // before any worker thread: they inherit its signal mask
   CLI::App app{
       "gltf-pbr: turns legacy KHR_materials_pbrSpecularGlossiness glTF materials into physically based\n"
       "albedo + metalness (core pbrMetallicRoughness) and reports the error each material took on;\n"
@@ -14,6 +19,15 @@ int main(int argc, char** argv) {
   const auto run_compare = gltf_pbr::cli::add_compare_command(app);
   const auto run_validate = gltf_pbr::cli::add_validate_command(app);
   const auto run_preview = gltf_pbr::cli::add_preview_command(app);
+  // CLI11 would call an unknown first word "A subcommand is required"; name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string_view word = argv[1];
+    if (word != "convert" && word != "compare" && word != "validate" && word != "preview") {
+      std::fprintf(stderr, "gltf-pbr: unknown command '%s'; the commands are convert, compare, validate, preview "
+                           "(gltf-pbr --help)\n", gltf_pbr::printable(word).c_str());
+      return gltf_pbr::cli::kBadUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli/commands.hpp"
+#include "cli/inputs.hpp"
 #include "core/error.hpp"
 #include "preview/preview.hpp"
 
@@ -140,6 +141,7 @@ std::function<int()> add_preview_command(CLI::App& app) {
   cmd->add_option("--grid-count", args->grid_count, "--grid: spheres per row and column")
       ->check(CLI::Range(2, 16))
       ->capture_default_str();
+  add_image_limit_option(*cmd);
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };

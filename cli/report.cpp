@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "core/text.hpp"
+
 namespace gltf_pbr::cli {
 namespace {
 
@@ -88,7 +90,7 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
 
 std::string file_summary(const FileResult& r, bool verbose) {
   if (r.status == "failed")
-    return "FAILED " + r.input + ": " + (r.error ? std::string(r.error->what()) : r.failure) + "\n";
+    return printable_lines("FAILED " + r.input + ": " + (r.error ? std::string(r.error->what()) : r.failure)) + "\n";
   const ConversionReport& c = r.report;
   std::string out = r.status == "copied" ? "copied " + r.input + " -> " + r.output + " (nothing to convert)\n"
                                          : "converted " + r.input + " -> " + r.output +
@@ -107,7 +109,7 @@ std::string file_summary(const FileResult& r, bool verbose) {
   }
   if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);
   for (const std::string& w : c.warnings) out += "  warning: " + w + "\n";
-  return out;
+  return printable_lines(out);  // names, URIs and notes come from the file
 }
 
 }  // namespace gltf_pbr::cli

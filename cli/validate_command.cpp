@@ -13,6 +13,7 @@
 #include "cli/validation_formats.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/text.hpp"
 #include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
@@ -89,22 +90,28 @@ int run(const ValidateArgs& args) {
   options.self_intersections = !args.no_self_intersections;
   const Severity fail_on = parse_fail_on(args.fail_on);
 
-  const std::vector<InputFile> files = find_gltf_files(args.inputs);
+  const std::vector<InputFile> files = find_gltf_files(args.inputs).files;
+  const bool report_folder = args.format == "json" && !args.output.empty();
+  std::vector<fs::path> report_paths;
+  if (report_folder) {
+    // A folder: <input path>.report.json per file, as the reference names them, and summary.json.
+    for (const InputFile& file : files) report_paths.push_back(fs::path(args.output) / (file.relative.string() + ".report.json"));
+    refuse_shared_outputs(files, report_paths);
+  }
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
-  Progress progress(files.size(), !args.quiet, "validating");
+  Progress progress(files.size(), "validating");
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (std::size_t i; (i = next++) < files.size();) {
       reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, options);
       const Report& report = reports[i];
-      if (!args.quiet || fails(report, fail_on)) {
-        std::ostringstream line;
-        line << report.uri << ": " << report.count(Severity::Error) << " errors, " << report.count(Severity::Warning)
-             << " warnings, " << report.count(Severity::Information) << " infos, " << report.count(Severity::Hint)
-             << " hints\n";
-        progress.done(line.str());
-      }
+      std::ostringstream line;
+      if (!args.quiet || fails(report, fail_on))
+        line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
+             << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information)
+             << " infos, " << report.count(Severity::Hint) << " hints\n";
+      progress.done(line.str());
     }
   };
   std::vector<std::thread> threads;
@@ -115,7 +122,7 @@ int run(const ValidateArgs& args) {
   if (args.format == "sarif") {
     const std::string text = sarif_log(reports, rules).dump(2) + "\n";
     if (args.output.empty())
-      std::fputs(text.c_str(), stdout);
+      write_stdout(text);
     else
       write_atomically(args.output, text);
   } else if (args.format == "json") {
@@ -129,21 +136,18 @@ int run(const ValidateArgs& args) {
         all["reports"] = nlohmann::ordered_json::array();
         for (const Report& report : reports) all["reports"].push_back(report_to_json(report));
       }
-      std::fputs((all.dump(2) + "\n").c_str(), stdout);
+      write_stdout(all.dump(2) + "\n");
     } else {
-      // A folder: <input path>.report.json per file, as the reference names them, and summary.json.
-      for (std::size_t i = 0; i < files.size(); ++i) {
-        fs::path target = fs::path(args.output) / files[i].relative;
-        target += ".report.json";
-        write_atomically(target, report_to_json(reports[i]).dump(2) + "\n");
-      }
+      for (std::size_t i = 0; i < files.size(); ++i)
+        write_atomically(report_paths[i], report_to_json(reports[i]).dump(2) + "\n");
       write_atomically(fs::path(args.output) / "summary.json", summary.dump(2) + "\n");
     }
   } else {
-    std::string text;
-    for (const Report& report : reports) text += report_text(report, colour);
+    std::string text;  // -q: only the files that fail
+    for (const Report& report : reports)
+      if (!args.quiet || fails(report, fail_on)) text += report_text(report, colour);
     if (args.output.empty())
-      std::fputs(text.c_str(), stdout);
+      write_stdout(text);
     else
       write_atomically(args.output, text);
   }
@@ -186,7 +190,8 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_flag("--no-self-intersections", args->no_self_intersections,
                 "skip the self-intersection mesh check (the costliest)");
   cmd->add_option("-j,--jobs", args->jobs, "files validated in parallel (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1u, 4096u));
+  add_image_limit_option(*cmd);
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
   cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
   return [cmd, args]() -> int {
@@ -199,6 +204,9 @@ std::function<int()> add_validate_command(CLI::App& app) {
     } catch (const InputError& e) {
       std::fprintf(stderr, "gltf-pbr validate: %s\n", e.what());
       return kBadUsage;
+    } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
+      return kCannotWrite;
     }
   };
 }

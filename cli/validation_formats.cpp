@@ -3,6 +3,8 @@
 #include <map>
 #include <sstream>
 
+#include "core/text.hpp"
+
 namespace gltf_pbr::cli {
 namespace {
 
@@ -57,7 +59,8 @@ std::string report_text(const Report& report, bool colour) {
   for (const Issue& issue : report.messages) groups[material_of(issue)].push_back(&issue);
 
   std::ostringstream out;
-  out << style.paint("1", report.uri) << ": " << report.count(Severity::Error) << " errors, "
+  // Names, URIs, pointers and messages come from the file: printable() keeps its escapes off the terminal.
+  out << style.paint("1", printable(report.uri)) << ": " << report.count(Severity::Error) << " errors, "
       << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
       << report.count(Severity::Hint) << " hints" << (report.truncated ? " (truncated)" : "") << "\n";
   for (const auto& [material, issues] : groups) {
@@ -66,13 +69,14 @@ std::string report_text(const Report& report, bool colour) {
     } else {
       const std::string name = material < static_cast<int>(report.material_names.size()) &&
                                        !report.material_names[static_cast<std::size_t>(material)].empty()
-                                   ? " \"" + report.material_names[static_cast<std::size_t>(material)] + "\""
+                                   ? " \"" + printable(report.material_names[static_cast<std::size_t>(material)]) + "\""
                                    : "";
       out << "  material " << material << name << "\n";
     }
     for (const Issue* issue : issues) {
       out << "    " << style.paint(severity_colour(issue->severity), severity_name(issue->severity)) << " "
-          << issue->code << " " << style.paint("2", location(*issue)) << "\n      " << issue->message;
+          << issue->code << " " << style.paint("2", printable(location(*issue))) << "\n      "
+          << printable(issue->message);
       if (issue->count > 1) out << " (" << issue->count << " times)";
       out << "\n";
     }

@@ -6,9 +6,15 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <stdexcept>
+#include <thread>
 
 #include "core/error.hpp"
 
@@ -55,9 +61,68 @@ MappedFile::~MappedFile() {
   if (data_) ::munmap(const_cast<std::uint8_t*>(data_), size_);
 }
 
+namespace {
+
+// Temporaries that exist right now, for the signal thread to remove (see install_signal_cleanup).
+std::mutex temporaries_mutex;
+std::set<std::string>& temporaries() {
+  static std::set<std::string> paths;
+  return paths;
+}
+void track_temporary(const fs::path& path, bool live) {
+  const std::lock_guard lock(temporaries_mutex);
+  if (live)
+    temporaries().insert(path.string());
+  else
+    temporaries().erase(path.string());
+}
+
+std::string errno_text(int error) { return std::strerror(error); }
+
+}  // namespace
+
+void install_signal_cleanup() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    // SIGINT and SIGTERM are blocked here, before any worker starts, so every thread inherits the
+    // mask and only this one receives them: it can take the mutex, which a signal handler cannot.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::thread([signals] {
+      int received = 0;
+      sigwait(&signals, &received);
+      {
+        const std::lock_guard lock(temporaries_mutex);
+        for (const std::string& path : temporaries()) ::unlink(path.c_str());
+      }
+      std::_Exit(128 + received);
+    }).detach();
+  });
+}
+
+bool writable_by_owner(const fs::path& path) {
+  struct stat status {};
+  return ::stat(path.c_str(), &status) == 0 && (status.st_mode & S_IWUSR) != 0;
+}
+
+std::string mode_text(const fs::path& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) return "unknown";
+  char text[8];
+  std::snprintf(text, sizeof text, "%04o", static_cast<unsigned>(status.st_mode & 07777));
+  return text;
+}
+
 AtomicWriteSet::~AtomicWriteSet() {
   std::error_code ignored;
-  for (const auto& [temporary, destination] : staged_) fs::remove(temporary, ignored);
+  for (const auto& [temporary, destination] : staged_) {
+    if (temporary.empty()) continue;
+    fs::remove(temporary, ignored);
+    track_temporary(temporary, false);
+  }
 }
 
 void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uint8_t> bytes) {
@@ -66,14 +131,33 @@ void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uin
   temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   std::error_code ec;
   if (!destination.parent_path().empty()) fs::create_directories(destination.parent_path(), ec);
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (out) out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out || !out.flush()) {
-      out.close();
-      fs::remove(temporary, ec);
-      throw std::runtime_error("cannot write " + destination.string());
-    }
+  auto fail = [&](int error) {
+    throw std::runtime_error("cannot write " + destination.string() + ": " + errno_text(error));
+  };
+  track_temporary(temporary, true);
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int error = errno;
+    track_temporary(temporary, false);
+    fail(error);
+  }
+  int error = 0;
+  for (std::size_t written = 0; written < bytes.size() && error == 0;) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno != EINTR) error = errno;
+    if (n > 0) written += static_cast<std::size_t>(n);
+  }
+  // A file being replaced keeps its mode and, where we may, its owner (root replacing a user's file).
+  struct stat existing {};
+  if (error == 0 && ::stat(destination.c_str(), &existing) == 0) {
+    if (::fchown(fd, existing.st_uid, existing.st_gid) != 0) (void)::fchown(fd, static_cast<uid_t>(-1), existing.st_gid);
+    if (::fchmod(fd, existing.st_mode & 07777) != 0) error = errno;
+  }
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) {
+    ::unlink(temporary.c_str());
+    track_temporary(temporary, false);
+    fail(error);
   }
   staged_.emplace_back(temporary, destination);
 }
@@ -83,6 +167,7 @@ void AtomicWriteSet::commit() {
     std::error_code ec;
     fs::rename(temporary, destination, ec);
     if (ec) throw std::runtime_error("cannot rename into " + destination.string() + ": " + ec.message());
+    track_temporary(temporary, false);
     temporary.clear();
   }
   staged_.clear();
@@ -145,26 +230,32 @@ std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_t
   return out;
 }
 
-std::string uri_problem(const fs::path& folder, const std::string& uri, bool allow_outside) {
-  if (uri.empty()) return "empty URI";
+ResolvedUri resolve_uri(const fs::path& folder, const std::string& uri, bool allow_outside) {
+  auto refused = [](std::string why) { return ResolvedUri{UriStatus::Refused, {}, std::move(why)}; };
+  if (uri.empty()) return {UriStatus::NotFound, {}, "empty URI"};
   const size_t colon = uri.find(':');
   const size_t slash = uri.find('/');
   if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
-    return "URI '" + uri + "' has a scheme; only relative file paths and data URIs are read";
+    return refused("URI '" + uri + "' has a scheme; only relative file paths and data URIs are read");
   const fs::path relative = percent_decode(uri);
   if (relative.is_absolute() && !allow_outside)
-    return "URI '" + uri + "' is an absolute path (pass --allow-outside-uris to read it)";
+    return refused("URI '" + uri + "' is an absolute path (pass --allow-outside-uris to read it)");
   const fs::path resolved = (folder / relative).lexically_normal();
   if (!allow_outside) {
+    // weakly_canonical follows symlinks, so a link inside the folder to a file outside is refused too.
     const fs::path root = fs::weakly_canonical(folder);
     const fs::path target = fs::weakly_canonical(resolved);
     const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
     if (root_end != root.end())
-      return "URI '" + uri + "' points outside the asset's folder (pass --allow-outside-uris to read it)";
+      return refused("URI '" + uri + "' points outside the asset's folder (pass --allow-outside-uris to read it)");
   }
   std::error_code ec;
-  if (!fs::is_regular_file(resolved, ec)) return "file not found: '" + uri + "'";
-  return {};
+  if (!fs::is_regular_file(resolved, ec)) return {UriStatus::NotFound, {}, "file not found: '" + uri + "'"};
+  return {UriStatus::Readable, resolved, {}};
+}
+
+std::string uri_problem(const fs::path& folder, const std::string& uri, bool allow_outside) {
+  return resolve_uri(folder, uri, allow_outside).problem;
 }
 
 }  // namespace gltf_pbr

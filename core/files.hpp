@@ -35,7 +35,9 @@ class MappedFile {
 };
 
 // A set of files written to temporary names and renamed into place only by commit(),
-// so a failure never leaves partial output. Destroying it without commit() removes the temporaries.
+// so a failure never leaves partial output. Destroying it without commit() removes the temporaries,
+// and so does SIGINT or SIGTERM arriving while they exist. A file that replaces an existing one
+// keeps that file's mode and, where permitted, its owner and group.
 class AtomicWriteSet {
  public:
   AtomicWriteSet() = default;
@@ -51,6 +53,15 @@ class AtomicWriteSet {
   std::vector<std::pair<fs::path, fs::path>> staged_;  // (temporary, destination)
 };
 
+// Starts the thread that, on SIGINT or SIGTERM, removes every AtomicWriteSet temporary and exits
+// with 128 + the signal. Call it first thing in main, before any other thread exists.
+void install_signal_cleanup();
+
+// Whether the file's mode lets its owner write it (the mode bits, not access(2): root may write anything).
+bool writable_by_owner(const fs::path& path);
+// The file's permission bits in octal ("0644"), for messages.
+std::string mode_text(const fs::path& path);
+
 // Percent-decodes a URI path (RFC 3986 section 2.1).
 std::string percent_decode(const std::string& uri);
 
@@ -58,8 +69,19 @@ bool is_data_uri(const std::string& uri);
 // Decodes "data:<mime>;base64,<payload>"; std::nullopt when the payload is not valid base64.
 std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_type = nullptr);
 
-// Why a URI cannot be read as a file inside `folder`, or empty when it can.
-// Absolute paths, schemes and paths that leave the folder are refused unless allow_outside.
+// The one path policy for every URI a command reads (buffers, images; convert, validate, preview):
+// percent-decoded (RFC 3986 2.1), relative to the asset's folder; schemes are never read; absolute
+// paths and paths that leave the folder, through ".." or a symlink, are refused unless allow_outside.
+// A refused URI's file is never opened, not even to see whether it exists.
+enum class UriStatus { Readable, NotFound, Refused };
+struct ResolvedUri {
+  UriStatus status = UriStatus::NotFound;
+  fs::path path;        // the file to read when Readable
+  std::string problem;  // why not, for NotFound and Refused
+};
+ResolvedUri resolve_uri(const fs::path& folder, const std::string& uri, bool allow_outside);
+
+// resolve_uri's problem: empty when the URI is readable.
 std::string uri_problem(const fs::path& folder, const std::string& uri, bool allow_outside);
 
 }  // namespace gltf_pbr

@@ -1,13 +1,18 @@
-// Loads the OpenImageIO module on first use (see core/image_oiio.cpp for why) and forwards to it.
+// Picks the codec by signature: PNG and JPEG through core/codecs.hpp, the rest through the
+// OpenImageIO module, loaded on first use (see core/image_oiio.cpp for why).
 #include "core/image.hpp"
 
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "core/asset.hpp"
+#include "core/codecs.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -45,10 +50,31 @@ const ImageCodec& codec() {
   return *loaded;
 }
 
+std::atomic<std::uint64_t> max_pixels{kDefaultMaxImagePixels};
+
+bool is_png(std::span<const std::uint8_t> encoded) {
+  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  return encoded.size() >= 8 && std::equal(kSignature, kSignature + 8, encoded.begin());
+}
+
 }  // namespace
 
+void set_max_image_pixels(std::uint64_t pixels) { max_pixels = pixels; }
+std::uint64_t max_image_pixels() { return max_pixels; }
+
 Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
-  Pixels pixels = codec().decode(encoded, name_for_errors);
+  Pixels pixels;
+  try {
+    if (is_png(encoded)) {
+      pixels = codecs::decode_png(encoded, max_pixels);
+    } else if (std::optional<Pixels> jpeg; is_jpeg(encoded) && (jpeg = codecs::decode_jpeg(encoded, max_pixels))) {
+      pixels = std::move(*jpeg);
+    } else {
+      pixels = codec().decode(encoded, max_pixels);
+    }
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error("cannot decode image " + name_for_errors + ": " + error.what());
+  }
   ++work_counters().images_decoded;
   return pixels;
 }
@@ -59,11 +85,11 @@ Pixels resize(const Pixels& pixels, int width, int height) {
 }
 
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
-  return codec().encode_png(texels, width, height, channels, compression_level);
+  return codecs::encode_png(texels, width, height, channels, compression_level);
 }
 
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
-  return codec().encode_jpeg(texels, width, height, channels, quality);
+  return codecs::encode_jpeg(texels, width, height, channels, quality);
 }
 
 bool is_jpeg(std::span<const std::uint8_t> encoded) {

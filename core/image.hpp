@@ -1,4 +1,6 @@
-// Pixel access through OpenImageIO: decoding only when a step needs texels, and PNG encoding.
+// Pixel access: decoding only when a step needs texels, and PNG/JPEG encoding. The codec is picked
+// from the bytes' signature: libspng and TurboJPEG for PNG and JPEG (core/codecs.hpp), the
+// OpenImageIO module for any other format and for filtered resizing, loaded only then.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -34,8 +36,16 @@ struct Pixels {
   }
 };
 
+// The largest image decoded, in pixels: a header above it is refused before anything is allocated,
+// so a 69-byte PNG that claims 60000x60000 costs nothing. 16384² is the largest texture current GPUs
+// sample; `--max-image-pixels` moves it. Set once at start-up, before any decode.
+inline constexpr std::uint64_t kDefaultMaxImagePixels = 16384ull * 16384ull;
+void set_max_image_pixels(std::uint64_t pixels);
+std::uint64_t max_image_pixels();
+
 // Decodes PNG/JPEG/... bytes; alpha is kept unassociated (OpenImageIO would premultiply it).
-// Counts into work_counters().images_decoded. Throws std::runtime_error with OIIO's reason.
+// Counts into work_counters().images_decoded. Throws std::runtime_error naming `name_for_errors`
+// and the reason: a corrupt or truncated stream, an image above max_image_pixels().
 Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& name_for_errors);
 
 // Resamples to width x height (OpenImageIO's filtered resize); a no-op when the size matches.
@@ -52,10 +62,8 @@ bool is_jpeg(std::span<const std::uint8_t> encoded);
 
 // The functions the OpenImageIO module (core/image_oiio.cpp) provides; core/image.cpp loads it.
 struct ImageCodec {
-  Pixels (*decode)(std::span<const std::uint8_t> encoded, const std::string& name_for_errors);
+  Pixels (*decode)(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
   Pixels (*resample)(const Pixels& pixels, int width, int height);
-  Bytes (*encode_png)(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
-  Bytes (*encode_jpeg)(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 };
 
 }  // namespace gltf_pbr

@@ -1,6 +1,7 @@
-// The OpenImageIO side of core/image.hpp, built as a module that core/image.cpp loads on first
-// use: Debian's libOpenImageIO pulls in ~260 shared libraries whose binding takes 0.2-0.3 s, a
-// cost that a factor-only asset must not pay.
+// The OpenImageIO side of core/image.hpp, for what the lean PNG/JPEG codecs do not serve (WebP,
+// BMP, GIF, HDR/EXR environments, CMYK JPEG, filtered resizing), built as a module that
+// core/image.cpp loads on first use: Debian's libOpenImageIO pulls in ~260 shared libraries whose
+// binding takes 0.2-0.3 s and 128 MiB, a cost that PNG/JPEG and factor-only work must not pay.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -30,15 +31,20 @@ std::string name_for_signature(std::span<const std::uint8_t> bytes) {
 
 namespace {
 
-Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
+Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels) {
   OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it
   void* proxy = &reader;
   config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   auto input = OIIO::ImageInput::open(name_for_signature(encoded), &config, &reader);
-  if (!input) throw std::runtime_error("cannot decode image " + name_for_errors + ": " + OIIO::geterror());
+  if (!input) throw std::runtime_error(OIIO::geterror());
   const OIIO::ImageSpec& spec = input->spec();
+  const auto width = static_cast<std::uint64_t>(std::max(spec.width, 0));
+  const auto height = static_cast<std::uint64_t>(std::max(spec.height, 0));
+  if (width * height > max_pixels)  // before read_image allocates anything
+    throw std::runtime_error("image is " + std::to_string(width) + "x" + std::to_string(height) +
+                             " pixels, above the limit of " + std::to_string(max_pixels) + " (--max-image-pixels)");
   Pixels pixels;
   pixels.width = spec.width;
   pixels.height = spec.height;
@@ -58,7 +64,7 @@ Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, const std::string
     pixels.floats.resize(count);
     read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.floats.data());
   }
-  if (!read) throw std::runtime_error("cannot decode image " + name_for_errors + ": " + input->geterror());
+  if (!read) throw std::runtime_error(input->geterror());
   return pixels;
 }
 
@@ -87,29 +93,6 @@ Pixels resample_with_oiio(const Pixels& pixels, int width, int height) {
 }
 
 
-// One writer for both formats: OpenImageIO picks it by the file name.
-Bytes write_8bit(const char* name, std::span<const std::uint8_t> texels, int width, int height, int channels,
-                 const char* attribute, int value) {
-  Bytes encoded;
-  OIIO::Filesystem::IOVecOutput writer(encoded);
-  auto output = OIIO::ImageOutput::create(name, &writer);
-  if (!output) throw std::runtime_error(std::string("cannot create a writer for ") + name + ": " + OIIO::geterror());
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  spec.attribute(attribute, value);
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!output->open(name, spec) || !output->write_image(OIIO::TypeDesc::UINT8, texels.data()) || !output->close())
-    throw std::runtime_error(std::string("cannot encode ") + name + ": " + output->geterror());
-  return encoded;
-}
-
-Bytes encode_png_with_oiio(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
-  return write_8bit("memory.png", texels, width, height, channels, "png:compressionLevel", compression_level);
-}
-
-Bytes encode_jpeg_with_oiio(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
-  return write_8bit("memory.jpg", texels, width, height, channels, "CompressionQuality", quality);
-}
-
 }  // namespace
 }  // namespace gltf_pbr
 
@@ -119,7 +102,6 @@ extern "C" __attribute__((visibility("default"))) const gltf_pbr::ImageCodec* gl
   // tracer has crashed suspending them on CI machines.
   static const bool single_threaded = OIIO_NAMESPACE::attribute("threads", 1);
   (void)single_threaded;
-  static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode_with_oiio, &gltf_pbr::resample_with_oiio,
-                                          &gltf_pbr::encode_png_with_oiio, &gltf_pbr::encode_jpeg_with_oiio};
+  static const gltf_pbr::ImageCodec codec{&gltf_pbr::decode_with_oiio, &gltf_pbr::resample_with_oiio};
   return &codec;
 }

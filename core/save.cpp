@@ -137,6 +137,10 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
   const bool output_is_input = fs::weakly_canonical(output) == fs::weakly_canonical(asset.path);
   if (inputs.count(fs::weakly_canonical(output)) && !(replace_input && output_is_input))
     throw std::runtime_error("refusing to overwrite the input " + output.string());
+  // Replacing a file its owner made read-only would defeat the point of making it so, root or not.
+  if (replace_input && output_is_input && !writable_by_owner(output))
+    throw std::runtime_error("refusing to replace " + output.string() + ": it is read-only (mode " +
+                             mode_text(output) + ")");
 
   std::vector<std::string> buffer_uris(model.buffers.size());
   if (to_glb) {

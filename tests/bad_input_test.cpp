@@ -38,7 +38,11 @@ void copy_model(const std::string& model, const fs::path& destination, const std
                 const std::string& variant = "specgloss") {
   fs::create_directories(destination);
   for (const auto& entry : fs::directory_iterator(model_folder(model, variant)))
-    if (entry.path().filename() != except) fs::copy_file(entry.path(), destination / entry.path().filename());
+    if (entry.path().filename() != except) {
+      // The copy is the test's own working copy, writable like a user's (../shared is read-only).
+      fs::copy_file(entry.path(), destination / entry.path().filename());
+      fs::permissions(destination / entry.path().filename(), fs::perms::owner_write, fs::perm_options::add);
+    }
 }
 
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_text(path)); }

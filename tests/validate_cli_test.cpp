@@ -93,8 +93,13 @@ TEST(ValidateCli, FailOnSetsTheThresholdAndIgnoredCodesDoNotCount) {
 
 TEST(ValidateCli, TextGroupsByMaterialAndBadUsageIsExitCodeTwo) {
   test::ScratchDir scratch;
-  const auto text = run_cli("validate -q " + quoted(box()), scratch);
+  const auto text = run_cli("validate " + quoted(box()), scratch);
   EXPECT_NE(text.out.find(box().string()), std::string::npos);
+  // -q: only files that fail; Box has nothing at or above the default --fail-on error.
+  const auto quiet = run_cli("validate -q " + quoted(box()), scratch);
+  EXPECT_EQ(quiet.exit_code, 0);
+  EXPECT_EQ(quiet.out, "") << "-q printed a file that does not fail";
+  EXPECT_EQ(quiet.err, "");
   EXPECT_EQ(text.out.find("\033["), std::string::npos) << "colour codes in a pipe";
   EXPECT_EQ(run_cli("validate -q --only nothing " + quoted(box()), scratch).exit_code, 2);
   EXPECT_EQ(run_cli("validate -q " + quoted(scratch / "missing.gltf"), scratch).exit_code, 2);

@@ -94,10 +94,16 @@ TEST(ValidateHostileInput, ADocumentTheLoaderRefusesButTheSpecAllowsSaysTheCheck
                          R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
                          R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
   const Report refused = validate_file(file, "outside.gltf", builtin_rules(), {}, ValidateOptions{});
-  ASSERT_EQ(refused.messages.size(), 1u);
+  // The structure step refuses the URI by the one path policy (never opening the file), and the
+  // checks that needed the document say they did not run.
+  ASSERT_EQ(refused.messages.size(), 2u);
   EXPECT_EQ(refused.messages[0].code, "IO_ERROR");
   EXPECT_EQ(refused.messages[0].pointer, "/buffers/0/uri");
-  EXPECT_NE(refused.messages[0].message.find("checks did not run"), std::string::npos) << refused.messages[0].message;
+  EXPECT_NE(refused.messages[0].message.find("outside the asset's folder"), std::string::npos)
+      << refused.messages[0].message;
+  EXPECT_EQ(refused.messages[1].code, "PBR_CHECKS_NOT_RUN");
+  EXPECT_EQ(refused.messages[1].pointer, "/buffers/0/uri");
+  EXPECT_NE(refused.messages[1].message.find("checks did not run"), std::string::npos) << refused.messages[1].message;
   ValidateOptions allowed;
   allowed.allow_outside_uris = true;
   EXPECT_TRUE(validate_file(file, "outside.gltf", builtin_rules(), {}, allowed).messages.empty());

@@ -42,7 +42,9 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
 
   bool structure_found_errors = false;
   if (wants(options, "structure")) {
-    structure_found_errors = validate_structure(file, bytes, rules, StructureOptions{}, report);
+    StructureOptions structure_options;
+    structure_options.allow_outside_uris = options.allow_outside_uris;
+    structure_found_errors = validate_structure(file, bytes, rules, structure_options, report);
   } else {
     const bool glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
     report.mime_type = glb ? "model/gltf-binary" : "model/gltf+json";
@@ -56,13 +58,23 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     } catch (const InputError& error) {
       // The structure step owns saying why a document is unreadable, in the reference's codes (which
       // the config may silence). When it did not run, or found no error at all (the loader refuses
-      // more than the spec: URIs outside the asset's folder, nesting deeper than 512), say it here:
-      // the steps that needed the document must not vanish silently.
+      // more than the spec: nesting deeper than 512), the loader's reason is the error. Either way
+      // the steps that needed the document must not vanish silently: PBR_CHECKS_NOT_RUN says so.
+      Issue issue = load_failure_issue(error);
       if (!structure_found_errors) {
-        Issue issue = load_failure_issue(error);
         if (wants(options, "structure")) issue.message = kChecksDidNotRun + issue.message;
-        report.add(std::move(issue));
+      } else if (const Rule* rule = rules.find("PBR_CHECKS_NOT_RUN"); rule && rule->enabled) {
+        // The error is already in the report, in the reference's codes; say what it cost.
+        issue.code = rule->code;
+        issue.severity = rule->severity;
+        issue.message = rule->format({issue.message});
+      } else {
+        issue.code.clear();
       }
+      if (!issue.code.empty()) report.add(std::move(issue));
+    } catch (const std::bad_alloc&) {
+      report.add({"IO_ERROR", kChecksDidNotRun + std::string("out of memory loading the document"), Severity::Error,
+                  "", std::nullopt, 1});
     } catch (const std::exception& error) {
       // Anything else is our loader's fault, not the document's: say so instead of ending the batch.
       report.add({"IO_ERROR", kChecksDidNotRun + std::string(error.what()), Severity::Error, "", std::nullopt, 1});
@@ -81,6 +93,9 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       }
       if (wants(options, "meshes"))
         validate_meshes(*asset, rules, MeshCheckOptions{options.self_intersections}, report);
+    } catch (const std::bad_alloc&) {
+      report.add({"IO_ERROR", "out of memory in the material, texture or mesh checks (--max-image-pixels lowers the "
+                  "largest image decoded)", Severity::Error, "", std::nullopt, 1});
     } catch (const std::exception& error) {
       // A step that cannot finish (a heat map that cannot be written, memory) still leaves a report
       // that says so, rather than ending the whole batch.

@@ -13,14 +13,21 @@
 
 namespace gltf_pbr::structure {
 
-namespace {
-
-std::optional<std::vector<std::uint8_t>> read_resource(const Context& context, const std::string& uri) {
-  const std::filesystem::path path = context.base_dir / percent_decode(uri);
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) return std::nullopt;
-  return read_file(path);  // one sized read, not a byte-by-byte stream: external .bin files are large
+std::optional<std::vector<std::uint8_t>> read_resource(Context& context, const std::string& uri,
+                                                       const std::string& pointer) {
+  const ResolvedUri resolved = resolve_uri(context.base_dir, uri, context.options.allow_outside_uris);
+  std::optional<std::vector<std::uint8_t>> bytes;
+  if (resolved.status == UriStatus::Refused) {
+    context.issues.at("IO_ERROR", pointer, {arg_raw(resolved.problem + ".")});
+    return bytes;
+  }
+  // One sized read, not a byte-by-byte stream: external .bin files are large.
+  if (resolved.status == UriStatus::Readable) bytes = read_file(resolved.path);
+  if (!bytes) context.issues.at("IO_ERROR", pointer, {arg_raw("Resource not found (" + uri + ").")});
+  return bytes;
 }
+
+namespace {
 
 // Reads one component at `base` as a double; the caller has checked the bounds.
 template <typename T>
@@ -590,12 +597,10 @@ void load_buffers(Context& context) {
     } else if (buffer.uri_valid && context.options.validate_resources) {
       resource["storage"] = "external";
       resource["uri"] = buffer.uri;
-      if (auto data = read_resource(context, buffer.uri)) {
+      if (auto data = read_resource(context, buffer.uri, p + "/uri")) {
         buffer.owned = std::move(*data);
         buffer.data = buffer.owned;
         buffer.data_loaded = true;
-      } else {
-        context.issues.at("IO_ERROR", p + "/uri", {arg_raw("Resource not found (" + buffer.uri + ").")});
       }
     }
     if (buffer.data_loaded && buffer.byte_length > 0) {

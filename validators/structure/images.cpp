@@ -167,14 +167,6 @@ ImageHeader read_header(std::span<const std::uint8_t> b) {
 
 bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)) == 0; }
 
-std::optional<std::vector<std::uint8_t>> read_file_bytes(const std::filesystem::path& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) return std::nullopt;
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) return std::nullopt;
-  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
-}
-
 }  // namespace
 
 void check_images(Context& context) {
@@ -204,10 +196,7 @@ void check_images(Context& context) {
       } else {
         storage = "external";
         if (context.options.validate_resources) {
-          auto read = read_file_bytes(context.base_dir / image.uri);
-          if (!read) {
-            issues.at("IO_ERROR", p + "/uri", {arg_raw("Resource not found (" + image.uri + ").")});
-          } else {
+          if (auto read = read_resource(context, image.uri, p + "/uri")) {
             file_bytes = std::move(*read);
             bytes = file_bytes;
             have = true;

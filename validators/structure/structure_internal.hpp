@@ -255,6 +255,12 @@ struct Context {
   bool declared(std::string_view extension) const;
 };
 
+// Reads the external resource `uri` (at `pointer`) through core's resolve_uri policy. A missing
+// file is the reference's IO_ERROR "Resource not found"; a URI the policy refuses is an IO_ERROR
+// saying why, and its file is never opened. std::nullopt in both cases.
+std::optional<std::vector<std::uint8_t>> read_resource(Context& context, const std::string& uri,
+                                                       const std::string& pointer);
+
 // ---- Passes.
 // Splits a GLB into its JSON and BIN chunks, reporting container issues by byte offset. Returns the
 // JSON text to parse, or nullopt when there is none (the reference then stops).

@@ -1,0 +1,26 @@
+// The lean codecs behind core/image.hpp for the two formats core glTF allows: libspng for PNG and
+// libjpeg-turbo (TurboJPEG) for JPEG, called directly (DESIGN.md "Images: which library does what").
+// Only core/image.cpp calls these; everyone else goes through decode_image / encode_png / encode_jpeg.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "core/image.hpp"
+
+namespace gltf_pbr::codecs {
+
+// Each decoder reads the header, refuses an image above `max_pixels` before allocating, and throws
+// std::runtime_error with the reason on a corrupt or truncated stream (never returns partial texels).
+Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
+// std::nullopt for a JPEG that TurboJPEG cannot turn into RGB or grey (CMYK, YCCK): OpenImageIO reads those.
+std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
+
+Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
+Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
+
+// The header's size refused against the limit, for every decoder alike.
+std::string too_large(std::uint64_t width, std::uint64_t height, std::uint64_t max_pixels);
+
+}  // namespace gltf_pbr::codecs

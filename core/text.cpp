@@ -1,0 +1,70 @@
+#include "core/text.hpp"
+
+#include <cstdint>
+
+namespace gltf_pbr {
+namespace {
+
+void escape(std::string& out, unsigned char byte) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  out += "\\x";
+  out += kHex[byte >> 4];
+  out += kHex[byte & 15];
+}
+
+// Length of the valid UTF-8 sequence at `i` (RFC 3629 section 4: no overlongs, no surrogates), 0 if none.
+std::size_t utf8_length(std::string_view s, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char lead = b(i);
+  std::size_t n = lead >= 0xF0 && lead <= 0xF4 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC2 && lead <= 0xDF ? 2 : 0;
+  if (n == 0 || (lead >= 0xF5) || i + n > s.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((b(i + k) & 0xC0) != 0x80) return 0;
+  if (lead == 0xE0 && b(i + 1) < 0xA0) return 0;  // overlong
+  if (lead == 0xED && b(i + 1) >= 0xA0) return 0;  // surrogate
+  if (lead == 0xF0 && b(i + 1) < 0x90) return 0;  // overlong
+  if (lead == 0xF4 && b(i + 1) >= 0x90) return 0;  // above U+10FFFF
+  return n;
+}
+
+}  // namespace
+
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (byte < 0x80) {
+      if (byte < 0x20 || byte == 0x7F)
+        escape(out, byte);
+      else
+        out += static_cast<char>(byte);
+      ++i;
+      continue;
+    }
+    const std::size_t n = utf8_length(text, i);
+    const bool c1_control = n == 2 && byte == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
+    if (n == 0 || c1_control) {
+      for (std::size_t k = 0; k < (n ? n : 1); ++k) escape(out, static_cast<unsigned char>(text[i + k]));
+      i += n ? n : 1;
+      continue;
+    }
+    out.append(text.substr(i, n));
+    i += n;
+  }
+  return out;
+}
+
+std::string printable_lines(std::string_view text) {
+  std::string out;
+  for (std::size_t start = 0; start <= text.size();) {
+    const std::size_t end = text.find('\n', start);
+    out += printable(text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+    if (end == std::string_view::npos) break;
+    out += '\n';
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace gltf_pbr

@@ -1,0 +1,17 @@
+// Text from a file, made safe to show to people on a terminal.
+#pragma once
+#include <string>
+#include <string_view>
+
+namespace gltf_pbr {
+
+// Escapes what a terminal would act on instead of showing: C0 controls (ESC, CR, newline...), DEL,
+// C1 controls (U+0080-U+009F, e.g. CSI) and bytes that are not UTF-8, as \xNN, so a material name
+// cannot move the cursor, retitle the window or forge a line. Valid UTF-8 text passes unchanged.
+// JSON and SARIF outputs keep the exact strings; only text for people goes through this.
+std::string printable(std::string_view text);
+
+// printable() applied to each line of a multi-line message, keeping its line breaks.
+std::string printable_lines(std::string_view text);
+
+}  // namespace gltf_pbr
