@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "core/text.hpp"
 #include "converter/evaluate.hpp"
 #include "core/error.hpp"
 
@@ -40,7 +41,7 @@ int run(const CompareArgs& args) {
     std::printf("%s\n", out.dump(2).c_str());
     return kAllDone;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gltf-pbr compare: %s\n", e.what());
+    std::fprintf(stderr, "gltf-pbr compare: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
   }
 }

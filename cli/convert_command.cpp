@@ -204,7 +204,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
     try {
       return run(*args);
     } catch (const CLI::ValidationError& e) {
-      std::fprintf(stderr, "gltf-pbr convert: %s\n", e.what());
+      std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());
       return kBadUsage;
     } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
       std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());

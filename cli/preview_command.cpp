@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli/commands.hpp"
+#include "core/text.hpp"
 #include "cli/inputs.hpp"
 #include "core/error.hpp"
 #include "preview/preview.hpp"
@@ -80,10 +81,10 @@ int run(const PreviewArgs& args) {
                    report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(), args.output.c_str());
     return kAllDone;
   } catch (const InputError& e) {
-    std::fprintf(stderr, "gltf-pbr preview: %s\n", e.what());
+    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gltf-pbr preview: %s\n", e.what());
+    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
   }
 }

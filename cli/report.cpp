@@ -90,10 +90,12 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
 
 std::string file_summary(const FileResult& r, bool verbose) {
   if (r.status == "failed")
-    return printable_lines("FAILED " + r.input + ": " + (r.error ? std::string(r.error->what()) : r.failure)) + "\n";
+    return "FAILED " + printable(r.input) + ": " + printable(r.error ? std::string(r.error->what()) : r.failure) + "\n";
   const ConversionReport& c = r.report;
-  std::string out = r.status == "copied" ? "copied " + r.input + " -> " + r.output + " (nothing to convert)\n"
-                                         : "converted " + r.input + " -> " + r.output +
+  // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
+  const std::string input = printable(r.input), output = printable(r.output);
+  std::string out = r.status == "copied" ? "copied " + input + " -> " + output + " (nothing to convert)\n"
+                                         : "converted " + input + " -> " + output +
                                                format(" (%.0f materials, %.0f ms, %.0f images decoded)\n",
                                                       static_cast<double>(c.materials.size()), r.total_ms,
                                                       static_cast<double>(c.images_decoded));
@@ -101,15 +103,15 @@ std::string file_summary(const FileResult& r, bool verbose) {
   for (const MaterialReport& m : c.materials) {
     worst = std::max(worst, m.error_a.worst());
     if (!verbose && m.outcome == "metalness") continue;
-    out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + m.name + "' ") + m.outcome +
+    out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") + m.outcome +
            format(": texels %.0f, ΔE2000 diffuse mean %.2f max %.2f", static_cast<double>(m.texels),
                   m.error_a.diffuse.mean, m.error_a.diffuse.max) +
            format(", F0 mean %.2f max %.2f, %.1f ms", m.error_a.f0.mean, m.error_a.f0.max, m.times.total()) +
-           (m.note.empty() ? "" : " (" + m.note + ")") + "\n";
+           (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
   }
   if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);
-  for (const std::string& w : c.warnings) out += "  warning: " + w + "\n";
-  return printable_lines(out);  // names, URIs and notes come from the file
+  for (const std::string& w : c.warnings) out += "  warning: " + printable(w) + "\n";
+  return out;
 }
 
 }  // namespace gltf_pbr::cli

@@ -199,10 +199,10 @@ std::function<int()> add_validate_command(CLI::App& app) {
     try {
       return run(*args);
     } catch (const CLI::ValidationError& e) {
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", e.what());
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
       return kBadUsage;
     } catch (const InputError& e) {
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", e.what());
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
       return kBadUsage;
     } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
       std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());

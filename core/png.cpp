@@ -47,15 +47,17 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
   pixels.width = static_cast<int>(header.width);
   pixels.height = static_cast<int>(header.height);
   pixels.bits = wide ? 16 : 8;
-  int format = 0;
+  // spng converts to G8, GA8/GA16 (grey sources only), RGB8, RGBA8 and RGBA16; the rest is read
+  // as stored (SPNG_FMT_PNG: the file's channels and depth, 16-bit samples in host order).
+  int format = SPNG_FMT_PNG;
   switch (header.color_type) {
     case SPNG_COLOR_TYPE_GRAYSCALE:
       pixels.channels = has_trns ? 2 : 1;
-      format = wide || has_trns ? (wide ? SPNG_FMT_GA16 : SPNG_FMT_GA8) : SPNG_FMT_G8;
+      if (has_trns) format = wide ? SPNG_FMT_GA16 : SPNG_FMT_GA8;
+      else if (!wide) format = SPNG_FMT_G8;  // also unpacks 1-, 2- and 4-bit grey
       break;
     case SPNG_COLOR_TYPE_GRAYSCALE_ALPHA:
       pixels.channels = 2;
-      format = wide ? SPNG_FMT_GA16 : SPNG_FMT_GA8;
       break;
     case SPNG_COLOR_TYPE_INDEXED:
       pixels.channels = has_trns ? 4 : 3;
@@ -63,33 +65,21 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
       break;
     case SPNG_COLOR_TYPE_TRUECOLOR:
       pixels.channels = has_trns ? 4 : 3;
-      format = wide ? SPNG_FMT_RGBA16 : has_trns ? SPNG_FMT_RGBA8 : SPNG_FMT_RGB8;
+      if (has_trns) format = wide ? SPNG_FMT_RGBA16 : SPNG_FMT_RGBA8;
       break;
     default:  // SPNG_COLOR_TYPE_TRUECOLOR_ALPHA
       pixels.channels = 4;
-      format = wide ? SPNG_FMT_RGBA16 : SPNG_FMT_RGBA8;
       break;
   }
   std::size_t size = 0;
   check(spng_decoded_image_size(ctx.get(), format, &size), "PNG");
   const int flags = has_trns ? SPNG_DECODE_TRNS : 0;
-  const std::size_t texels = static_cast<std::size_t>(header.width) * header.height;
-  const int decoded_channels = static_cast<int>(size / texels / (wide ? 2 : 1));
-  auto keep_channels = [&](auto& values) {  // drops the alpha a 16-bit format added without tRNS
-    if (decoded_channels == pixels.channels) return;
-    const auto kept = static_cast<std::size_t>(pixels.channels), from = static_cast<std::size_t>(decoded_channels);
-    for (std::size_t i = 0; i < texels; ++i)
-      for (std::size_t c = 0; c < kept; ++c) values[i * kept + c] = values[i * from + c];
-    values.resize(texels * kept);
-  };
   if (wide) {
     pixels.shorts.resize(size / 2);
     check(spng_decode_image(ctx.get(), pixels.shorts.data(), size, format, flags), "PNG data");
-    keep_channels(pixels.shorts);
   } else {
     pixels.bytes.resize(size);
     check(spng_decode_image(ctx.get(), pixels.bytes.data(), size, format, flags), "PNG data");
-    keep_channels(pixels.bytes);
   }
   return pixels;
 }

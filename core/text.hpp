@@ -11,7 +11,4 @@ namespace gltf_pbr {
 // JSON and SARIF outputs keep the exact strings; only text for people goes through this.
 std::string printable(std::string_view text);
 
-// printable() applied to each line of a multi-line message, keeping its line breaks.
-std::string printable_lines(std::string_view text);
-
 }  // namespace gltf_pbr

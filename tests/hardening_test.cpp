@@ -1,0 +1,324 @@
+// What a hostile file or an unlucky user meets: no file outside the asset is opened, no header can
+// make us allocate what it claims, no terminal escape reaches a terminal, no output is lost or
+// written twice, and every failure says what and why.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <csignal>
+#include <nlohmann/json.hpp>
+
+#include "core/files.hpp"
+#include "core/image.hpp"
+#include "test_support.hpp"
+#include "validators/validate.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::quoted;
+using test::run_cli;
+using test::ScratchDir;
+
+fs::path specgloss(const std::string& model) { return test::assets_dir() / model / "specgloss"; }
+
+// A writable working copy of a shared model's spec-gloss folder.
+fs::path copy_model(const std::string& model, const fs::path& destination) {
+  fs::create_directories(destination);
+  for (const auto& entry : fs::directory_iterator(specgloss(model))) {
+    fs::copy_file(entry.path(), destination / entry.path().filename());
+    fs::permissions(destination / entry.path().filename(), fs::perms::owner_write, fs::perm_options::add);
+  }
+  return destination / (model + ".gltf");
+}
+
+Bytes bytes_of(const std::string& text) { return Bytes(text.begin(), text.end()); }
+
+void write_bytes(const fs::path& path, const Bytes& bytes) {
+  AtomicWriteSet files;
+  files.stage(path, bytes);
+  files.commit();
+}
+
+// A PNG whose IHDR claims width x height, with a valid CRC and a few bytes of (wrong) data.
+Bytes png_claiming(std::uint32_t width, std::uint32_t height) {
+  Bytes png = encode_png(std::vector<std::uint8_t>(4 * 4 * 3, 7), 4, 4, 3, 1);
+  auto put32 = [&](std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) png[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (24 - 8 * i));
+  };
+  put32(16, width);  // IHDR data starts after the 8-byte signature, length and type
+  put32(20, height);
+  put32(29, static_cast<std::uint32_t>(crc32(0, png.data() + 12, 17)));  // over type + 13 data bytes
+  return png;
+}
+
+TEST(ImageLimits, AHeaderClaimingMorePixelsThanTheLimitIsRefusedBeforeDecoding) {
+  const Bytes bomb = png_claiming(60000, 60000);
+  ASSERT_LT(bomb.size(), 200u);
+  try {
+    (void)decode_image(bomb, "/images/0");
+    FAIL() << "a 60000x60000 header was decoded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/images/0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("60000x60000"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--max-image-pixels"), std::string::npos) << e.what();
+  }
+  // A limit of 15 pixels refuses the honest 4x4 image too; the default accepts it.
+  const Bytes honest = encode_png(std::vector<std::uint8_t>(16 * 3, 7), 4, 4, 3, 1);
+  set_max_image_pixels(15);
+  EXPECT_THROW((void)decode_image(honest, "small"), std::runtime_error);
+  set_max_image_pixels(kDefaultMaxImagePixels);
+  EXPECT_EQ(decode_image(honest, "small").width, 4);
+}
+
+TEST(ImageLimits, ConvertAndValidateRefuseAnImageBombNamingItsPointer) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  write_bytes(scratch / "box" / "CesiumLogoFlat.png", png_claiming(60000, 60000));
+  const auto converted = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(converted.exit_code, 1) << converted.err;
+  EXPECT_NE(converted.err.find("/images/0"), std::string::npos) << converted.err;
+  EXPECT_NE(converted.err.find("above the limit"), std::string::npos) << converted.err;
+  const auto validated = run_cli("validate -f json " + quoted(gltf), scratch);
+  EXPECT_NE(validated.out.find("IMAGE_UNDECODABLE"), std::string::npos) << validated.out;
+  EXPECT_NE(validated.out.find("above the limit"), std::string::npos) << validated.out;
+}
+
+TEST(CorruptImages, ATruncatedJpegOrPngIsAnErrorNotGreyTexels) {
+  const Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  EXPECT_NO_THROW((void)decode_image(jpeg, "whole"));
+  const Bytes cut_jpeg(jpeg.begin(), jpeg.begin() + static_cast<std::ptrdiff_t>(jpeg.size() / 2));
+  EXPECT_THROW((void)decode_image(cut_jpeg, "cut jpeg"), std::runtime_error);
+  const Bytes png = *read_file(specgloss("BoxTextured") / "CesiumLogoFlat.png");
+  const Bytes cut_png(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(png.size() / 2));
+  EXPECT_THROW((void)decode_image(cut_png, "cut png"), std::runtime_error);
+}
+
+TEST(CorruptImages, ConvertRefusesToBakeATruncatedJpegAndValidateReportsIt) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("CesiumMan", scratch / "man");
+  const Bytes jpeg = *read_file(scratch / "man" / "CesiumMan.jpg");
+  write_bytes(scratch / "man" / "CesiumMan.jpg",
+              Bytes(jpeg.begin(), jpeg.begin() + static_cast<std::ptrdiff_t>(jpeg.size() * 2 / 3)));
+  const auto converted = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(converted.exit_code, 1);
+  EXPECT_NE(converted.err.find("/images/0"), std::string::npos) << converted.err;
+  EXPECT_FALSE(fs::exists(scratch / "out"));
+  const auto validated = run_cli("validate -f json " + quoted(gltf), scratch);
+  EXPECT_NE(validated.out.find("IMAGE_UNDECODABLE"), std::string::npos) << validated.out;
+}
+
+TEST(LeanCodecs, EveryChannelCountRoundTripsThroughPngExactly) {
+  for (int channels = 1; channels <= 4; ++channels) {
+    std::vector<std::uint8_t> texels(static_cast<std::size_t>(37 * 11 * channels));
+    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>((i * 97 + 13) % 256);
+    const Pixels decoded = decode_image(encode_png(texels, 37, 11, channels, 3), "round trip");
+    EXPECT_EQ(decoded.channels, channels);
+    EXPECT_EQ(decoded.width, 37);
+    EXPECT_EQ(decoded.height, 11);
+    EXPECT_EQ(decoded.bytes, texels) << channels << " channels";
+  }
+}
+
+TEST(LeanCodecs, JpegRoundTripStaysCloseAtHighQuality) {
+  std::vector<std::uint8_t> texels(64 * 64 * 3);
+  for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>(64 + (i / 3 % 64) * 2);
+  const Pixels decoded = decode_image(encode_jpeg(texels, 64, 64, 3, 95), "jpeg");
+  ASSERT_EQ(decoded.bytes.size(), texels.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < texels.size(); ++i) worst = std::max(worst, std::abs(double(decoded.bytes[i]) - texels[i]));
+  EXPECT_LT(worst, 8);
+}
+
+// A folder holding the asset, beside a secret it must never read.
+struct OutsideUriCase {
+  fs::path gltf;
+  std::string secret = "SECRET-0123456789-SECRET-0123456789";
+};
+
+OutsideUriCase asset_pointing_outside(const ScratchDir& scratch, const std::string& uri) {
+  OutsideUriCase c;
+  fs::create_directories(scratch / "asset");
+  test::write_text(scratch / "secret.bin", c.secret);
+  fs::create_symlink(scratch / "secret.bin", scratch / "asset" / "link.bin");
+  c.gltf = scratch / "asset" / "a.gltf";
+  test::write_text(c.gltf, R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":35,"uri":")" + uri +
+                               R"("}],"bufferViews":[{"buffer":0,"byteLength":35}],)"
+                               R"("accessors":[{"bufferView":0,"componentType":5121,"count":35,"type":"SCALAR",)"
+                               R"("min":[0],"max":[1]}],"images":[{"uri":")" + uri + R"(","mimeType":"image/png"}]})");
+  return c;
+}
+
+TEST(ValidateOutsideUris, ValidateNeverReadsAFileOutsideTheAssetsFolderInAnyFormat) {
+  for (const char* uri : {"../secret.bin", "%2e%2e/secret.bin", "link.bin", "/etc/passwd"}) {
+    ScratchDir scratch;
+    const OutsideUriCase c = asset_pointing_outside(scratch, std::string(uri) == "/etc/passwd" ? fs::absolute(scratch / "secret.bin").string() : std::string(uri));
+    for (const char* format : {"text", "json", "sarif"}) {
+      const auto r = run_cli(std::string("validate -f ") + format + " " + quoted(c.gltf), scratch);
+      const std::string all = r.out + r.err;
+      // Had the secret been read, the accessor's min/max checks would print its byte values.
+      EXPECT_EQ(all.find("ACCESSOR_MAX_MISMATCH"), std::string::npos) << uri << " " << format << ":\n" << all;
+      EXPECT_EQ(all.find("ACCESSOR_MIN_MISMATCH"), std::string::npos) << uri << " " << format << ":\n" << all;
+      EXPECT_EQ(all.find("Resource not found"), std::string::npos) << uri << ": the policy refuses, not a lookup";
+      EXPECT_TRUE(all.find("outside the asset's folder") != std::string::npos ||
+                  all.find("absolute path") != std::string::npos)
+          << uri << " " << format << ":\n" << all;
+    }
+    const Report report = validate_file(c.gltf, "a.gltf", builtin_rules(), {}, ValidateOptions{});
+    bool buffer_refused = false, image_refused = false;
+    for (const Issue& issue : report.messages) {
+      buffer_refused |= issue.code == "IO_ERROR" && issue.pointer == "/buffers/0/uri";
+      image_refused |= issue.code == "IO_ERROR" && issue.pointer == "/images/0/uri";
+    }
+    EXPECT_TRUE(buffer_refused && image_refused) << uri;
+  }
+}
+
+TEST(ValidateOutsideUris, AllowingThemReadsTheFileAsEveryCommandWould) {
+  ScratchDir scratch;
+  const OutsideUriCase c = asset_pointing_outside(scratch, "../secret.bin");
+  ValidateOptions allowed;
+  allowed.allow_outside_uris = true;
+  const Report report = validate_file(c.gltf, "a.gltf", builtin_rules(), {}, allowed);
+  for (const Issue& issue : report.messages)
+    EXPECT_FALSE(issue.code == "IO_ERROR" && issue.pointer == "/buffers/0/uri") << issue.message;
+}
+
+TEST(ValidateOutsideUris, APercentEncodedImageNameInsideTheFolderIsFound) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  fs::rename(scratch / "box" / "CesiumLogoFlat.png", scratch / "box" / "Cesium Logo.png");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  document["images"][0]["uri"] = "Cesium%20Logo.png";
+  test::write_text(gltf, document.dump());
+  const Report report = validate_file(gltf, "BoxTextured.gltf", builtin_rules(), {}, ValidateOptions{});
+  for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "IO_ERROR") << issue.message;
+}
+
+TEST(TerminalEscapes, NamesFromTheFileAreEscapedInTextAndKeptExactInJson) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "box");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  const std::string hostile = "Red\x1b]0;pwned\x07\x1b[2J\r\nFAKE \xc2\x9b" "31m";
+  document["materials"][0]["name"] = hostile;
+  document["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]["specularFactor"] = {0.3, 0.9, 0.1};
+  test::write_text(gltf, document.dump());
+  for (const std::string& command : {std::string("validate "), "convert -v -o " + quoted(scratch / "out") + " "}) {
+    const auto r = run_cli(command + quoted(gltf), scratch);
+    const std::string shown = r.out + r.err;
+    EXPECT_EQ(shown.find('\x1b'), std::string::npos) << command << shown;
+    EXPECT_EQ(shown.find('\x07'), std::string::npos) << command << shown;
+    EXPECT_EQ(shown.find("\xc2\x9b"), std::string::npos) << command << shown;
+    EXPECT_EQ(shown.find("\nFAKE"), std::string::npos) << command << "a name forged a line:\n" << shown;
+    EXPECT_NE(shown.find("Red\\x1b]0;pwned\\x07"), std::string::npos) << command << shown;
+  }
+  const auto converted = nlohmann::json::parse(test::read_text(scratch / "out" / "Box.gltf"));
+  EXPECT_EQ(converted["materials"][0]["name"], hostile);
+}
+
+TEST(InPlace, KeepsTheInputsModeAndRefusesAReadOnlyFile) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "box");
+  fs::permissions(gltf, fs::perms::owner_read | fs::perms::owner_write);  // 0600
+  auto r = run_cli("convert -q --in-place " + quoted(gltf), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(fs::status(gltf).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+
+  const fs::path read_only = copy_model("Box", scratch / "read-only");
+  const Bytes before = *read_file(read_only);
+  fs::permissions(read_only, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);  // 0444
+  r = run_cli("convert -q --in-place " + quoted(read_only), scratch);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("read-only"), std::string::npos) << r.err;
+  EXPECT_EQ(*read_file(read_only), before);
+}
+
+TEST(LostOutputs, AReportThatCannotBeWrittenIsAnErrorWithItsReason) {
+  ScratchDir scratch;
+  test::write_text(scratch / "a-file", "x");
+  const fs::path box = specgloss("Box") / "Box.gltf";
+  for (const std::string& command :
+       {"validate -f sarif -o " + quoted(scratch / "a-file" / "scan.sarif") + " " + quoted(box),
+        "validate -f json -o " + quoted(scratch / "a-file" / "reports") + " " + quoted(box),
+        "convert -q " + quoted(box) + " -o " + quoted(scratch / "out") + " --report " +
+            quoted(scratch / "a-file" / "report.json")}) {
+    const auto r = run_cli(command, scratch);
+    EXPECT_EQ(r.exit_code, 3) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << command << "\n" << r.err;
+    EXPECT_EQ(r.err.find("terminate"), std::string::npos) << r.err;
+  }
+  const int status = std::system(("'" GLTF_PBR_CLI "' validate -f json " + quoted(box) + " > /dev/full 2>/dev/null").c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+}
+
+TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
+  ScratchDir scratch;
+  const fs::path a = copy_model("Box", scratch / "a"), b = copy_model("Box", scratch / "b");
+  const auto r = run_cli("convert " + quoted(a) + " " + quoted(b) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("would both be written"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch / "out"));
+  const auto v = run_cli("validate -f json -o " + quoted(scratch / "reports") + " " + quoted(a) + " " + quoted(b), scratch);
+  EXPECT_EQ(v.exit_code, 2) << v.err;
+  // Their folders keep the paths apart, and both are written.
+  const auto folders = run_cli("convert -q " + quoted(scratch / "a") + " " + quoted(scratch / "b") + " -o " +
+                                   quoted(scratch / "out"), scratch);
+  EXPECT_EQ(folders.exit_code, 0) << folders.err;
+  EXPECT_TRUE(fs::exists(scratch / "out" / "a" / "Box.gltf"));
+  EXPECT_TRUE(fs::exists(scratch / "out" / "b" / "Box.gltf"));
+}
+
+TEST(LostOutputs, AnOutputFolderInsideTheInputTreeIsNotConvertedAgain) {
+  ScratchDir scratch;
+  copy_model("Box", scratch / "lib" / "box");
+  const std::string command = "convert " + quoted(scratch / "lib") + " -o " + quoted(scratch / "lib" / "out");
+  for (int run = 0; run < 3; ++run) {
+    const auto r = run_cli(command, scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    if (run > 0) {
+      EXPECT_NE(r.err.find("skipped 1 "), std::string::npos) << r.err;
+    }
+  }
+  std::size_t gltf_files = 0;
+  for (const fs::path& file : test::files_under(scratch / "lib")) gltf_files += file.extension() == ".gltf";
+  EXPECT_EQ(gltf_files, 2u) << "the input and its one conversion";
+}
+
+TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {
+  ScratchDir scratch;
+  const fs::path destination = scratch / "out.bin";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    install_signal_cleanup();
+    AtomicWriteSet files;
+    files.stage(destination, bytes_of("partial"));
+    ::kill(::getpid(), SIGTERM);
+    ::pause();
+    std::_Exit(0);  // not reached: the cleanup thread exits first
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_TRUE(test::files_under(scratch.path()).empty()) << test::files_under(scratch.path()).front();
+}
+
+TEST(Messages, BadJobCountsAndUnknownCommandsGiveShortClearMessages) {
+  ScratchDir scratch;
+  const fs::path box = specgloss("Box") / "Box.gltf";
+  for (const char* command : {"convert -j 0 -o x ", "validate -j 0 "}) {
+    const auto r = run_cli(std::string(command) + quoted(box), scratch);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_LT(r.err.size(), 300u) << r.err;
+    EXPECT_NE(r.err.find("--jobs"), std::string::npos) << r.err;
+  }
+  const auto unknown = run_cli("convrt " + quoted(box), scratch);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("unknown command 'convrt'"), std::string::npos) << unknown.err;
+}
+
+}  // namespace
+}  // namespace gltf_pbr
