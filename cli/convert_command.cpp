@@ -13,6 +13,7 @@
 #include "core/asset.hpp"
 #include "core/text.hpp"
 #include "preview/preview.hpp"
+#include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -65,6 +66,16 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
   return jobs;
 }
 
+// A value loading would drop or misread is refused, never written back as less than was read.
+void refuse_value_errors(const fs::path& input) {
+  static const RuleSet rules = builtin_rules();
+  if (const std::optional<Issue> issue = first_value_error(input, rules)) {
+    const std::string where = issue->offset ? "byte " + std::to_string(*issue->offset) : issue->pointer;
+    throw InputError(input.string(), where,
+                     issue->code + ": " + issue->message + " (converting would lose or change this value)");
+  }
+}
+
 FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOptions& options) {
   using Clock = std::chrono::steady_clock;
   auto ms = [](Clock::time_point a, Clock::time_point b) {
@@ -73,6 +84,7 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
   FileResult result{job.input.string(), job.output.string(), "failed", std::nullopt, "", {}, 0, 0, 0};
   const auto start = Clock::now();
   try {
+    refuse_value_errors(job.input);
     Asset asset = load_asset(job.input, {args.allow_outside});
     const auto loaded = Clock::now();
     result.load_ms = ms(start, loaded);
@@ -145,7 +157,7 @@ int run(const ConvertArgs& args) {
     files.commit();
   }
   if (!args.quiet)
-    std::fprintf(stderr, "%zu files: %zu converted or copied, %zu failed\n", results.size(),
+    std::fprintf(stderr, "%s: %zu converted or copied, %zu failed\n", counted(results.size(), "file").c_str(),
                  results.size() - static_cast<size_t>(failed), static_cast<size_t>(failed));
   return failed ? kSomeFilesFailed : kAllDone;
 }

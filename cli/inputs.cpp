@@ -62,6 +62,10 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::pa
   return found_inputs;
 }
 
+std::string counted(std::size_t count, const std::string& noun) {
+  return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");
+}
+
 void add_image_limit_option(CLI::App& command) {
   command
       .add_option_function<std::uint64_t>(

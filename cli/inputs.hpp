@@ -17,6 +17,9 @@ struct InputFile {
   std::filesystem::path relative;  // where it goes under an output folder: the input folder's name / path inside it
 };
 
+// "1 file", "3 files": a count with its noun in the right number.
+std::string counted(std::size_t count, const std::string& noun);
+
 // --max-image-pixels N, for every command that decodes images (core/image.hpp's limit).
 void add_image_limit_option(CLI::App& command);
 

@@ -1,5 +1,6 @@
 // `gltf-pbr preview IN -o DIR`: before/after images, difference map, sheet and a JSON report
 // (the renderer is preview/).
+#include <algorithm>
 #include <cstdio>
 
 #include "cli/commands.hpp"
@@ -66,6 +67,12 @@ int run(const PreviewArgs& args) {
     } else {
       const Asset asset = load_asset(args.input, {args.allow_outside});
       result = preview::render_preview(asset, options);
+    }
+    // A picture of nothing compares equal to itself: that is not a pass.
+    if (std::none_of(result.covered.begin(), result.covered.end(), [](std::uint8_t c) { return c != 0; })) {
+      std::fprintf(stderr, "gltf-pbr preview: %s: nothing to draw: the scene has no visible triangles\n",
+                   printable(args.grid ? "grid" : args.input).c_str());
+      return kSomeFilesFailed;
     }
     nlohmann::json report = preview::preview_report(result, options);
     report["input"] = args.grid ? "grid" : args.input;

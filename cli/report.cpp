@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "cli/inputs.hpp"
 #include "core/text.hpp"
 
 namespace gltf_pbr::cli {
@@ -90,15 +91,15 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
 
 std::string file_summary(const FileResult& r, bool verbose) {
   if (r.status == "failed")
-    return "FAILED " + printable(r.input) + ": " + printable(r.error ? std::string(r.error->what()) : r.failure) + "\n";
+    return "FAILED " + printable(r.error ? std::string(r.error->what()) : r.input + ": " + r.failure) + "\n";
   const ConversionReport& c = r.report;
   // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
   const std::string input = printable(r.input), output = printable(r.output);
   std::string out = r.status == "copied" ? "copied " + input + " -> " + output + " (nothing to convert)\n"
                                          : "converted " + input + " -> " + output +
-                                               format(" (%.0f materials, %.0f ms, %.0f images decoded)\n",
-                                                      static_cast<double>(c.materials.size()), r.total_ms,
-                                                      static_cast<double>(c.images_decoded));
+                                               " (" + counted(c.materials.size(), "material") +
+                                               format(", %.0f ms, %.0f images decoded)\n", r.total_ms,
+                                                      static_cast<double>(c.images_decoded), 0);
   double worst = 0;
   for (const MaterialReport& m : c.materials) {
     worst = std::max(worst, m.error_a.worst());

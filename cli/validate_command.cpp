@@ -152,7 +152,7 @@ int run(const ValidateArgs& args) {
       write_atomically(args.output, text);
   }
   if (!args.quiet)
-    std::fprintf(stderr, "%zu files: %zu with issues at or above %s\n", reports.size(),
+    std::fprintf(stderr, "%s: %zu with issues at or above %s\n", counted(reports.size(), "file").c_str(),
                  summary["failing"].get<std::size_t>(), severity_name(fail_on));
   return summary["failing"].get<std::size_t>() > 0 ? kSomeFilesFailed : kAllDone;
 }

@@ -1,5 +1,6 @@
 // Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
 // pointer and the reason; tinygltf then builds the document with images kept encoded.
+#include <cctype>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -234,6 +235,35 @@ HiddenIndices hide_draco_indices(nlohmann::json& root) {
   return hidden;
 }
 
+// tinygltf 2.7 takes only some media types as data URIs (png, jpeg, bmp, gif and the buffer ones)
+// and reads any other, such as a valid image/webp data URI, as a file name. Such images get a media
+// type it knows for the parse, and their own URI back afterwards: the bytes are the same either
+// way (keep_encoded keeps them undecoded), and the format only matters to a step that needs texels.
+std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(nlohmann::json& root) {
+  std::vector<std::pair<size_t, std::string>> relabelled;
+  const auto images = root.find("images");
+  if (images == root.end()) return relabelled;
+  for (size_t i = 0; i < images->size(); ++i) {
+    const auto uri = (*images)[i].find("uri");
+    if (uri == (*images)[i].end() || !uri->is_string()) continue;
+    const std::string text = uri->get<std::string>();
+    if (!is_data_uri(text) || tinygltf::IsDataURI(text)) continue;
+    const size_t comma = text.find(',');
+    relabelled.emplace_back(i, text);
+    *uri = "data:application/octet-stream;base64," + text.substr(comma + 1);
+  }
+  return relabelled;
+}
+
+// tinygltf's messages end in newlines and name absolute paths; ours name the file once, relative.
+std::string tidy(std::string message, const std::string& base_dir) {
+  for (size_t at; !base_dir.empty() && (at = message.find(base_dir + "/")) != std::string::npos;)
+    message.erase(at, base_dir.size() + 1);
+  while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back()))) message.pop_back();
+  for (size_t at; (at = message.find('\n')) != std::string::npos;) message.replace(at, 1, "; ");
+  return message;
+}
+
 struct LoaderContext {
   fs::path folder;
   bool allow_outside;
@@ -291,15 +321,17 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   }
   nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, options);
   const HiddenIndices hidden = hide_draco_indices(root);
+  const auto relabelled = relabel_foreign_data_images(root);
+  const bool rewritten = !hidden.entries.empty() || !relabelled.empty();
   std::string json_for_tinygltf;
-  if (!hidden.entries.empty()) {
+  if (rewritten) {
     json_for_tinygltf = root.dump();
     if (asset.binary) {
       const GlbChunks chunks = split_glb(file, *bytes);
       *bytes = glb_bytes(json_for_tinygltf, chunks.bin);
     }
   }
-  const std::string& json_text = hidden.entries.empty() ? asset.original_json : json_for_tinygltf;
+  const std::string& json_text = rewritten ? json_for_tinygltf : asset.original_json;
 
   LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
   tinygltf::TinyGLTF loader;
@@ -320,11 +352,12 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
     // buffer of byteLength 0 beside a BIN chunk).
     throw InputError(file, "", std::string("cannot load glTF: ") + error.what());
   }
-  if (!ok) throw InputError(file, "", "cannot load glTF: " + (err.empty() ? warn : err));
+  if (!ok) throw InputError(file, "", "cannot load glTF: " + tidy(err.empty() ? warn : err, base_dir));
   // tinygltf reports an unreadable image only as a warning; after check_resources any such
   // warning is unexpected, so it is an error too.
-  if (warn.find("Failed to load external") != std::string::npos) throw InputError(file, "", warn);
-  if (!warn.empty()) asset.warnings.push_back(warn);
+  if (warn.find("Failed to load external") != std::string::npos) throw InputError(file, "", tidy(warn, base_dir));
+  if (!warn.empty()) asset.warnings.push_back(tidy(warn, base_dir));
+  for (const auto& [image, uri] : relabelled) asset.model.images.at(image).uri = uri;
   for (const auto& [where, indices] : hidden.entries)
     asset.model.meshes.at(where.first).primitives.at(where.second).indices = indices;
   return asset;

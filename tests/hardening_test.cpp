@@ -8,6 +8,7 @@
 #include <zlib.h>
 
 #include <csignal>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "core/files.hpp"
@@ -284,6 +285,87 @@ TEST(LostOutputs, AnOutputFolderInsideTheInputTreeIsNotConvertedAgain) {
   std::size_t gltf_files = 0;
   for (const fs::path& file : test::files_under(scratch / "lib")) gltf_files += file.extension() == ".gltf";
   EXPECT_EQ(gltf_files, 2u) << "the input and its one conversion";
+}
+
+// Box with one edit applied to its JSON.
+fs::path edited_box(const ScratchDir& scratch, const std::function<void(nlohmann::json&)>& edit) {
+  const fs::path gltf = copy_model("Box", scratch / "box");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  edit(document);
+  test::write_text(gltf, document.dump());
+  return gltf;
+}
+
+TEST(SilentLoss, ConvertRefusesAValueLoadingWouldDropNamingItsPointer) {
+  const std::vector<std::pair<std::function<void(nlohmann::json&)>, std::string>> cases{
+      {[](nlohmann::json& d) { d["nodes"][0]["children"] = {1.5}; }, "/nodes/0/children/0"},
+      {[](nlohmann::json& d) { d["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = nlohmann::json::array(); },
+       "/materials/0/extensions/KHR_materials_pbrSpecularGlossiness"},
+      {[](nlohmann::json& d) { d["bufferViews"][0]["byteOffset"] = -4; }, "/bufferViews/0/byteOffset"},
+  };
+  for (const auto& [edit, pointer] : cases) {
+    ScratchDir scratch;
+    const fs::path gltf = edited_box(scratch, edit);
+    const auto r = run_cli("convert " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+    EXPECT_EQ(r.exit_code, 1) << pointer << "\n" << r.err;
+    EXPECT_NE(r.err.find(pointer + ": "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "out" / "Box.gltf")) << pointer;
+  }
+}
+
+TEST(SilentLoss, TrailingBytesAfterTheJsonAreRefusedByConvertAsValidateReportsThem) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "box");
+  test::write_text(gltf, test::read_text(gltf) + "\n}garbage");
+  const auto converted = run_cli("convert " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(converted.exit_code, 1) << converted.err;
+  EXPECT_NE(converted.err.find("INVALID_JSON"), std::string::npos) << converted.err;
+  const auto validated = run_cli("validate " + quoted(gltf), scratch);
+  EXPECT_NE(validated.out.find("INVALID_JSON"), std::string::npos) << validated.out;
+}
+
+TEST(SilentLoss, AnEmptyGlbIsNamedAsAnEmptyContainerNotAsJson) {
+  ScratchDir scratch;
+  test::write_text(scratch / "empty.glb", "");
+  const auto r = run_cli("convert " + quoted(scratch / "empty.glb") + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err.find("JSON"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("GLB_"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("1 file: "), std::string::npos) << r.err;
+}
+
+TEST(SilentLoss, AnImageDataUriOfAnyTypeIsReadAsDataAndKeptAsItWas) {
+  // A 1x1 lossless WebP; the '+' and '/' of base64 must survive untouched.
+  const std::string webp = "data:image/webp;base64,UklGRhoAAABXRUJQVlA4TA0AAAAvAAAAEAcQERGIiP4HAPv/";
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [&](nlohmann::json& d) {
+    d["images"] = {{{"uri", webp}}};
+    d["textures"] = {{{"source", 0}}};
+    d["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  });
+  const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto converted = nlohmann::json::parse(test::read_text(scratch / "out" / "Box.gltf"));
+  EXPECT_EQ(converted["images"][0]["uri"], webp);
+}
+
+TEST(SilentLoss, PreviewOfASceneWithNothingToDrawIsNotAPass) {
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) { d["scenes"] = {{{"nodes", nlohmann::json::array()}}}; });
+  const auto r = run_cli("preview " + quoted(gltf) + " -o " + quoted(scratch / "preview"), scratch);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("nothing to draw"), std::string::npos) << r.err;
+}
+
+TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) { d["buffers"][0]["byteLength"] = 100000; });
+  const auto r = run_cli("convert " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 1);
+  const std::string first_line = r.err.substr(0, r.err.find('\n'));
+  EXPECT_NE(first_line.find(gltf.string()), std::string::npos) << r.err;
+  EXPECT_EQ(first_line.find((scratch / "box").string() + "/Box0.bin"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("\n\n"), std::string::npos) << r.err;
 }
 
 TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {

@@ -1,6 +1,7 @@
 #include "validators/validate.hpp"
 
 #include <optional>
+#include <set>
 
 #include "core/asset.hpp"
 #include "core/error.hpp"
@@ -104,6 +105,24 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   }
   apply_policy(policy, report);
   return report;
+}
+
+std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules) {
+  static const std::set<std::string> kValueCodes{
+      "ARRAY_LENGTH_NOT_IN_LIST", "ARRAY_TYPE_MISMATCH", "EMPTY_ENTITY",       "INVALID_JSON",
+      "ONE_OF_MISMATCH",          "PATTERN_MISMATCH",    "TYPE_MISMATCH",      "UNDEFINED_PROPERTY",
+      "VALUE_MULTIPLE_OF",        "VALUE_NOT_IN_LIST",   "VALUE_NOT_IN_RANGE", "UNRESOLVED_REFERENCE"};
+  const std::optional<MappedFile> mapped = MappedFile::open(file);
+  if (!mapped) return std::nullopt;
+  StructureOptions options;
+  options.validate_resources = false;
+  options.decode_draco = false;
+  Report report;
+  validate_structure(file, mapped->bytes(), rules, options, report);
+  for (const Issue& issue : report.messages)
+    if (issue.severity == Severity::Error && (kValueCodes.contains(issue.code) || issue.code.rfind("GLB_", 0) == 0))
+      return issue;
+  return std::nullopt;
 }
 
 }  // namespace gltf_pbr

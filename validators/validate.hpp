@@ -7,6 +7,7 @@
 // Draco meshes only for data and mesh checks.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -31,5 +32,13 @@ struct ValidateOptions {
 // for bad input: problems become issues in the report.
 Report validate_file(const std::filesystem::path& file, const std::string& uri, const RuleSet& rules,
                      const IssuePolicy& policy, const ValidateOptions& options);
+
+// For commands that rewrite or draw a file (convert, preview): the first error the structure step
+// finds, without reading resources, in a value that loading would drop or misread: a wrong type
+// (`children: [1.5]`, an extension that is an array), a value out of range (a negative byteOffset),
+// a missing required property, a dangling index, JSON that does not end where it should, a broken
+// GLB container. Writing on from such a document would silently hold less than the input.
+// std::nullopt when there is none (or the file cannot be read: the loader says so).
+std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules);
 
 }  // namespace gltf_pbr
