@@ -7,9 +7,16 @@ namespace gltf_pbr::cli {
 // 3: the inputs were processed but a requested output (a report, stdout) could not be written.
 enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2, kCannotWrite = 3 };
 
-// Writes text to stdout; throws std::runtime_error with the errno text when it cannot (a full disk,
+// Writes text to stdout; throws OutputError with the errno text when it cannot (a full disk,
 // a closed pipe), so a lost report is an error and not a silent exit 0.
 void write_stdout(const std::string& text);
+
+// A JSON document as the text every command writes: indented, and a file name that is not UTF-8
+// (Latin-1 names exist) written with U+FFFD instead of ending the run with a type_error.
+template <typename Json>
+std::string json_text(const Json& document) {
+  return document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
 
 // Each registers a subcommand; the returned callback runs it after parsing, or returns -1 when
 // another subcommand was given.

@@ -36,9 +36,10 @@ int run(const CompareArgs& args) {
     out["materials"] = list;
     out["summary"] = {
         {"materials", materials.size()},
-        {"meanOfMaterialMeans", materials.empty() ? 0.0 : sum_mean / static_cast<double>(materials.size())},
-        {"worst", worst}};
-    std::printf("%s\n", out.dump(2).c_str());
+        {"meanOfMaterialMeans",
+         materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(sum_mean / static_cast<double>(materials.size()))},
+        {"worst", materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst)}};  // null: nothing measured
+    write_stdout(json_text(out));
     return kAllDone;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "gltf-pbr compare: %s\n", printable(e.what()).c_str());

@@ -39,7 +39,8 @@ struct Job {
 std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output) {
   const fs::path output = args.output;
   const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
-  FoundInputs found = find_gltf_files(args.inputs, args.in_place || single_file_output ? fs::path() : output);
+  // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
+  FoundInputs found = find_gltf_files(args.inputs, args.in_place ? fs::path() : output);
   skipped_under_output = found.skipped_under_output;
   const std::vector<InputFile>& files = found.files;
   if (single_file_output && files.size() > 1)
@@ -84,8 +85,8 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
   FileResult result{job.input.string(), job.output.string(), "failed", std::nullopt, "", {}, 0, 0, 0};
   const auto start = Clock::now();
   try {
+    Asset asset = load_asset(job.input, {args.allow_outside});  // its own errors first: they name the byte
     refuse_value_errors(job.input);
-    Asset asset = load_asset(job.input, {args.allow_outside});
     const auto loaded = Clock::now();
     result.load_ms = ms(start, loaded);
     // The preview draws the legacy asset beside its conversion: keep the original only then.
@@ -151,7 +152,7 @@ int run(const ConvertArgs& args) {
   const auto failed =
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
   if (!args.report.empty()) {
-    const std::string text = run_json(results, options, args.solver).dump(2) + "\n";
+    const std::string text = json_text(run_json(results, options, args.solver));
     AtomicWriteSet files;
     files.stage(args.report, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     files.commit();
@@ -175,7 +176,8 @@ std::function<int()> add_convert_command(CLI::App& app) {
                          "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
   cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
   cmd->add_option("-o,--output", args->output,
-                  "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs)");
+                  "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs; "
+                  "a name ending in .gltf or .glb is a file, so several inputs need a folder)");
   cmd->add_option("--format", args->format, "output format for directory outputs (default: as the input)")
       ->check(CLI::IsMember({"gltf", "glb"}));
   cmd->add_flag("--in-place", args->in_place, "replace each input with its conversion (atomically)");
@@ -218,9 +220,12 @@ std::function<int()> add_convert_command(CLI::App& app) {
     } catch (const CLI::ValidationError& e) {
       std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());
       return kBadUsage;
-    } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
+    } catch (const OutputError& e) {  // a report or stdout that cannot be written, with its reason
       std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());
       return kCannotWrite;
+    } catch (const std::exception& e) {  // the inputs' folders cannot be walked, and the like
+      std::fprintf(stderr, "gltf-pbr convert: %s\n", printable(e.what()).c_str());
+      return kSomeFilesFailed;
     }
   };
 }

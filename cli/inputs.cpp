@@ -10,6 +10,7 @@
 #include <map>
 
 #include "cli/commands.hpp"
+#include "core/error.hpp"
 #include "core/image.hpp"
 
 namespace gltf_pbr::cli {
@@ -28,6 +29,15 @@ bool is_under(const fs::path& path, const fs::path& folder) {
   const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
   return root_end == root.end();
 }
+
+// The name a folder input keeps under -o: its own ("lib/" and "." name the folder they are).
+fs::path folder_name(const fs::path& input) {
+  std::error_code ec;
+  const fs::path name = input.filename();
+  if (name.empty()) return {};
+  if (name == "." || name == "..") return fs::weakly_canonical(fs::absolute(input, ec), ec).filename();
+  return name;
+}
 }  // namespace
 
 FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::path& output_folder) {
@@ -36,19 +46,22 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::pa
   for (const fs::path input : inputs) {
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
+      // Earlier outputs are not inputs: what lies under the output folder, or, for a folder that is
+      // itself inside the output folder (convert lib -o lib), under the place its outputs go.
+      const fs::path name = folder_name(input);
+      const fs::path outputs =
+          output_folder.empty() || !is_under(input, output_folder) ? output_folder : output_folder / name;
       std::vector<fs::path> found;
       for (const auto& entry : fs::recursive_directory_iterator(input, ec)) {
         if (!entry.is_regular_file() || !is_gltf_file(entry.path())) continue;
-        if (!output_folder.empty() && is_under(entry.path(), output_folder) && !is_under(input, output_folder)) {
+        if (!outputs.empty() && is_under(entry.path(), outputs)) {
           ++found_inputs.skipped_under_output;
           continue;
         }
         found.push_back(entry.path());
       }
       std::sort(found.begin(), found.end());
-      for (const auto& file : found)
-        files.push_back({file, input.filename().empty() ? file.lexically_relative(input)
-                                                        : input.filename() / file.lexically_relative(input)});
+      for (const auto& file : found) files.push_back({file, name / file.lexically_relative(input)});
     } else if (fs::is_regular_file(input, ec)) {
       files.push_back({input, input.filename()});
     } else {
@@ -76,7 +89,7 @@ void add_image_limit_option(CLI::App& command) {
 
 void write_stdout(const std::string& text) {
   if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
-    throw std::runtime_error(std::string("cannot write to standard output: ") + std::strerror(errno));
+    throw OutputError(std::string("cannot write to standard output: ") + std::strerror(errno));
 }
 
 void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs) {

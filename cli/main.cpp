@@ -1,6 +1,7 @@
 // gltf-pbr: legacy glTF materials to albedo + metalness, with error reports.
 #include <cstdio>
 
+#include <sstream>
 #include <string_view>
 
 #include "cli/commands.hpp"
@@ -31,7 +32,15 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    // CLI11 quotes the arguments it refuses, and arguments come from file names: escape each line.
+    std::ostringstream out, err;
+    const int code = app.exit(e, out, err);
+    auto print = [](const std::string& text, std::FILE* stream) {
+      std::istringstream lines(text);
+      for (std::string line; std::getline(lines, line);) std::fprintf(stream, "%s\n", gltf_pbr::printable(line).c_str());
+    };
+    print(out.str(), stdout);
+    print(err.str(), stderr);
     return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
   }
   // Each runner returns -1 unless its subcommand was the one given.

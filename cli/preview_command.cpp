@@ -83,9 +83,9 @@ int run(const PreviewArgs& args) {
       std::fprintf(stderr,
                    "%s: FLIP mean %.3f; ΔE2000 mean %.2f, p95 %.2f; RMS %.1f dB; G-buffer %d B/px after, %d B/px "
                    "before -> %s\n",
-                   args.grid ? "grid" : args.input.c_str(), result.metrics.flip_mean, result.metrics.delta_e_mean,
+                   printable(args.grid ? "grid" : args.input).c_str(), result.metrics.flip_mean, result.metrics.delta_e_mean,
                    result.metrics.delta_e_p95, result.metrics.rms_db, report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
-                   report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(), args.output.c_str());
+                   report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(), printable(args.output).c_str());
     return kAllDone;
   } catch (const InputError& e) {
     std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());

@@ -11,7 +11,11 @@ namespace {
 using nlohmann::json;
 
 json stats_json(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}}; }
-json error_json(const ReflectanceError& e) { return {{"diffuse", stats_json(e.diffuse)}, {"f0", stats_json(e.f0)}}; }
+// null where nothing was measured (a material left as spec-gloss): never a 0 that reads as "exact".
+json error_json(const std::optional<ReflectanceError>& e) {
+  if (!e) return nullptr;
+  return {{"diffuse", stats_json(e->diffuse)}, {"f0", stats_json(e->f0)}};
+}
 json times_json(const StageTimes& t) {
   return {{"decode", t.decode_ms}, {"solve", t.solve_ms}, {"encode", t.encode_ms}, {"total", t.total()}};
 }
@@ -102,12 +106,15 @@ std::string file_summary(const FileResult& r, bool verbose) {
                                                       static_cast<double>(c.images_decoded), 0);
   double worst = 0;
   for (const MaterialReport& m : c.materials) {
-    worst = std::max(worst, m.error_a.worst());
+    if (m.error_a) worst = std::max(worst, m.error_a->worst());
     if (!verbose && m.outcome == "metalness") continue;
-    out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") + m.outcome +
-           format(": texels %.0f, ΔE2000 diffuse mean %.2f max %.2f", static_cast<double>(m.texels),
-                  m.error_a.diffuse.mean, m.error_a.diffuse.max) +
-           format(", F0 mean %.2f max %.2f, %.1f ms", m.error_a.f0.mean, m.error_a.f0.max, m.times.total()) +
+    const std::string error =
+        m.error_a ? format(", ΔE2000 diffuse mean %.2f max %.2f", m.error_a->diffuse.mean, m.error_a->diffuse.max, 0) +
+                        format(", F0 mean %.2f max %.2f", m.error_a->f0.mean, m.error_a->f0.max, 0)
+                  : ", ΔE2000 not measured";
+    out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") +
+           m.outcome + format(": texels %.0f", static_cast<double>(m.texels), 0, 0) + error +
+           format(", %.1f ms", m.times.total(), 0, 0) +
            (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
   }
   if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);

@@ -120,7 +120,7 @@ int run(const ValidateArgs& args) {
 
   const nlohmann::ordered_json summary = summary_json(reports, fail_on);
   if (args.format == "sarif") {
-    const std::string text = sarif_log(reports, rules).dump(2) + "\n";
+    const std::string text = json_text(sarif_log(reports, rules));
     if (args.output.empty())
       write_stdout(text);
     else
@@ -136,11 +136,11 @@ int run(const ValidateArgs& args) {
         all["reports"] = nlohmann::ordered_json::array();
         for (const Report& report : reports) all["reports"].push_back(report_to_json(report));
       }
-      write_stdout(all.dump(2) + "\n");
+      write_stdout(json_text(all));
     } else {
       for (std::size_t i = 0; i < files.size(); ++i)
-        write_atomically(report_paths[i], report_to_json(reports[i]).dump(2) + "\n");
-      write_atomically(fs::path(args.output) / "summary.json", summary.dump(2) + "\n");
+        write_atomically(report_paths[i], json_text(report_to_json(reports[i])));
+      write_atomically(fs::path(args.output) / "summary.json", json_text(summary));
     }
   } else {
     std::string text;  // -q: only the files that fail
@@ -204,9 +204,12 @@ std::function<int()> add_validate_command(CLI::App& app) {
     } catch (const InputError& e) {
       std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
       return kBadUsage;
-    } catch (const std::runtime_error& e) {  // an output that cannot be written, with its reason
+    } catch (const OutputError& e) {  // a report or stdout that cannot be written, with its reason
       std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
       return kCannotWrite;
+    } catch (const std::exception& e) {  // the inputs' folders cannot be walked, and the like
+      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
+      return kSomeFilesFailed;
     }
   };
 }

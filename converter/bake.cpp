@@ -96,6 +96,8 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.metal_rough.resize(texels * 3);
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
+  std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
+  std::vector<ErrorAccumulator> rows_extension_b(rows_extension_a.size());
 
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   parallel_for(0, threads, [&](std::int64_t thread) {
@@ -126,6 +128,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
           const float* delta_e = SolveCache::error(solved, legacy);
           rows_a[static_cast<size_t>(y)].add(delta_e[0], delta_e[1]);
           rows_b[static_cast<size_t>(y)].add(delta_e[2], delta_e[3]);
+          if (in.measure_extension_route) {
+            const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
+            rows_extension_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), route);
+            rows_extension_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), route);
+          }
         }
       }
     }
@@ -133,6 +140,10 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   for (size_t y = 0; y < rows_a.size(); ++y) {
     out.error_a.merge(rows_a[y]);
     out.error_b.merge(rows_b[y]);
+  }
+  for (size_t y = 0; y < rows_extension_a.size(); ++y) {
+    out.extension_a.merge(rows_extension_a[y]);
+    out.extension_b.merge(rows_extension_b[y]);
   }
   for (size_t i = 1; i < texels; ++i) {
     out.base_constant =

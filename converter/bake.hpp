@@ -16,6 +16,9 @@ struct BakeInputs {
   glm::vec3 specular_factor{1.0f};
   float glossiness_factor = 1.0f;
   int width = 1, height = 1;  // the larger input resolution
+  // Also sample the error of the KHR_materials_specular route (base = diffuse, F0 = specular),
+  // which --target specular may pick instead of the solve.
+  bool measure_extension_route = false;
 };
 
 struct BakedTexels {
@@ -24,6 +27,7 @@ struct BakedTexels {
   std::vector<std::uint8_t> metal_rough;  // RGB linear: R unused (0), G roughness, B metalness
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
   ErrorAccumulator error_a, error_b;  // against legacy readings A and B
+  ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
 };
 
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are

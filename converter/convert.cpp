@@ -1,6 +1,7 @@
 #include "converter/convert.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <future>
@@ -47,7 +48,6 @@ class Converter {
   Converter(Asset& asset, const ConvertOptions& options) : asset_(asset), model_(asset.model), options_(options) {}
 
   ConversionReport run() {
-    const long decoded_before = work_counters().images_decoded;
     for (size_t i = 0; i < model_.materials.size(); ++i) {
       auto& material = model_.materials[i];
       const auto extension = material.extensions.find(kSpecGloss);
@@ -67,12 +67,20 @@ class Converter {
     report_.textures_removed = pruned.textures;
     report_.images_removed = pruned.images;
     report_.samplers_removed = pruned.samplers;
-    report_.images_decoded = work_counters().images_decoded - decoded_before;
+    report_.images_decoded = images_decoded_;
     report_.warnings.insert(report_.warnings.end(), asset_.warnings.begin(), asset_.warnings.end());
     return std::move(report_);
   }
 
  private:
+  struct Bake {
+    BakedTexels texels;
+    ReflectanceError error_a, error_b;
+    ReflectanceError extension_a, extension_b;  // the KHR_materials_specular route's (target specular)
+    MetalRough factor_solution;  // full precision, for factor-only materials
+    bool reuse_diffuse = false;  // baseColor texels equal the diffuse image's: keep its bytes
+    int base_color_image = -1, metal_rough_image = -1;
+  };
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
     if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
         !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
@@ -93,7 +101,7 @@ class Converter {
     pbr = tinygltf::PbrMetallicRoughness();  // the author's old fallback is replaced
     const double worst_p95 = std::max(baked.error_a.diffuse.p95, baked.error_a.f0.p95);
     if (options_.target == Target::Specular && worst_p95 > options_.specular_tolerance) {
-      write_specular_route(material, legacy, entry);
+      write_specular_route(material, legacy, baked, entry);
       return;
     }
     entry.outcome = "metalness";
@@ -131,7 +139,8 @@ class Converter {
 
   // Target specular, where the metalness fit misses: base = diffuse, metallic 0, and F0 carried
   // by KHR_materials_specular (exact under reading A in viewers that support it).
-  void write_specular_route(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
+  void write_specular_route(tinygltf::Material& material, const LegacyMaterial& legacy, const Bake& baked,
+                            MaterialReport& entry) {
     entry.outcome = "specular";
     entry.note = "metalness fit p95 above " + std::to_string(options_.specular_tolerance) + " ΔE2000";
     auto& pbr = material.pbrMetallicRoughness;
@@ -166,7 +175,8 @@ class Converter {
     tinygltf::Value::Object ior;
     ior["ior"] = tinygltf::Value(kLosslessIor);
     material.extensions[kIor] = tinygltf::Value(std::move(ior));
-    // The extension route reproduces reading A by construction; sample the factor case.
+    // What was written is the extension route: report its error (about 0 under reading A, by
+    // construction; reading B is what a full viewer with the appendix's (1 - F) shows).
     if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
       const SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
       const Reflectance converted = specular_extension_reflectance(factors.diffuse, factors.specular);
@@ -175,19 +185,12 @@ class Converter {
       b.add(legacy_reflectance(factors, LegacyReading::B), converted);
       entry.error_a = a.finish(), entry.error_b = b.finish();
     } else {
-      entry.error_samples = 0;
-      entry.note += "; texel error not sampled for the extension route (exact under reading A)";
-      entry.error_a = entry.error_b = {};
+      entry.error_samples = baked.texels.extension_a.samples();
+      entry.error_a = baked.extension_a, entry.error_b = baked.extension_b;
     }
   }
 
-  struct Bake {
-    BakedTexels texels;
-    ReflectanceError error_a, error_b;
-    MetalRough factor_solution;  // full precision, for factor-only materials
-    bool reuse_diffuse = false;  // baseColor texels equal the diffuse image's: keep its bytes
-    int base_color_image = -1, metal_rough_image = -1;
-  };
+
 
   // Baking is shared: identical inputs give one output (DESIGN.md: no duplicate textures).
   const Bake& bake_for(const LegacyMaterial& legacy, MaterialReport& entry, bool roughness_only = false) {
@@ -209,6 +212,7 @@ class Converter {
     inputs.diffuse_factor = legacy.diffuse_factor;
     inputs.specular_factor = legacy.specular_factor;
     inputs.glossiness_factor = legacy.glossiness_factor;
+    inputs.measure_extension_route = options_.target == Target::Specular;
     if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
       // Factors only: one solve at full precision, stored as factors (a single "texel").
       SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
@@ -232,6 +236,13 @@ class Converter {
       spec_gloss = pending_spec.get();
       inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
       inputs.height = std::max(diffuse ? diffuse->height : 1, spec_gloss ? spec_gloss->height : 1);
+      // The bake takes the larger of each dimension: 16384x1 beside 1x16384 would be 16384².
+      const auto bake_pixels = static_cast<std::uint64_t>(inputs.width) * static_cast<std::uint64_t>(inputs.height);
+      if (bake_pixels > max_image_pixels())
+        throw InputError(asset_.path.string(), pointer("materials", entry.index),
+                         "its two textures bake at " + std::to_string(inputs.width) + "x" +
+                             std::to_string(inputs.height) + ", above the limit of " +
+                             std::to_string(max_image_pixels()) + " pixels (--max-image-pixels)");
       if (diffuse) diffuse = resize(*diffuse, inputs.width, inputs.height);
       if (spec_gloss) spec_gloss = resize(*spec_gloss, inputs.width, inputs.height);
       inputs.diffuse = diffuse ? &*diffuse : nullptr;
@@ -275,6 +286,8 @@ class Converter {
     }
     bake.error_a = bake.texels.error_a.finish();
     bake.error_b = bake.texels.error_b.finish();
+    bake.extension_a = bake.texels.extension_a.finish();
+    bake.extension_b = bake.texels.extension_b.finish();
     return bakes_.emplace(key, std::move(bake)).first->second;
   }
 
@@ -305,7 +318,9 @@ class Converter {
                                         ? ""
                                         : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
     try {
-      return decode_image(bytes, name);
+      Pixels pixels = decode_image(bytes, name);
+      ++images_decoded_;  // this file's own count: the process-wide counter also sees other files' threads
+      return pixels;
     } catch (const std::runtime_error& e) {
       throw InputError(asset_.path.string(), pointer("images", image), e.what());
     }
@@ -364,6 +379,7 @@ class Converter {
   tinygltf::Model& model_;
   const ConvertOptions& options_;
   ConversionReport report_;
+  mutable std::atomic<long> images_decoded_{0};  // decode() runs on several threads
   std::map<std::string, Bake> bakes_;
   std::map<std::pair<int, int>, int> textures_;
 };

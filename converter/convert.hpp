@@ -1,6 +1,7 @@
 // spec-gloss -> metal-rough conversion of a whole asset, with a report of the error each
 // material took on against the time it cost.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,9 @@ struct MaterialReport {
   std::string note;      // why, for "legacy" and "specular"
   long long texels = 0;  // texels solved (1 for a factor-only material)
   size_t error_samples = 0;
-  ReflectanceError error_a;  // against legacy reading A (the one solved for)
-  ReflectanceError error_b;  // against legacy reading B
+  // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt
+  // where nothing was measured (a material left as spec-gloss), reported as null, never as 0.
+  std::optional<ReflectanceError> error_a, error_b;
   StageTimes times;
 };
 

@@ -16,6 +16,11 @@ struct InputError : std::runtime_error {
   std::string file, pointer, reason;
 };
 
+// An output that cannot be written (a full disk, a missing folder, permissions), with errno's text.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 [[noreturn]] void check_failed(const char* expr, const std::string& operands, const char* where);
 
 }  // namespace gltf_pbr

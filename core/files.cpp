@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <mutex>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -64,40 +65,58 @@ MappedFile::~MappedFile() {
 namespace {
 
 // Temporaries that exist right now, for the signal thread to remove (see install_signal_cleanup).
+// Never destroyed: the signal thread may still walk it while static destructors run.
 std::mutex temporaries_mutex;
 std::set<std::string>& temporaries() {
-  static std::set<std::string> paths;
-  return paths;
-}
-void track_temporary(const fs::path& path, bool live) {
-  const std::lock_guard lock(temporaries_mutex);
-  if (live)
-    temporaries().insert(path.string());
-  else
-    temporaries().erase(path.string());
+  static auto* paths = new std::set<std::string>;
+  return *paths;
 }
 
 std::string errno_text(int error) { return std::strerror(error); }
+
+// Creates a fresh temporary beside `destination` and records it, under one lock, so the signal
+// thread (which exits holding that lock) never misses a file created while it cleans up. A name
+// left by a killed earlier run (the same pid in a container) is skipped, not an error.
+std::pair<int, fs::path> create_temporary(const fs::path& destination) {
+  static std::atomic<unsigned> counter{0};
+  static const unsigned process_salt = std::random_device{}();
+  const std::lock_guard lock(temporaries_mutex);
+  for (int attempt = 0;; ++attempt) {
+    fs::path temporary = destination;
+    temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(process_salt % 100000) + "-" +
+                 std::to_string(counter++);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      temporaries().insert(temporary.string());
+      return {fd, temporary};
+    }
+    if (errno != EEXIST || attempt == 100) return {-errno, {}};
+  }
+}
+
+void forget_temporary(const fs::path& path) {
+  const std::lock_guard lock(temporaries_mutex);
+  temporaries().erase(path.string());
+}
 
 }  // namespace
 
 void install_signal_cleanup() {
   static std::once_flag once;
   std::call_once(once, [] {
-    // SIGINT and SIGTERM are blocked here, before any worker starts, so every thread inherits the
-    // mask and only this one receives them: it can take the mutex, which a signal handler cannot.
+    // The signals are blocked here, before any worker starts, so every thread inherits the mask and
+    // only this one receives them: it can take the mutex, which a signal handler cannot. SIGPIPE is
+    // ignored, so a closed pipe is a write error we report (exit 3), not a silent death.
+    std::signal(SIGPIPE, SIG_IGN);
     sigset_t signals;
     sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
+    for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&signals, signal);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     std::thread([signals] {
       int received = 0;
       sigwait(&signals, &received);
-      {
-        const std::lock_guard lock(temporaries_mutex);
-        for (const std::string& path : temporaries()) ::unlink(path.c_str());
-      }
+      temporaries_mutex.lock();  // held until _Exit: no temporary is created after this pass
+      for (const std::string& path : temporaries()) ::unlink(path.c_str());
       std::_Exit(128 + received);
     }).detach();
   });
@@ -121,26 +140,16 @@ AtomicWriteSet::~AtomicWriteSet() {
   for (const auto& [temporary, destination] : staged_) {
     if (temporary.empty()) continue;
     fs::remove(temporary, ignored);
-    track_temporary(temporary, false);
+    forget_temporary(temporary);
   }
 }
 
 void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uint8_t> bytes) {
-  static std::atomic<unsigned> counter{0};
-  fs::path temporary = destination;
-  temporary += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   std::error_code ec;
   if (!destination.parent_path().empty()) fs::create_directories(destination.parent_path(), ec);
-  auto fail = [&](int error) {
-    throw std::runtime_error("cannot write " + destination.string() + ": " + errno_text(error));
-  };
-  track_temporary(temporary, true);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) {
-    const int error = errno;
-    track_temporary(temporary, false);
-    fail(error);
-  }
+  auto fail = [&](int error) { throw OutputError("cannot write " + destination.string() + ": " + errno_text(error)); };
+  const auto [fd, temporary] = create_temporary(destination);
+  if (fd < 0) fail(-fd);
   int error = 0;
   for (std::size_t written = 0; written < bytes.size() && error == 0;) {
     const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
@@ -156,7 +165,7 @@ void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uin
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0) {
     ::unlink(temporary.c_str());
-    track_temporary(temporary, false);
+    forget_temporary(temporary);
     fail(error);
   }
   staged_.emplace_back(temporary, destination);
@@ -166,8 +175,8 @@ void AtomicWriteSet::commit() {
   for (auto& [temporary, destination] : staged_) {
     std::error_code ec;
     fs::rename(temporary, destination, ec);
-    if (ec) throw std::runtime_error("cannot rename into " + destination.string() + ": " + ec.message());
-    track_temporary(temporary, false);
+    if (ec) throw OutputError("cannot rename into " + destination.string() + ": " + ec.message());
+    forget_temporary(temporary);
     temporary.clear();
   }
   staged_.clear();
@@ -230,7 +239,7 @@ std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_t
   return out;
 }
 
-ResolvedUri resolve_uri(const fs::path& folder, const std::string& uri, bool allow_outside) {
+ResolvedUri resolve_uri(const fs::path& asset_folder, const std::string& uri, bool allow_outside) {
   auto refused = [](std::string why) { return ResolvedUri{UriStatus::Refused, {}, std::move(why)}; };
   if (uri.empty()) return {UriStatus::NotFound, {}, "empty URI"};
   const size_t colon = uri.find(':');
@@ -240,16 +249,21 @@ ResolvedUri resolve_uri(const fs::path& folder, const std::string& uri, bool all
   const fs::path relative = percent_decode(uri);
   if (relative.is_absolute() && !allow_outside)
     return refused("URI '" + uri + "' is an absolute path (pass --allow-outside-uris to read it)");
+  // A bare file name on the command line has an empty parent: that folder is ".".
+  const fs::path folder = asset_folder.empty() ? fs::path(".") : asset_folder;
   const fs::path resolved = (folder / relative).lexically_normal();
+  std::error_code ec;
   if (!allow_outside) {
-    // weakly_canonical follows symlinks, so a link inside the folder to a file outside is refused too.
-    const fs::path root = fs::weakly_canonical(folder);
-    const fs::path target = fs::weakly_canonical(resolved);
+    // weakly_canonical follows symlinks, so a link inside the folder to a file outside is refused
+    // too. A path it cannot resolve (a loop, a name too long, a folder we may not enter) is refused.
+    const fs::path root = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+    if (ec) return refused("URI '" + uri + "': the asset's folder cannot be resolved (" + ec.message() + ")");
+    const fs::path target = fs::weakly_canonical(fs::absolute(resolved, ec), ec);
+    if (ec) return refused("URI '" + uri + "' cannot be resolved (" + ec.message() + ")");
     const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
-    if (root_end != root.end())
+    if (root.empty() || root_end != root.end())
       return refused("URI '" + uri + "' points outside the asset's folder (pass --allow-outside-uris to read it)");
   }
-  std::error_code ec;
   if (!fs::is_regular_file(resolved, ec)) return {UriStatus::NotFound, {}, "file not found: '" + uri + "'"};
   return {UriStatus::Readable, resolved, {}};
 }

@@ -44,7 +44,7 @@ class AtomicWriteSet {
   AtomicWriteSet(const AtomicWriteSet&) = delete;
   AtomicWriteSet& operator=(const AtomicWriteSet&) = delete;
   ~AtomicWriteSet();
-  // Throws std::runtime_error naming the path when the temporary cannot be written.
+  // Throws OutputError naming the destination and errno's reason when the temporary cannot be written.
   void stage(const fs::path& destination, std::span<const std::uint8_t> bytes);
   // Renames every staged file into place, in staging order.
   void commit();

@@ -42,6 +42,11 @@ Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, std::uint64_t max
   const OIIO::ImageSpec& spec = input->spec();
   const auto width = static_cast<std::uint64_t>(std::max(spec.width, 0));
   const auto height = static_cast<std::uint64_t>(std::max(spec.height, 0));
+  // Textures are 2-D with 1-4 channels; a volume (depth > 1) or a 30-channel EXR would not fit the
+  // buffer below, which holds width x height x channels.
+  if (spec.depth != 1 || spec.nchannels < 1 || spec.nchannels > 4)
+    throw std::runtime_error("unsupported image layout: depth " + std::to_string(spec.depth) + ", " +
+                             std::to_string(spec.nchannels) + " channels");
   if (width * height > max_pixels)  // before read_image allocates anything
     throw std::runtime_error("image is " + std::to_string(width) + "x" + std::to_string(height) +
                              " pixels, above the limit of " + std::to_string(max_pixels) + " (--max-image-pixels)");

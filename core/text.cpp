@@ -35,7 +35,7 @@ std::string printable(std::string_view text) {
   for (std::size_t i = 0; i < text.size();) {
     const auto byte = static_cast<unsigned char>(text[i]);
     if (byte < 0x80) {
-      if (byte < 0x20 || byte == 0x7F)
+      if (byte < 0x20 || byte == 0x7F || byte == '\\')  // a backslash too, so "\x1b" cannot be forged
         escape(out, byte);
       else
         out += static_cast<char>(byte);
@@ -44,7 +44,11 @@ std::string printable(std::string_view text) {
     }
     const std::size_t n = utf8_length(text, i);
     const bool c1_control = n == 2 && byte == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
-    if (n == 0 || c1_control) {
+    // Bidirectional embeddings, overrides and isolates (U+202A-202E, U+2066-2069) reorder what
+    // follows them on screen, so a name could show as something it is not.
+    const auto b1 = n == 3 ? static_cast<unsigned char>(text[i + 1]) : 0, b2 = n == 3 ? static_cast<unsigned char>(text[i + 2]) : 0;
+    const bool bidi = byte == 0xE2 && ((b1 == 0x80 && b2 >= 0xAA && b2 <= 0xAE) || (b1 == 0x81 && b2 >= 0xA6 && b2 <= 0xA9));
+    if (n == 0 || c1_control || bidi) {
       for (std::size_t k = 0; k < (n ? n : 1); ++k) escape(out, static_cast<unsigned char>(text[i + k]));
       i += n ? n : 1;
       continue;

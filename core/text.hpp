@@ -6,8 +6,9 @@
 namespace gltf_pbr {
 
 // Escapes what a terminal would act on instead of showing: C0 controls (ESC, CR, newline...), DEL,
-// C1 controls (U+0080-U+009F, e.g. CSI) and bytes that are not UTF-8, as \xNN, so a material name
-// cannot move the cursor, retitle the window or forge a line. Valid UTF-8 text passes unchanged.
+// C1 controls (U+0080-U+009F, e.g. CSI), bidirectional overrides, bytes that are not UTF-8 and the
+// backslash itself, as \xNN, so a material name cannot move the cursor, retitle the window, forge
+// a line or pass for an escape. Other valid UTF-8 text passes unchanged.
 // JSON and SARIF outputs keep the exact strings; only text for people goes through this.
 std::string printable(std::string_view text);
 

@@ -230,7 +230,8 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
           {{"index", m.index},
            {"name", m.name},
            {"outcome", m.outcome},
-           {"texel_delta_e_2000_a", {{"diffuse_p95", m.error_a.diffuse.p95}, {"f0_p95", m.error_a.f0.p95}}}});
+           {"texel_delta_e_2000_a", m.error_a ? nlohmann::json{{"diffuse_p95", m.error_a->diffuse.p95}, {"f0_p95", m.error_a->f0.p95}}
+                                                   : nlohmann::json(nullptr)}});
     report["conversion"] = {{"materials", materials}, {"warnings", r.conversion->warnings}};
   }
   report["images"] = {{"before", "before.png"},

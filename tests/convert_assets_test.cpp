@@ -71,7 +71,8 @@ TEST(ConvertSharedAssets, EverySpecGlossAssetConvertsInBothTargetsAndReloadsWith
       EXPECT_EQ(static_cast<int>(report.materials.size()), legacy_materials);
       for (const MaterialReport& m : report.materials) {
         EXPECT_TRUE(m.outcome == "metalness" || m.outcome == "specular") << m.index << " " << m.outcome;
-        for (double v : {m.error_a.diffuse.mean, m.error_a.diffuse.max, m.error_a.f0.max, m.error_b.f0.max})
+        ASSERT_TRUE(m.error_a && m.error_b) << m.index << ": converted but not measured";
+        for (double v : {m.error_a->diffuse.mean, m.error_a->diffuse.max, m.error_a->f0.max, m.error_b->f0.max})
           EXPECT_TRUE(std::isfinite(v));
         if (target == Target::Metalness) {
           EXPECT_EQ(m.outcome, "metalness");

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/files.hpp"
+#include "converter/convert.hpp"
+#include "core/asset.hpp"
 #include "core/image.hpp"
 #include "test_support.hpp"
 #include "validators/validate.hpp"
@@ -97,6 +99,35 @@ TEST(CorruptImages, ATruncatedJpegOrPngIsAnErrorNotGreyTexels) {
   EXPECT_THROW((void)decode_image(cut_png, "cut png"), std::runtime_error);
 }
 
+TEST(CorruptImages, AHarmlessJpegWarningStillDecodes) {
+  // Bytes between the entropy-coded data and EOI: libjpeg warns "extraneous bytes before marker"
+  // and decodes every texel; only warnings that mean lost data are errors.
+  Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  ASSERT_EQ(jpeg[jpeg.size() - 2], 0xFF);
+  ASSERT_EQ(jpeg[jpeg.size() - 1], 0xD9);
+  jpeg.insert(jpeg.end() - 2, {0x00, 0x11, 0x22});
+  EXPECT_NO_THROW((void)decode_image(jpeg, "extraneous bytes"));
+}
+
+TEST(ImageLimits, TwoTexturesThatBakeAboveTheLimitTogetherAreRefused) {
+  // 512x1 and 1x512 images bake at 512x512: above a limit of 100000 pixels, though each is under it.
+  auto png = [](int width, int height) { return encode_png(std::vector<std::uint8_t>(std::size_t(width * height * 4), 200), width, height, 4, 1); };
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  write_bytes(scratch / "box" / "wide.png", png(512, 1));
+  write_bytes(scratch / "box" / "tall.png", png(1, 512));
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  document["images"] = {{{"uri", "wide.png"}}, {{"uri", "tall.png"}}};
+  document["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  auto& extension = document["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"];
+  extension["diffuseTexture"] = {{"index", 0}};
+  extension["specularGlossinessTexture"] = {{"index", 1}};
+  test::write_text(gltf, document.dump());
+  const auto r = run_cli("convert --max-image-pixels 100000 " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/materials/0: its two textures bake at 512x512"), std::string::npos) << r.err;
+}
+
 TEST(CorruptImages, ConvertRefusesToBakeATruncatedJpegAndValidateReportsIt) {
   ScratchDir scratch;
   const fs::path gltf = copy_model("CesiumMan", scratch / "man");
@@ -174,6 +205,31 @@ TEST(ValidateOutsideUris, ValidateNeverReadsAFileOutsideTheAssetsFolderInAnyForm
       image_refused |= issue.code == "IO_ERROR" && issue.pointer == "/images/0/uri";
     }
     EXPECT_TRUE(buffer_refused && image_refused) << uri;
+  }
+}
+
+TEST(ValidateOutsideUris, ABareFileNameOnTheCommandLineKeepsThePolicy) {
+  ScratchDir scratch;
+  const OutsideUriCase c = asset_pointing_outside(scratch, "../secret.bin");
+  const std::string command = "cd " + quoted(scratch / "asset") + " && '" GLTF_PBR_CLI "' validate -f json a.gltf > " +
+                              quoted(scratch / "out.json");
+  std::system(command.c_str());
+  const std::string out = test::read_text(scratch / "out.json");
+  EXPECT_NE(out.find("outside the asset's folder"), std::string::npos) << out;
+  EXPECT_EQ(out.find("ACCESSOR_MAX_MISMATCH"), std::string::npos) << out;
+}
+
+TEST(ValidateOutsideUris, AUriThatCannotBeResolvedIsAnIssueNotACrash) {
+  ScratchDir scratch;
+  fs::create_directories(scratch / "asset");
+  fs::create_symlink("loop", scratch / "asset" / "loop");  // a symlink to itself: ELOOP
+  for (const std::string& uri : {std::string("loop/x.bin"), std::string(300, 'n') + "/x.bin"}) {
+    test::write_text(scratch / "asset" / "a.gltf",
+                     R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + uri + R"("}]})");
+    const Report report = validate_file(scratch / "asset" / "a.gltf", "a.gltf", builtin_rules(), {}, ValidateOptions{});
+    bool io_error = false;
+    for (const Issue& issue : report.messages) io_error |= issue.code == "IO_ERROR" && issue.pointer == "/buffers/0/uri";
+    EXPECT_TRUE(io_error) << uri.substr(0, 20);
   }
 }
 
@@ -271,6 +327,29 @@ TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
   EXPECT_TRUE(fs::exists(scratch / "out" / "b" / "Box.gltf"));
 }
 
+TEST(LostOutputs, AClosedPipeIsAWriteErrorNotASilentDeath) {
+  ScratchDir scratch;
+  // The reader is gone before we write: SIGPIPE (status 141) unless it is ignored and EPIPE reported.
+  // The reader opens the FIFO and leaves at once; the writer's open waits for it.
+  test::write_text(scratch / "run.sh", "mkfifo \"$1/pipe\"\n(exec 3<\"$1/pipe\") &\n"
+                                       "'" GLTF_PBR_CLI "' validate -f json \"$2\" > \"$1/pipe\" 2>/dev/null\n"
+                                       "echo $? > \"$1/status\"\n");
+  std::system(("bash " + quoted(scratch / "run.sh") + " " + quoted(scratch.path()) + " " +
+               quoted(specgloss("Box") / "Box.gltf")).c_str());
+  const std::string status = test::read_text(scratch / "status");
+  EXPECT_TRUE(status == "3\n" || status == "0\n") << "exit status " << status;
+}
+
+TEST(LostOutputs, AnOutputFolderThatIsTheInputFolderIsNotConvertedAgain) {
+  ScratchDir scratch;
+  copy_model("Box", scratch / "lib" / "box");
+  const std::string command = "convert " + quoted(scratch / "lib") + " -o " + quoted(scratch / "lib");
+  for (int run = 0; run < 3; ++run) ASSERT_EQ(run_cli(command, scratch).exit_code, 0);
+  std::size_t gltf_files = 0;
+  for (const fs::path& file : test::files_under(scratch / "lib")) gltf_files += file.extension() == ".gltf";
+  EXPECT_EQ(gltf_files, 2u);
+}
+
 TEST(LostOutputs, AnOutputFolderInsideTheInputTreeIsNotConvertedAgain) {
   ScratchDir scratch;
   copy_model("Box", scratch / "lib" / "box");
@@ -314,14 +393,19 @@ TEST(SilentLoss, ConvertRefusesAValueLoadingWouldDropNamingItsPointer) {
 }
 
 TEST(SilentLoss, TrailingBytesAfterTheJsonAreRefusedByConvertAsValidateReportsThem) {
-  ScratchDir scratch;
-  const fs::path gltf = copy_model("Box", scratch / "box");
-  test::write_text(gltf, test::read_text(gltf) + "\n}garbage");
-  const auto converted = run_cli("convert " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
-  EXPECT_EQ(converted.exit_code, 1) << converted.err;
-  EXPECT_NE(converted.err.find("INVALID_JSON"), std::string::npos) << converted.err;
-  const auto validated = run_cli("validate " + quoted(gltf), scratch);
-  EXPECT_NE(validated.out.find("INVALID_JSON"), std::string::npos) << validated.out;
+  for (const std::string& trailing : {std::string("\n}garbage"), std::string("\0\0\0", 3), std::string("{}")}) {
+    ScratchDir scratch;
+    const fs::path gltf = copy_model("Box", scratch / "box");
+    test::write_text(gltf, test::read_text(gltf) + trailing);
+    const auto converted = run_cli("convert " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+    EXPECT_EQ(converted.exit_code, 1) << converted.err;
+    EXPECT_TRUE(converted.err.find("INVALID_JSON") != std::string::npos ||
+                converted.err.find("malformed JSON") != std::string::npos)
+        << converted.err;
+    EXPECT_FALSE(fs::exists(scratch / "out" / "Box.gltf"));
+    const auto validated = run_cli("validate " + quoted(gltf), scratch);
+    EXPECT_NE(validated.out.find("INVALID_JSON"), std::string::npos) << validated.out;
+  }
 }
 
 TEST(SilentLoss, AnEmptyGlbIsNamedAsAnEmptyContainerNotAsJson) {
@@ -330,7 +414,7 @@ TEST(SilentLoss, AnEmptyGlbIsNamedAsAnEmptyContainerNotAsJson) {
   const auto r = run_cli("convert " + quoted(scratch / "empty.glb") + " -o " + quoted(scratch / "out"), scratch);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err.find("JSON"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("GLB_"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("byte 0: not a GLB: 0 bytes"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("1 file: "), std::string::npos) << r.err;
 }
 
@@ -366,6 +450,51 @@ TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
   EXPECT_NE(first_line.find(gltf.string()), std::string::npos) << r.err;
   EXPECT_EQ(first_line.find((scratch / "box").string() + "/Box0.bin"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("\n\n"), std::string::npos) << r.err;
+}
+
+TEST(MeasuredFigures, TheExtensionRouteReportsTheErrorItMeasuredUnderBothReadings) {
+  Asset asset = load_asset(specgloss("BoxTextured") / "BoxTextured.gltf");
+  ConvertOptions options;
+  options.target = Target::Specular;
+  options.specular_tolerance = 0;  // every material takes the extension route
+  const ConversionReport report = convert(asset, options);
+  ASSERT_FALSE(report.materials.empty());
+  for (const MaterialReport& m : report.materials) {
+    ASSERT_EQ(m.outcome, "specular");
+    EXPECT_GT(m.error_samples, 0u) << "texels were sampled";
+    ASSERT_TRUE(m.error_a && m.error_b);
+    EXPECT_LT(m.error_a->diffuse.max, 0.5) << "the route reproduces reading A";
+    EXPECT_GT(m.error_b->diffuse.mean, 0.01) << "reading B's extra (1 - F) is measured, not assumed 0";
+  }
+}
+
+TEST(MeasuredFigures, AMaterialLeftAsSpecGlossHasNullErrorsNotZeros) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  auto& extension = document["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"];
+  extension["specularGlossinessTexture"] = {{"index", 0}, {"texCoord", 1}};
+  test::write_text(gltf, document.dump());
+  const auto r = run_cli("convert -v " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --report " +
+                             quoted(scratch / "report.json"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::read_text(scratch / "report.json"));
+  const auto& material = report["files"][0]["materials"][0];
+  EXPECT_EQ(material["outcome"], "legacy");
+  EXPECT_TRUE(material["deltaE2000"]["readingA"].is_null()) << material.dump();
+  EXPECT_TRUE(material["deltaE2000"]["readingB"].is_null()) << material.dump();
+  EXPECT_NE(r.err.find("not measured"), std::string::npos) << r.err;
+}
+
+TEST(MeasuredFigures, ImagesDecodedCountsEachFilesOwnDecodesWhateverRunsBesideIt) {
+  ScratchDir scratch;
+  for (int i = 0; i < 4; ++i) copy_model("BoxTextured", scratch / "lib" / ("box" + std::to_string(i)));
+  const auto r = run_cli("convert -q -j 2 " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out") +
+                             " --report " + quoted(scratch / "report.json"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::read_text(scratch / "report.json"));
+  ASSERT_EQ(report["files"].size(), 4u);
+  for (const auto& file : report["files"]) EXPECT_EQ(file["imagesDecoded"], 1) << file["input"];
 }
 
 TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {

@@ -45,7 +45,16 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   if (wants(options, "structure")) {
     StructureOptions structure_options;
     structure_options.allow_outside_uris = options.allow_outside_uris;
-    structure_found_errors = validate_structure(file, bytes, rules, structure_options, report);
+    try {
+      structure_found_errors = validate_structure(file, bytes, rules, structure_options, report);
+    } catch (const std::bad_alloc&) {
+      report.add({"IO_ERROR", "out of memory in the structure checks", Severity::Error, "", std::nullopt, 1});
+      structure_found_errors = true;
+    } catch (const std::exception& error) {  // ours, not the document's: a report, not a lost batch
+      report.add({"IO_ERROR", std::string("the structure checks did not finish: ") + error.what(), Severity::Error,
+                  "", std::nullopt, 1});
+      structure_found_errors = true;
+    }
   } else {
     const bool glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
     report.mime_type = glb ? "model/gltf-binary" : "model/gltf+json";

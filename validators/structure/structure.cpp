@@ -9,7 +9,7 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
                         const StructureOptions& options, Report& report) {
   using namespace structure;
   Context context(rules, report, options);
-  context.base_dir = file.parent_path();
+  context.base_dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
   // The reference picks its reader by file extension; content sniffing covers extension-less input.
   std::string extension = file.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
