@@ -11,6 +11,7 @@
 #include "cli/inputs.hpp"
 #include "cli/report.hpp"
 #include "core/asset.hpp"
+#include "core/error.hpp"
 #include "core/text.hpp"
 #include "preview/preview.hpp"
 #include "validators/validate.hpp"
@@ -112,6 +113,8 @@ FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOp
     }
   } catch (const InputError& e) {
     result.error = e;
+  } catch (const OutputError& e) {  // names the output it was writing, then the file and errno's text
+    result.failure = "output " + job.output.string() + ": " + e.what();
   } catch (const std::bad_alloc&) {
     result.failure = "out of memory while converting (--max-image-pixels lowers the largest image accepted)";
   } catch (const std::exception& e) {

@@ -1,6 +1,5 @@
 // gltf-pbr: legacy glTF materials to albedo + metalness, with error reports.
 #include <cstdio>
-
 #include <sstream>
 #include <string_view>
 
@@ -24,8 +23,10 @@ int main(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     const std::string_view word = argv[1];
     if (word != "convert" && word != "compare" && word != "validate" && word != "preview") {
-      std::fprintf(stderr, "gltf-pbr: unknown command '%s'; the commands are convert, compare, validate, preview "
-                           "(gltf-pbr --help)\n", gltf_pbr::printable(word).c_str());
+      std::fprintf(stderr,
+                   "gltf-pbr: unknown command '%s'; the commands are convert, compare, validate, preview "
+                   "(gltf-pbr --help)\n",
+                   gltf_pbr::printable(word).c_str());
       return gltf_pbr::cli::kBadUsage;
     }
   }
@@ -37,7 +38,8 @@ int main(int argc, char** argv) {
     const int code = app.exit(e, out, err);
     auto print = [](const std::string& text, std::FILE* stream) {
       std::istringstream lines(text);
-      for (std::string line; std::getline(lines, line);) std::fprintf(stream, "%s\n", gltf_pbr::printable(line).c_str());
+      for (std::string line; std::getline(lines, line);)
+        std::fprintf(stream, "%s\n", gltf_pbr::printable(line).c_str());
     };
     print(out.str(), stdout);
     print(err.str(), stderr);

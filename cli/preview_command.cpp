@@ -12,6 +12,11 @@
 namespace gltf_pbr::cli {
 namespace {
 
+std::string peak_text(const nlohmann::json& bytes) {
+  if (!bytes.is_number()) return "not measured";
+  return std::to_string(static_cast<long long>(bytes.get<double>() / (1 << 20))) + " MiB";
+}
+
 struct PreviewArgs {
   std::string input, output, environment, camera = "auto", brdf = "ggx", legacy_reading = "a", tone_map = "neutral";
   std::string target = "metalness", solver = "balanced";
@@ -82,10 +87,12 @@ int run(const PreviewArgs& args) {
     if (!args.quiet)
       std::fprintf(stderr,
                    "%s: FLIP mean %.3f; ΔE2000 mean %.2f, p95 %.2f; RMS %.1f dB; G-buffer %d B/px after, %d B/px "
-                   "before -> %s\n",
-                   printable(args.grid ? "grid" : args.input).c_str(), result.metrics.flip_mean, result.metrics.delta_e_mean,
-                   result.metrics.delta_e_p95, result.metrics.rms_db, report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
-                   report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(), printable(args.output).c_str());
+                   "before; process peak %s -> %s\n",
+                   printable(args.grid ? "grid" : args.input).c_str(), result.metrics.flip_mean,
+                   result.metrics.delta_e_mean, result.metrics.delta_e_p95, result.metrics.rms_db,
+                   report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
+                   report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(),
+                   peak_text(report["memory"]["process_peak_rss_bytes"]).c_str(), printable(args.output).c_str());
     return kAllDone;
   } catch (const InputError& e) {
     std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());

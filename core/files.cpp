@@ -159,7 +159,8 @@ void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uin
   // A file being replaced keeps its mode and, where we may, its owner (root replacing a user's file).
   struct stat existing {};
   if (error == 0 && ::stat(destination.c_str(), &existing) == 0) {
-    if (::fchown(fd, existing.st_uid, existing.st_gid) != 0) (void)::fchown(fd, static_cast<uid_t>(-1), existing.st_gid);
+    if (::fchown(fd, existing.st_uid, existing.st_gid) != 0)
+      (void)::fchown(fd, static_cast<uid_t>(-1), existing.st_gid);
     if (::fchmod(fd, existing.st_mode & 07777) != 0) error = errno;
   }
   if (::close(fd) != 0 && error == 0) error = errno;

@@ -97,7 +97,6 @@ Pixels resample_with_oiio(const Pixels& pixels, int width, int height) {
   return out;
 }
 
-
 }  // namespace
 }  // namespace gltf_pbr
 

@@ -36,7 +36,8 @@ std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::ui
                           &subsampling, &colour_space) != 0)
     fail(handle.get(), "JPEG header");
   if (static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) > max_pixels)
-    throw std::runtime_error(too_large(static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height), max_pixels));
+    throw std::runtime_error(
+        too_large(static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height), max_pixels));
   if (colour_space == TJCS_CMYK || colour_space == TJCS_YCCK) return std::nullopt;
   Pixels pixels;
   pixels.width = width;
@@ -54,8 +55,10 @@ std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::ui
 }
 
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
-  if (channels != 1 && channels != 3) throw std::runtime_error("JPEG encoder: " + std::to_string(channels) + " channels");
-  if (texels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels))
+  if (channels != 1 && channels != 3)
+    throw std::runtime_error("JPEG encoder: " + std::to_string(channels) + " channels");
+  if (texels.size() !=
+      static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels))
     throw std::runtime_error("JPEG encoder: " + std::to_string(texels.size()) + " bytes for " + std::to_string(width) +
                              "x" + std::to_string(height) + "x" + std::to_string(channels));
   Handle handle(tjInitCompress(), &tjDestroy);

@@ -53,8 +53,10 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
   switch (header.color_type) {
     case SPNG_COLOR_TYPE_GRAYSCALE:
       pixels.channels = has_trns ? 2 : 1;
-      if (has_trns) format = wide ? SPNG_FMT_GA16 : SPNG_FMT_GA8;
-      else if (!wide) format = SPNG_FMT_G8;  // also unpacks 1-, 2- and 4-bit grey
+      if (has_trns)
+        format = wide ? SPNG_FMT_GA16 : SPNG_FMT_GA8;
+      else if (!wide)
+        format = SPNG_FMT_G8;  // also unpacks 1-, 2- and 4-bit grey
       break;
     case SPNG_COLOR_TYPE_GRAYSCALE_ALPHA:
       pixels.channels = 2;

@@ -20,9 +20,9 @@ std::size_t utf8_length(std::string_view s, std::size_t i) {
   if (n == 0 || (lead >= 0xF5) || i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k)
     if ((b(i + k) & 0xC0) != 0x80) return 0;
-  if (lead == 0xE0 && b(i + 1) < 0xA0) return 0;  // overlong
+  if (lead == 0xE0 && b(i + 1) < 0xA0) return 0;   // overlong
   if (lead == 0xED && b(i + 1) >= 0xA0) return 0;  // surrogate
-  if (lead == 0xF0 && b(i + 1) < 0x90) return 0;  // overlong
+  if (lead == 0xF0 && b(i + 1) < 0x90) return 0;   // overlong
   if (lead == 0xF4 && b(i + 1) >= 0x90) return 0;  // above U+10FFFF
   return n;
 }
@@ -46,8 +46,10 @@ std::string printable(std::string_view text) {
     const bool c1_control = n == 2 && byte == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
     // Bidirectional embeddings, overrides and isolates (U+202A-202E, U+2066-2069) reorder what
     // follows them on screen, so a name could show as something it is not.
-    const auto b1 = n == 3 ? static_cast<unsigned char>(text[i + 1]) : 0, b2 = n == 3 ? static_cast<unsigned char>(text[i + 2]) : 0;
-    const bool bidi = byte == 0xE2 && ((b1 == 0x80 && b2 >= 0xAA && b2 <= 0xAE) || (b1 == 0x81 && b2 >= 0xA6 && b2 <= 0xA9));
+    const auto b1 = n == 3 ? static_cast<unsigned char>(text[i + 1]) : 0,
+               b2 = n == 3 ? static_cast<unsigned char>(text[i + 2]) : 0;
+    const bool bidi =
+        byte == 0xE2 && ((b1 == 0x80 && b2 >= 0xAA && b2 <= 0xAE) || (b1 == 0x81 && b2 >= 0xA6 && b2 <= 0xA9));
     if (n == 0 || c1_control || bidi) {
       for (std::size_t k = 0; k < (n ? n : 1); ++k) escape(out, static_cast<unsigned char>(text[i + k]));
       i += n ? n : 1;

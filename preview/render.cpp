@@ -1,4 +1,6 @@
 // The preview pipeline: convert in memory, rasterize once, resolve both G-buffers, light, compare.
+#include <sys/resource.h>
+
 #include <chrono>
 
 #include "converter/solver.hpp"
@@ -196,6 +198,18 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
                                                                            : "clamp"},
       {"exposure", options.lighting.exposure}};
   report["gbuffer"] = {{"before", layout_json(r.before_layout)}, {"after", layout_json(r.after_layout)}};
+  // What the process really held at its peak (getrusage), beside what the G-buffers alone need: the
+  // bytes per pixel above are the G-buffer layout, not the cost of a preview.
+  const double gbuffer_bytes = static_cast<double>(r.width) * r.height *
+                               (layout_json(r.before_layout)["bytes_per_pixel"].get<int>() +
+                                layout_json(r.after_layout)["bytes_per_pixel"].get<int>());
+  struct rusage usage {};
+  const bool measured = ::getrusage(RUSAGE_SELF, &usage) == 0;
+  const double peak = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports KiB
+  report["memory"] = {{"process_peak_rss_bytes", measured ? nlohmann::json(peak) : nlohmann::json(nullptr)},
+                      {"gbuffers_bytes", gbuffer_bytes},
+                      {"peak_per_gbuffer_byte",
+                       measured && gbuffer_bytes > 0 ? nlohmann::json(peak / gbuffer_bytes) : nlohmann::json(nullptr)}};
   report["difference"] = {
       {"delta_e_2000",
        {{"mean", r.metrics.delta_e_mean}, {"p95", r.metrics.delta_e_p95}, {"max", r.metrics.delta_e_max}}},
@@ -226,12 +240,12 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
   if (r.conversion) {
     nlohmann::json materials = nlohmann::json::array();
     for (const auto& m : r.conversion->materials)
-      materials.push_back(
-          {{"index", m.index},
-           {"name", m.name},
-           {"outcome", m.outcome},
-           {"texel_delta_e_2000_a", m.error_a ? nlohmann::json{{"diffuse_p95", m.error_a->diffuse.p95}, {"f0_p95", m.error_a->f0.p95}}
-                                                   : nlohmann::json(nullptr)}});
+      materials.push_back({{"index", m.index},
+                           {"name", m.name},
+                           {"outcome", m.outcome},
+                           {"texel_delta_e_2000_a", m.error_a ? nlohmann::json{{"diffuse_p95", m.error_a->diffuse.p95},
+                                                                               {"f0_p95", m.error_a->f0.p95}}
+                                                              : nlohmann::json(nullptr)}});
     report["conversion"] = {{"materials", materials}, {"warnings", r.conversion->warnings}};
   }
   report["images"] = {{"before", "before.png"},

@@ -7,13 +7,15 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <atomic>
 #include <csignal>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <thread>
 
-#include "core/files.hpp"
 #include "converter/convert.hpp"
 #include "core/asset.hpp"
+#include "core/files.hpp"
 #include "core/image.hpp"
 #include "test_support.hpp"
 #include "validators/validate.hpp"
@@ -111,7 +113,9 @@ TEST(CorruptImages, AHarmlessJpegWarningStillDecodes) {
 
 TEST(ImageLimits, TwoTexturesThatBakeAboveTheLimitTogetherAreRefused) {
   // 512x1 and 1x512 images bake at 512x512: above a limit of 100000 pixels, though each is under it.
-  auto png = [](int width, int height) { return encode_png(std::vector<std::uint8_t>(std::size_t(width * height * 4), 200), width, height, 4, 1); };
+  auto png = [](int width, int height) {
+    return encode_png(std::vector<std::uint8_t>(std::size_t(width * height * 4), 200), width, height, 4, 1);
+  };
   ScratchDir scratch;
   const fs::path gltf = copy_model("BoxTextured", scratch / "box");
   write_bytes(scratch / "box" / "wide.png", png(512, 1));
@@ -123,7 +127,8 @@ TEST(ImageLimits, TwoTexturesThatBakeAboveTheLimitTogetherAreRefused) {
   extension["diffuseTexture"] = {{"index", 0}};
   extension["specularGlossinessTexture"] = {{"index", 1}};
   test::write_text(gltf, document.dump());
-  const auto r = run_cli("convert --max-image-pixels 100000 " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  const auto r =
+      run_cli("convert --max-image-pixels 100000 " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("/materials/0: its two textures bake at 512x512"), std::string::npos) << r.err;
 }
@@ -160,7 +165,8 @@ TEST(LeanCodecs, JpegRoundTripStaysCloseAtHighQuality) {
   const Pixels decoded = decode_image(encode_jpeg(texels, 64, 64, 3, 95), "jpeg");
   ASSERT_EQ(decoded.bytes.size(), texels.size());
   double worst = 0;
-  for (std::size_t i = 0; i < texels.size(); ++i) worst = std::max(worst, std::abs(double(decoded.bytes[i]) - texels[i]));
+  for (std::size_t i = 0; i < texels.size(); ++i)
+    worst = std::max(worst, std::abs(double(decoded.bytes[i]) - texels[i]));
   EXPECT_LT(worst, 8);
 }
 
@@ -179,14 +185,16 @@ OutsideUriCase asset_pointing_outside(const ScratchDir& scratch, const std::stri
   test::write_text(c.gltf, R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":35,"uri":")" + uri +
                                R"("}],"bufferViews":[{"buffer":0,"byteLength":35}],)"
                                R"("accessors":[{"bufferView":0,"componentType":5121,"count":35,"type":"SCALAR",)"
-                               R"("min":[0],"max":[1]}],"images":[{"uri":")" + uri + R"(","mimeType":"image/png"}]})");
+                               R"("min":[0],"max":[1]}],"images":[{"uri":")" +
+                               uri + R"(","mimeType":"image/png"}]})");
   return c;
 }
 
 TEST(ValidateOutsideUris, ValidateNeverReadsAFileOutsideTheAssetsFolderInAnyFormat) {
   for (const char* uri : {"../secret.bin", "%2e%2e/secret.bin", "link.bin", "/etc/passwd"}) {
     ScratchDir scratch;
-    const OutsideUriCase c = asset_pointing_outside(scratch, std::string(uri) == "/etc/passwd" ? fs::absolute(scratch / "secret.bin").string() : std::string(uri));
+    const OutsideUriCase c = asset_pointing_outside(
+        scratch, std::string(uri) == "/etc/passwd" ? fs::absolute(scratch / "secret.bin").string() : std::string(uri));
     for (const char* format : {"text", "json", "sarif"}) {
       const auto r = run_cli(std::string("validate -f ") + format + " " + quoted(c.gltf), scratch);
       const std::string all = r.out + r.err;
@@ -196,7 +204,8 @@ TEST(ValidateOutsideUris, ValidateNeverReadsAFileOutsideTheAssetsFolderInAnyForm
       EXPECT_EQ(all.find("Resource not found"), std::string::npos) << uri << ": the policy refuses, not a lookup";
       EXPECT_TRUE(all.find("outside the asset's folder") != std::string::npos ||
                   all.find("absolute path") != std::string::npos)
-          << uri << " " << format << ":\n" << all;
+          << uri << " " << format << ":\n"
+          << all;
     }
     const Report report = validate_file(c.gltf, "a.gltf", builtin_rules(), {}, ValidateOptions{});
     bool buffer_refused = false, image_refused = false;
@@ -228,7 +237,8 @@ TEST(ValidateOutsideUris, AUriThatCannotBeResolvedIsAnIssueNotACrash) {
                      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + uri + R"("}]})");
     const Report report = validate_file(scratch / "asset" / "a.gltf", "a.gltf", builtin_rules(), {}, ValidateOptions{});
     bool io_error = false;
-    for (const Issue& issue : report.messages) io_error |= issue.code == "IO_ERROR" && issue.pointer == "/buffers/0/uri";
+    for (const Issue& issue : report.messages)
+      io_error |= issue.code == "IO_ERROR" && issue.pointer == "/buffers/0/uri";
     EXPECT_TRUE(io_error) << uri.substr(0, 20);
   }
 }
@@ -258,7 +268,9 @@ TEST(TerminalEscapes, NamesFromTheFileAreEscapedInTextAndKeptExactInJson) {
   ScratchDir scratch;
   const fs::path gltf = copy_model("Box", scratch / "box");
   auto document = nlohmann::json::parse(test::read_text(gltf));
-  const std::string hostile = "Red\x1b]0;pwned\x07\x1b[2J\r\nFAKE \xc2\x9b" "31m";
+  const std::string hostile =
+      "Red\x1b]0;pwned\x07\x1b[2J\r\nFAKE \xc2\x9b"
+      "31m";
   document["materials"][0]["name"] = hostile;
   document["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]["specularFactor"] = {0.3, 0.9, 0.1};
   test::write_text(gltf, document.dump());
@@ -306,8 +318,19 @@ TEST(LostOutputs, AReportThatCannotBeWrittenIsAnErrorWithItsReason) {
     EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << command << "\n" << r.err;
     EXPECT_EQ(r.err.find("terminate"), std::string::npos) << r.err;
   }
-  const int status = std::system(("'" GLTF_PBR_CLI "' validate -f json " + quoted(box) + " > /dev/full 2>/dev/null").c_str());
+  const int status =
+      std::system(("'" GLTF_PBR_CLI "' validate -f json " + quoted(box) + " > /dev/full 2>/dev/null").c_str());
   EXPECT_EQ(WEXITSTATUS(status), 3);
+}
+
+TEST(LostOutputs, AnOutputThatCannotBeWrittenNamesItAndTheReason) {
+  ScratchDir scratch;
+  test::write_text(scratch / "a-file", "x");
+  const auto r = run_cli("convert " + quoted(specgloss("Box") / "Box.gltf") + " -o " +
+                             quoted(scratch / "a-file" / "Box.gltf"), scratch);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("output " + (scratch / "a-file" / "Box.gltf").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << r.err;
 }
 
 TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
@@ -317,11 +340,12 @@ TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("would both be written"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(scratch / "out"));
-  const auto v = run_cli("validate -f json -o " + quoted(scratch / "reports") + " " + quoted(a) + " " + quoted(b), scratch);
+  const auto v =
+      run_cli("validate -f json -o " + quoted(scratch / "reports") + " " + quoted(a) + " " + quoted(b), scratch);
   EXPECT_EQ(v.exit_code, 2) << v.err;
   // Their folders keep the paths apart, and both are written.
-  const auto folders = run_cli("convert -q " + quoted(scratch / "a") + " " + quoted(scratch / "b") + " -o " +
-                                   quoted(scratch / "out"), scratch);
+  const auto folders = run_cli(
+      "convert -q " + quoted(scratch / "a") + " " + quoted(scratch / "b") + " -o " + quoted(scratch / "out"), scratch);
   EXPECT_EQ(folders.exit_code, 0) << folders.err;
   EXPECT_TRUE(fs::exists(scratch / "out" / "a" / "Box.gltf"));
   EXPECT_TRUE(fs::exists(scratch / "out" / "b" / "Box.gltf"));
@@ -331,11 +355,14 @@ TEST(LostOutputs, AClosedPipeIsAWriteErrorNotASilentDeath) {
   ScratchDir scratch;
   // The reader is gone before we write: SIGPIPE (status 141) unless it is ignored and EPIPE reported.
   // The reader opens the FIFO and leaves at once; the writer's open waits for it.
-  test::write_text(scratch / "run.sh", "mkfifo \"$1/pipe\"\n(exec 3<\"$1/pipe\") &\n"
-                                       "'" GLTF_PBR_CLI "' validate -f json \"$2\" > \"$1/pipe\" 2>/dev/null\n"
-                                       "echo $? > \"$1/status\"\n");
+  test::write_text(scratch / "run.sh",
+                   "mkfifo \"$1/pipe\"\n(exec 3<\"$1/pipe\") &\n"
+                   "'" GLTF_PBR_CLI
+                   "' validate -f json \"$2\" > \"$1/pipe\" 2>/dev/null\n"
+                   "echo $? > \"$1/status\"\n");
   std::system(("bash " + quoted(scratch / "run.sh") + " " + quoted(scratch.path()) + " " +
-               quoted(specgloss("Box") / "Box.gltf")).c_str());
+               quoted(specgloss("Box") / "Box.gltf"))
+                  .c_str());
   const std::string status = test::read_text(scratch / "status");
   EXPECT_TRUE(status == "3\n" || status == "0\n") << "exit status " << status;
 }
@@ -378,7 +405,9 @@ fs::path edited_box(const ScratchDir& scratch, const std::function<void(nlohmann
 TEST(SilentLoss, ConvertRefusesAValueLoadingWouldDropNamingItsPointer) {
   const std::vector<std::pair<std::function<void(nlohmann::json&)>, std::string>> cases{
       {[](nlohmann::json& d) { d["nodes"][0]["children"] = {1.5}; }, "/nodes/0/children/0"},
-      {[](nlohmann::json& d) { d["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = nlohmann::json::array(); },
+      {[](nlohmann::json& d) {
+         d["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"] = nlohmann::json::array();
+       },
        "/materials/0/extensions/KHR_materials_pbrSpecularGlossiness"},
       {[](nlohmann::json& d) { d["bufferViews"][0]["byteOffset"] = -4; }, "/bufferViews/0/byteOffset"},
   };
@@ -435,7 +464,9 @@ TEST(SilentLoss, AnImageDataUriOfAnyTypeIsReadAsDataAndKeptAsItWas) {
 
 TEST(SilentLoss, PreviewOfASceneWithNothingToDrawIsNotAPass) {
   ScratchDir scratch;
-  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) { d["scenes"] = {{{"nodes", nlohmann::json::array()}}}; });
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) {
+    d["scenes"] = {{{"nodes", nlohmann::json::array()}}};
+  });
   const auto r = run_cli("preview " + quoted(gltf) + " -o " + quoted(scratch / "preview"), scratch);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("nothing to draw"), std::string::npos) << r.err;
@@ -475,8 +506,9 @@ TEST(MeasuredFigures, AMaterialLeftAsSpecGlossHasNullErrorsNotZeros) {
   auto& extension = document["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"];
   extension["specularGlossinessTexture"] = {{"index", 0}, {"texCoord", 1}};
   test::write_text(gltf, document.dump());
-  const auto r = run_cli("convert -v " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --report " +
-                             quoted(scratch / "report.json"), scratch);
+  const auto r = run_cli(
+      "convert -v " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --report " + quoted(scratch / "report.json"),
+      scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(test::read_text(scratch / "report.json"));
   const auto& material = report["files"][0]["materials"][0];
@@ -490,11 +522,42 @@ TEST(MeasuredFigures, ImagesDecodedCountsEachFilesOwnDecodesWhateverRunsBesideIt
   ScratchDir scratch;
   for (int i = 0; i < 4; ++i) copy_model("BoxTextured", scratch / "lib" / ("box" + std::to_string(i)));
   const auto r = run_cli("convert -q -j 2 " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out") +
-                             " --report " + quoted(scratch / "report.json"), scratch);
+                             " --report " + quoted(scratch / "report.json"),
+                         scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(test::read_text(scratch / "report.json"));
   ASSERT_EQ(report["files"].size(), 4u);
   for (const auto& file : report["files"]) EXPECT_EQ(file["imagesDecoded"], 1) << file["input"];
+}
+
+// OpenImageIO's PNG reader crashed now and then in decode_icc_profile under `convert -j 2`; PNG and
+// JPEG no longer go through it, and concurrent decodes must give the same texels every time.
+TEST(ConcurrentDecodes, ManyThreadsDecodingPngAndJpegGetIdenticalTexels) {
+  const Bytes png = *read_file(specgloss("BoxTextured") / "CesiumLogoFlat.png");
+  const Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  const Pixels png_reference = decode_image(png, "png"), jpeg_reference = decode_image(jpeg, "jpeg");
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t)
+    threads.emplace_back([&] {
+      for (int i = 0; i < 6; ++i) {
+        mismatches += decode_image(png, "png").bytes != png_reference.bytes;
+        mismatches += decode_image(jpeg, "jpeg").bytes != jpeg_reference.bytes;
+      }
+    });
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST(ConcurrentDecodes, ConvertingManyTexturedCopiesInParallelNeverCrashes) {
+  ScratchDir scratch;
+  for (int i = 0; i < 12; ++i) copy_model("BoxTextured", scratch / "lib" / ("box" + std::to_string(i)));
+  for (int run = 0; run < 3; ++run) {
+    const auto r =
+        run_cli("convert -q -j 2 " + quoted(scratch / "lib") + " -o " + quoted(scratch / ("out" + std::to_string(run))),
+                scratch);
+    ASSERT_EQ(r.exit_code, 0) << "run " << run << ":\n" << r.err;
+  }
 }
 
 TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {
