@@ -7,6 +7,10 @@ namespace gltf_pbr::cli {
 // 3: the inputs were processed but a requested output (a report, stdout) could not be written.
 enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2, kCannotWrite = 3 };
 
+// Runs a subcommand's body and turns what escapes it into one message and the exit code of its
+// class: a usage or config error 2, an output that cannot be written 3, anything else 1.
+int run_command(const char* name, const std::function<int()>& body);
+
 // Writes text to stdout; throws OutputError with the errno text when it cannot (a full disk,
 // a closed pipe), so a lost report is an error and not a silent exit 0.
 void write_stdout(const std::string& text);

@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/text.hpp"
 
 namespace gltf_pbr::cli {
 namespace fs = std::filesystem;
@@ -85,6 +86,27 @@ void add_image_limit_option(CLI::App& command) {
           "--max-image-pixels", [](std::uint64_t pixels) { set_max_image_pixels(pixels); },
           "refuse images whose header claims more pixels than this, before decoding (default 16384x16384)")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+}
+
+int run_command(const char* name, const std::function<int()>& body) {
+  auto say = [name](const std::exception& e) {
+    std::fprintf(stderr, "gltf-pbr %s: %s\n", name, printable(e.what()).c_str());
+  };
+  try {
+    return body();
+  } catch (const CLI::ValidationError& e) {
+    say(e);
+    return kBadUsage;
+  } catch (const InputError& e) {  // a config file or an input named on the command line
+    say(e);
+    return kBadUsage;
+  } catch (const OutputError& e) {  // a report or stdout that cannot be written, with its reason
+    say(e);
+    return kCannotWrite;
+  } catch (const std::exception& e) {  // the inputs' folders cannot be walked, and the like
+    say(e);
+    return kSomeFilesFailed;
+  }
 }
 
 void write_stdout(const std::string& text) {

@@ -196,21 +196,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
   return [cmd, args]() -> int {
     if (!cmd->parsed()) return -1;
-    try {
-      return run(*args);
-    } catch (const CLI::ValidationError& e) {
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
-      return kBadUsage;
-    } catch (const InputError& e) {
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
-      return kBadUsage;
-    } catch (const OutputError& e) {  // a report or stdout that cannot be written, with its reason
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
-      return kCannotWrite;
-    } catch (const std::exception& e) {  // the inputs' folders cannot be walked, and the like
-      std::fprintf(stderr, "gltf-pbr validate: %s\n", printable(e.what()).c_str());
-      return kSomeFilesFailed;
-    }
+    return run_command("validate", [&] { return run(*args); });
   };
 }
 
