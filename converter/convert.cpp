@@ -6,6 +6,8 @@
 #include <cmath>
 #include <future>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 
 #include "converter/bake.hpp"
@@ -48,15 +50,21 @@ class Converter {
   Converter(Asset& asset, const ConvertOptions& options) : asset_(asset), model_(asset.model), options_(options) {}
 
   ConversionReport run() {
+    std::vector<std::pair<size_t, LegacyMaterial>> legacy_materials;
     for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const auto extension = model_.materials[i].extensions.find(kSpecGloss);
+      if (extension == model_.materials[i].extensions.end()) continue;
+      legacy_materials.emplace_back(i, read_legacy_material(asset_, static_cast<int>(i), extension->second));
+      for (int image : images_of(legacy_materials.back().second)) ++pending_uses_[image];
+    }
+    for (const auto& [i, legacy] : legacy_materials) {
       auto& material = model_.materials[i];
-      const auto extension = material.extensions.find(kSpecGloss);
-      if (extension == material.extensions.end()) continue;
-      const LegacyMaterial legacy = read_legacy_material(asset_, static_cast<int>(i), extension->second);
       MaterialReport entry;
       entry.index = static_cast<int>(i);
       entry.name = material.name;
       convert_material(material, legacy, entry);
+      for (int image : images_of(legacy))
+        if (--pending_uses_[image] == 0) decoded_.erase(image);  // its last reader is done
       if (entry.outcome != "legacy") material.extensions.erase(kSpecGloss);
       report_.times += entry.times;
       report_.materials.push_back(std::move(entry));
@@ -228,10 +236,8 @@ class Converter {
     } else {
       auto start = Clock::now();
       // The two images decode concurrently (decoding is most of the pre-solve time).
-      std::optional<Pixels> diffuse, spec_gloss;
-      auto pending_spec = std::async(std::launch::async, [&] {
-        return spec_image >= 0 ? std::optional<Pixels>(decode(spec_image)) : std::nullopt;
-      });
+      SharedPixels diffuse, spec_gloss;
+      auto pending_spec = std::async(std::launch::async, [&] { return spec_image >= 0 ? decode(spec_image) : nullptr; });
       if (diffuse_image >= 0 && !roughness_only) diffuse = decode(diffuse_image);
       spec_gloss = pending_spec.get();
       inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
@@ -243,10 +249,14 @@ class Converter {
                          "its two textures bake at " + std::to_string(inputs.width) + "x" +
                              std::to_string(inputs.height) + ", above the limit of " +
                              std::to_string(max_image_pixels()) + " pixels (--max-image-pixels)");
-      if (diffuse) diffuse = resize(*diffuse, inputs.width, inputs.height);
-      if (spec_gloss) spec_gloss = resize(*spec_gloss, inputs.width, inputs.height);
-      inputs.diffuse = diffuse ? &*diffuse : nullptr;
-      inputs.spec_gloss = spec_gloss ? &*spec_gloss : nullptr;
+      auto fit = [&](SharedPixels& pixels) {  // resampled only when the sizes differ
+        if (pixels && (pixels->width != inputs.width || pixels->height != inputs.height))
+          pixels = std::make_shared<const Pixels>(resize(*pixels, inputs.width, inputs.height));
+      };
+      fit(diffuse);
+      fit(spec_gloss);
+      inputs.diffuse = diffuse.get();
+      inputs.spec_gloss = spec_gloss.get();
       entry.times.decode_ms += ms_since(start);
 
       start = Clock::now();
@@ -310,8 +320,46 @@ class Converter {
     return true;
   }
 
-  // Thread-safe (called concurrently); nothing is cached, so peak memory stays at one bake.
-  Pixels decode(int image) const {
+  using SharedPixels = std::shared_ptr<const Pixels>;
+
+  std::vector<int> images_of(const LegacyMaterial& legacy) const {
+    std::vector<int> images;
+    for (const auto& texture : {legacy.diffuse_texture, legacy.spec_gloss_texture})
+      if (texture) images.push_back(model_.textures[static_cast<size_t>(texture->index)].source);
+    if (images.size() == 2 && images[0] == images[1]) images.pop_back();
+    return images;
+  }
+
+  // Thread-safe (the two images of a bake decode concurrently). Each image decodes once: one that
+  // several legacy materials read is kept until the last of them is converted (run() drops it);
+  // one that a single material reads is not kept, so peak memory stays at one bake.
+  SharedPixels decode(int image) {
+    std::shared_future<SharedPixels> shared;
+    std::promise<SharedPixels> promise;
+    bool decode_here = true;
+    {
+      const std::lock_guard lock(decoded_mutex_);
+      if (pending_uses_[image] > 1) {
+        const auto [it, fresh] = decoded_.try_emplace(image);
+        if (fresh)
+          it->second = promise.get_future().share();
+        else
+          decode_here = false;
+        shared = it->second;
+      }
+    }
+    if (!shared.valid()) return std::make_shared<const Pixels>(decode_now(image));
+    if (decode_here) {
+      try {
+        promise.set_value(std::make_shared<const Pixels>(decode_now(image)));
+      } catch (...) {
+        promise.set_exception(std::current_exception());
+      }
+    }
+    return shared.get();
+  }
+
+  Pixels decode_now(int image) {
     const auto bytes = encoded_image_bytes(model_, image);
     const std::string name =
         pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
@@ -379,7 +427,10 @@ class Converter {
   tinygltf::Model& model_;
   const ConvertOptions& options_;
   ConversionReport report_;
-  mutable std::atomic<long> images_decoded_{0};  // decode() runs on several threads
+  std::atomic<long> images_decoded_{0};  // decode() runs on several threads
+  std::mutex decoded_mutex_;
+  std::map<int, int> pending_uses_;                          // image -> legacy materials yet to convert
+  std::map<int, std::shared_future<SharedPixels>> decoded_;  // images more than one of them reads
   std::map<std::string, Bake> bakes_;
   std::map<std::pair<int, int>, int> textures_;
 };

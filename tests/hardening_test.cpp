@@ -10,6 +10,7 @@
 #include <atomic>
 #include <csignal>
 #include <functional>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -558,6 +559,21 @@ TEST(ConcurrentDecodes, ConvertingManyTexturedCopiesInParallelNeverCrashes) {
                 scratch);
     ASSERT_EQ(r.exit_code, 0) << "run " << run << ":\n" << r.err;
   }
+}
+
+TEST(DecodeOnce, AnImageSeveralMaterialsReadIsDecodedOnce) {
+  // VC: 20 images, read by many materials under different factors (so by different bakes).
+  Asset asset = load_asset(specgloss("VC") / "VC.gltf");
+  std::set<int> read;
+  for (const auto& material : asset.model.materials) {
+    const auto extension = material.extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (extension == material.extensions.end()) continue;
+    for (const char* slot : {"diffuseTexture", "specularGlossinessTexture"})
+      if (extension->second.Has(slot))
+        read.insert(asset.model.textures[static_cast<size_t>(extension->second.Get(slot).Get("index").GetNumberAsInt())].source);
+  }
+  const ConversionReport report = convert(asset, ConvertOptions{});
+  EXPECT_EQ(report.images_decoded, static_cast<long>(read.size()));
 }
 
 TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {
