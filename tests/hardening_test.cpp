@@ -596,6 +596,21 @@ TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {
   EXPECT_TRUE(test::files_under(scratch.path()).empty()) << test::files_under(scratch.path()).front();
 }
 
+TEST(Messages, BothBatchCommandsShowProgressOnATerminalAndNotInAPipe) {
+  ScratchDir scratch;
+  copy_model("Box", scratch / "lib" / "a");
+  copy_model("Box", scratch / "lib" / "b");
+  for (const std::string& command : {"validate -q " + quoted(scratch / "lib"),
+                                    "convert -q " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out")}) {
+    // script(1) (bsdutils, in every Debian) gives the command a terminal.
+    const fs::path log = scratch / "terminal.txt";
+    std::system(("script -qec \"'" GLTF_PBR_CLI "' " + command + "\" /dev/null > " + quoted(log)).c_str());
+    EXPECT_NE(test::read_text(log).find("[1/2] "), std::string::npos) << command << ":\n" << test::read_text(log);
+    const auto piped = run_cli(command, scratch);
+    EXPECT_EQ(piped.err.find("[1/2] "), std::string::npos) << command;
+  }
+}
+
 TEST(Messages, BadJobCountsAndUnknownCommandsGiveShortClearMessages) {
   ScratchDir scratch;
   const fs::path box = specgloss("Box") / "Box.gltf";
