@@ -4,6 +4,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/text.hpp"
+
 namespace gltf_pbr {
 
 const char* severity_name(Severity severity) {
@@ -56,6 +58,12 @@ void apply_policy(const IssuePolicy& policy, Report& report) {
     report.truncated = true;
   }
   report.messages = std::move(kept);
+}
+
+void Report::add(Issue issue) {
+  issue.message = valid_utf8(std::move(issue.message));
+  issue.pointer = valid_utf8(std::move(issue.pointer));
+  messages.push_back(std::move(issue));
 }
 
 nlohmann::ordered_json report_to_json(const Report& report) {

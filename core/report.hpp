@@ -37,7 +37,9 @@ struct Report {
   std::vector<std::string> material_names;  // for people: the name of /materials/N, when read
 
 
-  void add(Issue issue) { messages.push_back(std::move(issue)); }
+  // Keeps the message and pointer valid UTF-8 (invalid bytes become U+FFFD): a library's error text
+  // can quote a file's raw bytes, and every report format is UTF-8 text.
+  void add(Issue issue);
   std::size_t count(Severity severity) const;
 };
 

@@ -61,4 +61,23 @@ std::string printable(std::string_view text) {
   return out;
 }
 
+std::string valid_utf8(std::string text) {
+  std::size_t i = 0;
+  while (i < text.size() && (static_cast<unsigned char>(text[i]) < 0x80 || utf8_length(text, i) > 0))
+    i += static_cast<unsigned char>(text[i]) < 0x80 ? 1 : utf8_length(text, i);
+  if (i == text.size()) return text;
+  std::string out = text.substr(0, i);
+  while (i < text.size()) {
+    const std::size_t n = static_cast<unsigned char>(text[i]) < 0x80 ? 1 : utf8_length(text, i);
+    if (n == 0) {
+      out += "\xEF\xBF\xBD";  // U+FFFD REPLACEMENT CHARACTER
+      ++i;
+    } else {
+      out.append(text, i, n);
+      i += n;
+    }
+  }
+  return out;
+}
+
 }  // namespace gltf_pbr

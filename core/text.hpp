@@ -12,4 +12,8 @@ namespace gltf_pbr {
 // JSON and SARIF outputs keep the exact strings; only text for people goes through this.
 std::string printable(std::string_view text);
 
+// The text itself when it is valid UTF-8 (the common case: no copy); otherwise each byte that
+// starts no valid sequence replaced by U+FFFD, as JSON output requires (RFC 8259 section 8.1).
+std::string valid_utf8(std::string text);
+
 }  // namespace gltf_pbr

@@ -18,6 +18,7 @@
 #include "core/asset.hpp"
 #include "core/files.hpp"
 #include "core/image.hpp"
+#include "core/text.hpp"
 #include "test_support.hpp"
 #include "validators/validate.hpp"
 
@@ -263,6 +264,18 @@ TEST(ValidateOutsideUris, APercentEncodedImageNameInsideTheFolderIsFound) {
   test::write_text(gltf, document.dump());
   const Report report = validate_file(gltf, "BoxTextured.gltf", builtin_rules(), {}, ValidateOptions{});
   for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "IO_ERROR") << issue.message;
+}
+
+TEST(Reports, MessagesStayValidUtf8WhateverBytesALibraryQuotes) {
+  // nlohmann's parse error quotes the bytes it read ("last read: '\xFF'"); the report keeps them as
+  // U+FFFD, so every format serialises (the fuzzer found report_to_json throwing type_error 316).
+  ScratchDir scratch;
+  test::write_text(scratch / "bytes.gltf", std::string("\xFF\xFE\xFD\x02\x03\x04"));
+  const Report report = validate_file(scratch / "bytes.gltf", "bytes.gltf", builtin_rules(), {}, ValidateOptions{});
+  ASSERT_FALSE(report.messages.empty());
+  EXPECT_NO_THROW((void)report_to_json(report).dump());
+  EXPECT_EQ(valid_utf8("caf\xC3\xA9 \xFF!"), "caf\xC3\xA9 \xEF\xBF\xBD!");
+  EXPECT_EQ(valid_utf8("plain"), "plain");
 }
 
 TEST(TerminalEscapes, NamesFromTheFileAreEscapedInTextAndKeptExactInJson) {

@@ -115,6 +115,7 @@ TEST(ValidateHostileInput, FuzzRegressionsGiveReports) {
     if (entry.path().extension() == ".md") continue;
     const Report report = validate_file(entry.path(), entry.path().filename().string(), builtin_rules(), {}, {});
     EXPECT_FALSE(report.mime_type.empty()) << entry.path();
+    EXPECT_NO_THROW((void)report_to_json(report).dump()) << entry.path();  // as the fuzz target serialises it
   }
 }
 
