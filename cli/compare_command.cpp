@@ -41,7 +41,9 @@ int run(const CompareArgs& args) {
         {"worst", materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst)}};  // null: nothing measured
     write_stdout(json_text(out));
     return kAllDone;
-  } catch (const std::exception& e) {
+  } catch (const OutputError&) {
+    throw;  // run_command: exit 3
+  } catch (const std::exception& e) {  // an input that cannot be read or compared
     std::fprintf(stderr, "gltf-pbr compare: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
   }
@@ -65,7 +67,7 @@ std::function<int()> add_compare_command(CLI::App& app) {
   cmd->add_option("--grid", args->grid, "UV samples per side for textured materials")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
+  return [cmd, args]() -> int { return cmd->parsed() ? run_command("compare", [&] { return run(*args); }) : -1; };
 }
 
 }  // namespace gltf_pbr::cli

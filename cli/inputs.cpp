@@ -24,20 +24,26 @@ bool is_gltf_file(const fs::path& path) {
 }
 
 namespace {
-bool is_under(const fs::path& path, const fs::path& folder) {
+// The path with symlinks resolved where it exists; its lexical absolute form where it cannot be
+// resolved (a folder we may not enter), never the empty path that would contain everything.
+fs::path resolved(const fs::path& path) {
   std::error_code ec;
-  const fs::path file = fs::weakly_canonical(path, ec), root = fs::weakly_canonical(folder, ec);
+  fs::path canonical = fs::weakly_canonical(path, ec);
+  if (ec || canonical.empty()) canonical = fs::absolute(path, ec).lexically_normal();
+  return canonical;
+}
+
+bool is_under(const fs::path& path, const fs::path& folder) {
+  const fs::path file = resolved(path), root = resolved(folder);
   const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
   return root_end == root.end();
 }
 
-// The name a folder input keeps under -o: its own ("lib/" and "." name the folder they are).
+// The folder a folder input keeps under -o: "lib" keeps "lib"; "lib/", "." and ".." put their
+// files straight into the output folder (".." must not lead out of it).
 fs::path folder_name(const fs::path& input) {
-  std::error_code ec;
   const fs::path name = input.filename();
-  if (name.empty()) return {};
-  if (name == "." || name == "..") return fs::weakly_canonical(fs::absolute(input, ec), ec).filename();
-  return name;
+  return name == "." || name == ".." ? fs::path() : name;
 }
 }  // namespace
 
@@ -47,11 +53,14 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::pa
   for (const fs::path input : inputs) {
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
-      // Earlier outputs are not inputs: what lies under the output folder, or, for a folder that is
-      // itself inside the output folder (convert lib -o lib), under the place its outputs go.
+      // Earlier outputs are not inputs: what lies under the output folder. A folder that is itself
+      // inside the output folder (convert lib -o lib) skips only where its own outputs go
+      // (-o/<name>); when even that holds the folder (convert lib/ -o lib), outputs land among the
+      // inputs, there is nothing to tell apart, and save_asset refuses to overwrite an input.
       const fs::path name = folder_name(input);
-      const fs::path outputs =
-          output_folder.empty() || !is_under(input, output_folder) ? output_folder : output_folder / name;
+      fs::path outputs = output_folder;
+      if (!outputs.empty() && is_under(input, outputs)) outputs = output_folder / name;
+      if (!outputs.empty() && is_under(input, outputs)) outputs.clear();
       std::vector<fs::path> found;
       for (const auto& entry : fs::recursive_directory_iterator(input, ec)) {
         if (!entry.is_regular_file() || !is_gltf_file(entry.path())) continue;
@@ -117,8 +126,7 @@ void write_stdout(const std::string& text) {
 void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs) {
   std::map<fs::path, std::size_t> first_input;
   for (std::size_t i = 0; i < files.size(); ++i) {
-    std::error_code ec;
-    const auto [it, fresh] = first_input.emplace(fs::weakly_canonical(fs::absolute(outputs[i]), ec), i);
+    const auto [it, fresh] = first_input.emplace(resolved(outputs[i]), i);
     if (!fresh)
       throw CLI::ValidationError("input", files[it->second].file.string() + " and " + files[i].file.string() +
                                               " would both be written to " + outputs[i].string() +

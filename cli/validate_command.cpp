@@ -104,7 +104,10 @@ int run(const ValidateArgs& args) {
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (std::size_t i; (i = next++) < files.size();) {
-      reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, options);
+      // Heat maps go under the input's own relative folder, so a/Box.gltf and b/Box.gltf keep theirs.
+      ValidateOptions file_options = options;
+      if (!options.heatmaps_dir.empty()) file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
+      reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, file_options);
       const Report& report = reports[i];
       std::ostringstream line;
       if (!args.quiet || fails(report, fail_on))

@@ -322,11 +322,12 @@ class Converter {
 
   using SharedPixels = std::shared_ptr<const Pixels>;
 
+  // The images a legacy material's bake decodes, once per texture slot (one image in both slots is
+  // two reads, decoded once through the cache below).
   std::vector<int> images_of(const LegacyMaterial& legacy) const {
     std::vector<int> images;
     for (const auto& texture : {legacy.diffuse_texture, legacy.spec_gloss_texture})
       if (texture) images.push_back(model_.textures[static_cast<size_t>(texture->index)].source);
-    if (images.size() == 2 && images[0] == images[1]) images.pop_back();
     return images;
   }
 
@@ -339,13 +340,11 @@ class Converter {
     bool decode_here = true;
     {
       const std::lock_guard lock(decoded_mutex_);
-      if (pending_uses_[image] > 1) {
-        const auto [it, fresh] = decoded_.try_emplace(image);
-        if (fresh)
-          it->second = promise.get_future().share();
-        else
-          decode_here = false;
-        shared = it->second;
+      if (const auto it = decoded_.find(image); it != decoded_.end()) {
+        shared = it->second;  // decoded (or being decoded) for an earlier read
+        decode_here = false;
+      } else if (pending_uses_[image] > 1) {
+        shared = decoded_.emplace(image, promise.get_future().share()).first->second;
       }
     }
     if (!shared.valid()) return std::make_shared<const Pixels>(decode_now(image));

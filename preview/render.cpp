@@ -208,8 +208,8 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
   const double peak = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports KiB
   report["memory"] = {{"process_peak_rss_bytes", measured ? nlohmann::json(peak) : nlohmann::json(nullptr)},
                       {"gbuffers_bytes", gbuffer_bytes},
-                      {"peak_per_gbuffer_byte",
-                       measured && gbuffer_bytes > 0 ? nlohmann::json(peak / gbuffer_bytes) : nlohmann::json(nullptr)}};
+                      {"note", "the process's peak so far (getrusage), not this preview's alone: under "
+                               "convert --preview it includes the conversions and other files"}};
   report["difference"] = {
       {"delta_e_2000",
        {{"mean", r.metrics.delta_e_mean}, {"p95", r.metrics.delta_e_p95}, {"max", r.metrics.delta_e_max}}},
@@ -264,7 +264,7 @@ void write_preview(const PreviewResult& r, const nlohmann::json& report, const f
   files.stage(folder / "after.png", encode_png(r.after, r.width, r.height, 3, 6));
   files.stage(folder / "difference.png", encode_png(r.difference, r.width, r.height, 3, 6));
   files.stage(folder / "sheet.png", encode_png(r.sheet, r.sheet_width, r.height, 3, 6));
-  const std::string text = report.dump(2) + "\n";
+  const std::string text = report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   files.stage(folder / "report.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
   files.commit();
 }

@@ -10,8 +10,8 @@
 #include <atomic>
 #include <csignal>
 #include <functional>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <thread>
 
 #include "converter/convert.hpp"
@@ -340,8 +340,8 @@ TEST(LostOutputs, AReportThatCannotBeWrittenIsAnErrorWithItsReason) {
 TEST(LostOutputs, AnOutputThatCannotBeWrittenNamesItAndTheReason) {
   ScratchDir scratch;
   test::write_text(scratch / "a-file", "x");
-  const auto r = run_cli("convert " + quoted(specgloss("Box") / "Box.gltf") + " -o " +
-                             quoted(scratch / "a-file" / "Box.gltf"), scratch);
+  const auto r = run_cli(
+      "convert " + quoted(specgloss("Box") / "Box.gltf") + " -o " + quoted(scratch / "a-file" / "Box.gltf"), scratch);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("output " + (scratch / "a-file" / "Box.gltf").string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << r.err;
@@ -379,6 +379,38 @@ TEST(LostOutputs, AClosedPipeIsAWriteErrorNotASilentDeath) {
                   .c_str());
   const std::string status = test::read_text(scratch / "status");
   EXPECT_TRUE(status == "3\n" || status == "0\n") << "exit status " << status;
+}
+
+TEST(LostOutputs, HeatMapsOfInputsThatShareAFileNameAreKeptApart) {
+  ScratchDir scratch;
+  for (const char* copy : {"a", "b"}) {
+    copy_model("BoxTextured", scratch / "lib" / copy);
+    // A black diffuse map fails the albedo rule on every texel, so each file writes a heat map.
+    write_bytes(scratch / "lib" / copy / "CesiumLogoFlat.png",
+                encode_png(std::vector<std::uint8_t>(16 * 16 * 3, 0), 16, 16, 3, 1));
+  }
+  const auto r = run_cli("validate -q --heatmaps " + quoted(scratch / "maps") + " " + quoted(scratch / "lib"), scratch);
+  ASSERT_TRUE(fs::exists(scratch / "maps")) << r.out << r.err;
+  std::size_t in_a = 0, in_b = 0;
+  for (const fs::path& map : test::files_under(scratch / "maps")) {
+    in_a += map.parent_path() == scratch / "maps" / "lib" / "a";
+    in_b += map.parent_path() == scratch / "maps" / "lib" / "b";
+  }
+  EXPECT_GE(in_a, 1u) << r.out;
+  EXPECT_EQ(in_a, in_b);
+}
+
+TEST(LostOutputs, AFolderConvertedIntoItsParentOrBesideItselfIsStillConverted) {
+  // `convert src/ -o .` puts src's files straight into "."; nothing there is an earlier output.
+  ScratchDir scratch;
+  copy_model("Box", scratch / "project" / "src");
+  const std::string cli = "cd " + quoted(scratch / "project") + " && '" GLTF_PBR_CLI "' convert -q ";
+  EXPECT_EQ(std::system((cli + "src/ -o . --format glb").c_str()), 0);
+  EXPECT_TRUE(fs::exists(scratch / "project" / "Box.glb"));
+  EXPECT_EQ(std::system((cli + "src -o out").c_str()), 0);
+  EXPECT_TRUE(fs::exists(scratch / "project" / "out" / "src" / "Box.gltf"));
+  EXPECT_EQ(std::system((cli + ". -o out").c_str()), 0) << "the earlier out/ is skipped, the rest converts";
+  EXPECT_TRUE(fs::exists(scratch / "project" / "out" / "src" / "Box.gltf"));
 }
 
 TEST(LostOutputs, AnOutputFolderThatIsTheInputFolderIsNotConvertedAgain) {
@@ -433,6 +465,15 @@ TEST(SilentLoss, ConvertRefusesAValueLoadingWouldDropNamingItsPointer) {
     EXPECT_NE(r.err.find(pointer + ": "), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(scratch / "out" / "Box.gltf")) << pointer;
   }
+}
+
+TEST(SilentLoss, AnErrorLoadingKeepsAsItWasIsNotRefused) {
+  // The near miss: `children: []` is EMPTY_ENTITY to the validator, but loading loses nothing.
+  ScratchDir scratch;
+  const fs::path gltf =
+      edited_box(scratch, [](nlohmann::json& d) { d["nodes"][1]["children"] = nlohmann::json::array(); });
+  const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST(SilentLoss, TrailingBytesAfterTheJsonAreRefusedByConvertAsValidateReportsThem) {
@@ -574,6 +615,23 @@ TEST(ConcurrentDecodes, ConvertingManyTexturedCopiesInParallelNeverCrashes) {
   }
 }
 
+TEST(DecodeOnce, AnImageReadUnderDifferentFactorsOrInBothSlotsIsDecodedOnce) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  auto second = document["materials"][0];
+  second["extensions"]["KHR_materials_pbrSpecularGlossiness"]["diffuseFactor"] = {0.5, 0.5, 0.5, 1.0};
+  auto third = document["materials"][0];
+  third["extensions"]["KHR_materials_pbrSpecularGlossiness"]["specularGlossinessTexture"] = {{"index", 0}};
+  document["materials"].push_back(second);
+  document["materials"].push_back(third);
+  test::write_text(gltf, document.dump());
+  Asset asset = load_asset(gltf);
+  const ConversionReport report = convert(asset, ConvertOptions{});
+  ASSERT_EQ(report.materials.size(), 3u);
+  EXPECT_EQ(report.images_decoded, 1);
+}
+
 TEST(DecodeOnce, AnImageSeveralMaterialsReadIsDecodedOnce) {
   // VC: 20 images, read by many materials under different factors (so by different bakes).
   Asset asset = load_asset(specgloss("VC") / "VC.gltf");
@@ -583,7 +641,8 @@ TEST(DecodeOnce, AnImageSeveralMaterialsReadIsDecodedOnce) {
     if (extension == material.extensions.end()) continue;
     for (const char* slot : {"diffuseTexture", "specularGlossinessTexture"})
       if (extension->second.Has(slot))
-        read.insert(asset.model.textures[static_cast<size_t>(extension->second.Get(slot).Get("index").GetNumberAsInt())].source);
+        read.insert(asset.model.textures[static_cast<size_t>(extension->second.Get(slot).Get("index").GetNumberAsInt())]
+                        .source);
   }
   const ConversionReport report = convert(asset, ConvertOptions{});
   EXPECT_EQ(report.images_decoded, static_cast<long>(read.size()));
@@ -614,7 +673,7 @@ TEST(Messages, BothBatchCommandsShowProgressOnATerminalAndNotInAPipe) {
   copy_model("Box", scratch / "lib" / "a");
   copy_model("Box", scratch / "lib" / "b");
   for (const std::string& command : {"validate -q " + quoted(scratch / "lib"),
-                                    "convert -q " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out")}) {
+                                     "convert -q " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out")}) {
     // script(1) (bsdutils, in every Debian) gives the command a terminal.
     const fs::path log = scratch / "terminal.txt";
     std::system(("script -qec \"'" GLTF_PBR_CLI "' " + command + "\" /dev/null > " + quoted(log)).c_str());

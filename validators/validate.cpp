@@ -118,7 +118,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
 
 std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules) {
   static const std::set<std::string> kValueCodes{
-      "ARRAY_LENGTH_NOT_IN_LIST", "ARRAY_TYPE_MISMATCH", "EMPTY_ENTITY",       "INVALID_JSON",
+      "ARRAY_LENGTH_NOT_IN_LIST", "ARRAY_TYPE_MISMATCH", "INVALID_JSON",
       "ONE_OF_MISMATCH",          "PATTERN_MISMATCH",    "TYPE_MISMATCH",      "UNDEFINED_PROPERTY",
       "VALUE_MULTIPLE_OF",        "VALUE_NOT_IN_LIST",   "VALUE_NOT_IN_RANGE", "UNRESOLVED_REFERENCE"};
   const std::optional<MappedFile> mapped = MappedFile::open(file);
