@@ -189,7 +189,8 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_option("--fail-on", args->fail_on, "lowest severity that makes the exit code 1")
       ->check(CLI::IsMember({"error", "warning", "info", "hint"}))
       ->capture_default_str();
-  cmd->add_option("--heatmaps", args->heatmaps, "write one PNG per failing texture showing where it fails");
+  cmd->add_option("--heatmaps", args->heatmaps,
+                  "write one PNG per failing texture showing where it fails, under DIR/<the input's relative folder>/");
   cmd->add_flag("--no-self-intersections", args->no_self_intersections,
                 "skip the self-intersection mesh check (the costliest)");
   cmd->add_option("-j,--jobs", args->jobs, "files validated in parallel (default: all cores)")
