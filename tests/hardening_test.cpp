@@ -476,6 +476,15 @@ TEST(SilentLoss, AnErrorLoadingKeepsAsItWasIsNotRefused) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+TEST(SilentLoss, TheDemosGeneratedSamplesAllConvert) {
+  // The README's demo command converts these; gold's F0 above 1 is among them.
+  const fs::path samples = fs::path(GLTF_PBR_CLI).parent_path() / "samples";
+  ASSERT_TRUE(fs::exists(samples / "metal-gold.gltf")) << samples;
+  ScratchDir scratch;
+  const auto r = run_cli("convert -q " + quoted(samples) + " -o " + quoted(scratch / "out"), scratch);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST(SilentLoss, TrailingBytesAfterTheJsonAreRefusedByConvertAsValidateReportsThem) {
   for (const std::string& trailing : {std::string("\n}garbage"), std::string("\0\0\0", 3), std::string("{}")}) {
     ScratchDir scratch;

@@ -33,11 +33,12 @@ struct ValidateOptions {
 Report validate_file(const std::filesystem::path& file, const std::string& uri, const RuleSet& rules,
                      const IssuePolicy& policy, const ValidateOptions& options);
 
-// For commands that rewrite or draw a file (convert, preview): the first error the structure step
-// finds, without reading resources, in a value that loading would drop or misread: a wrong type
-// (`children: [1.5]`, an extension that is an array), a value out of range (a negative byteOffset),
-// a missing required property, a dangling index, JSON that does not end where it should, a broken
-// GLB container. Writing on from such a document would silently hold less than the input.
+// For commands that rewrite a file (convert): the first error the structure step finds, without
+// reading resources, in a value that loading would drop or misread: a wrong type (`children:
+// [1.5]`, an extension that is an array), a negative offset, length, stride or count, a missing
+// required property, JSON that does not end where it should, a broken GLB container. Writing on
+// from such a document would silently hold less than the input. Values kept as written (out of
+// range but read, such as gold's specular 1.022) are not refused.
 // std::nullopt when there is none (or the file cannot be read: the loader says so).
 std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules);
 
