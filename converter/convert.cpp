@@ -198,8 +198,6 @@ class Converter {
     }
   }
 
-
-
   // Baking is shared: identical inputs give one output (DESIGN.md: no duplicate textures).
   const Bake& bake_for(const LegacyMaterial& legacy, MaterialReport& entry, bool roughness_only = false) {
     const int diffuse_image =
@@ -331,9 +329,9 @@ class Converter {
     return images;
   }
 
-  // Thread-safe (the two images of a bake decode concurrently). Each image decodes once: one that
-  // several legacy materials read is kept until the last of them is converted (run() drops it);
-  // one that a single material reads is not kept, so peak memory stays at one bake.
+  // Thread-safe (the two images of a bake decode concurrently). Each image decodes once: one read
+  // more than once (by several materials, or in both slots of one) is kept until its last reader is
+  // converted (run() drops it); one read once is not kept, so peak memory stays at one bake.
   SharedPixels decode(int image) {
     std::shared_future<SharedPixels> shared;
     std::promise<SharedPixels> promise;
@@ -428,7 +426,7 @@ class Converter {
   ConversionReport report_;
   std::atomic<long> images_decoded_{0};  // decode() runs on several threads
   std::mutex decoded_mutex_;
-  std::map<int, int> pending_uses_;                          // image -> legacy materials yet to convert
+  std::map<int, int> pending_uses_;                          // image -> texture reads yet to convert
   std::map<int, std::shared_future<SharedPixels>> decoded_;  // images more than one of them reads
   std::map<std::string, Bake> bakes_;
   std::map<std::pair<int, int>, int> textures_;
