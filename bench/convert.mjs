@@ -59,7 +59,9 @@ function measure(tool, input, index) {
   };
 }
 
-const f2 = (x) => x.toFixed(2), f1 = (x) => x.toFixed(1), f3 = (x) => x.toFixed(3);
+// A figure nothing measured is null in our JSON (an asset with no spec-gloss material): say so, never 0.
+const fixed = (digits) => (x) => (x === null || x === undefined ? 'not measured' : x.toFixed(digits));
+const f1 = fixed(1), f2 = fixed(2), f3 = fixed(3);
 console.log(`### gltf-pbr convert vs glTF-Transform ${process.env.GLTF_TRANSFORM_VERSION} metalrough (median of ${runs} runs)\n`);
 console.log('Error: ΔE2000 of diffuse weight and F0 against the legacy material (reading A), mean over materials of the per-material mean, and the worst texel; "core" is a viewer without KHR_materials_specular/_ior, "full" one with them.\n');
 console.log('| asset | ours s | peer s | speed-up | ours MB | peer MB | mem ratio | ours bytes | peer bytes | size ratio | core err ours / peer (worst) | full err ours / peer |');
