@@ -23,13 +23,24 @@ constexpr double kWhiteX = 0.95047, kWhiteZ = 1.08883;
 using Plane = std::vector<float>;
 using Kernel = std::vector<float>;  // odd length, centred
 
-// Separable convolution with edges clamped: `along_rows` across each row, then `along_columns`
-// down each column. Both passes run over contiguous spans so the compiler vectorises them.
-Plane convolve(const Plane& in, int width, int height, const Kernel& along_rows, const Kernel& along_columns) {
-  Plane across(in.size()), out(in.size());
-  const int row_radius = static_cast<int>(along_rows.size() / 2), column_radius = static_cast<int>(along_columns.size() / 2);
+// FLIP runs over bands of rows so that its planes (some 60 bytes a pixel) stay bounded at any image
+// size. A band's own rows are [first, last); its planes hold image rows [top, bottom), up to
+// `halo` more either side, which the filters read. With halo >= every filter's radius the result
+// is the whole-image result, bit for bit (the sums run in the same order).
+struct Band {
+  int first, last, top, bottom, height;
+  std::size_t rows() const { return static_cast<std::size_t>(bottom - top); }
+  std::size_t own_rows() const { return static_cast<std::size_t>(last - first); }
+};
+
+// Separable convolution with edges clamped at the image's borders: `along_rows` across each of the
+// band's rows, then `along_columns` down each column, for the band's own rows. Both passes run
+// over contiguous spans so the compiler vectorises them.
+Plane convolve(const Plane& in, int width, const Band& band, const Kernel& along_rows, const Kernel& along_columns) {
   const std::size_t w = static_cast<std::size_t>(width);
-  parallel_dynamic(height, [&](std::int64_t y) {
+  Plane across(in.size()), out(band.own_rows() * w);
+  const int row_radius = static_cast<int>(along_rows.size() / 2), column_radius = static_cast<int>(along_columns.size() / 2);
+  parallel_dynamic(static_cast<std::int64_t>(band.rows()), [&](std::int64_t y) {
     // The row with its edge values repeated `row_radius` times on each side.
     std::vector<float> padded(w + 2 * static_cast<std::size_t>(row_radius));
     const float* row = &in[static_cast<std::size_t>(y) * w];
@@ -42,12 +53,14 @@ Plane convolve(const Plane& in, int width, int height, const Kernel& along_rows,
       target[x] = sum;
     }
   });
-  parallel_dynamic(height, [&](std::int64_t y) {
-    float* target = &out[static_cast<std::size_t>(y) * w];
+  parallel_dynamic(static_cast<std::int64_t>(band.own_rows()), [&](std::int64_t own) {
+    const int y = band.first + static_cast<int>(own);
+    float* target = &out[static_cast<std::size_t>(own) * w];
     std::fill(target, target + w, 0.0f);
     for (int k = -column_radius; k <= column_radius; ++k) {
       const float weight = along_columns[static_cast<std::size_t>(k + column_radius)];
-      const float* source = &across[static_cast<std::size_t>(std::clamp(static_cast<int>(y) + k, 0, height - 1)) * w];
+      const int source_row = std::clamp(y + k, 0, band.height - 1) - band.top;
+      const float* source = &across[static_cast<std::size_t>(source_row) * w];
       for (std::size_t x = 0; x < w; ++x) target[x] += weight * source[x];
     }
   });
@@ -144,61 +157,69 @@ glm::dvec3 hunt_lab(glm::dvec3 rgb) {
 double hyab(glm::dvec3 a, glm::dvec3 b) { return std::fabs(a.x - b.x) + std::hypot(a.y - b.y, a.z - b.z); }
 
 struct Prepared {
-  std::array<Plane, 3> filtered;  // YCxCz after the CSF
-  Plane luminance;                // normalised Y in [0, 1], for the features
+  std::array<Plane, 3> filtered;  // YCxCz after the CSF, the band's own rows
+  Plane luminance;                // normalised Y in [0, 1], for the features, all the band's rows
 };
 
-Prepared prepare(const std::vector<std::uint8_t>& image, int width, int height, double pixels_per_degree) {
-  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+Prepared prepare(const std::vector<std::uint8_t>& image, int width, const Band& band, double pixels_per_degree) {
+  const std::size_t w = static_cast<std::size_t>(width), count = band.rows() * w;
   const auto& to_linear = srgb8_to_linear_table();
   std::array<Plane, 3> ycxcz;
   for (Plane& plane : ycxcz) plane.resize(count);
   Prepared p;
   p.luminance.resize(count);
-  const std::size_t w = static_cast<std::size_t>(width);
-  parallel_dynamic(height, [&](std::int64_t y) {
+  const std::uint8_t* pixels = &image[static_cast<std::size_t>(band.top) * w * 3];
+  parallel_dynamic(static_cast<std::int64_t>(band.rows()), [&](std::int64_t y) {
     for (std::size_t i = static_cast<std::size_t>(y) * w, end = i + w; i < end; ++i) {
       const glm::dvec3 c = linear_srgb_to_ycxcz(
-          glm::dvec3(to_linear[image[i * 3]], to_linear[image[i * 3 + 1]], to_linear[image[i * 3 + 2]]));
+          glm::dvec3(to_linear[pixels[i * 3]], to_linear[pixels[i * 3 + 1]], to_linear[pixels[i * 3 + 2]]));
       for (int k = 0; k < 3; ++k) ycxcz[static_cast<std::size_t>(k)][i] = static_cast<float>(c[k]);
       p.luminance[i] = static_cast<float>((c.x + 16.0) / 116.0);
     }
   });
   for (int channel = 0; channel < 3; ++channel) {
     Plane& out = p.filtered[static_cast<std::size_t>(channel)];
-    out.assign(count, 0.0f);
+    out.assign(band.own_rows() * w, 0.0f);
     for (const auto& [weight, kernel] : csf_filter(channel, pixels_per_degree)) {
-      const Plane term = convolve(ycxcz[static_cast<std::size_t>(channel)], width, height, kernel, kernel);
-      for (std::size_t i = 0; i < count; ++i) out[i] += static_cast<float>(weight) * term[i];
+      const Plane term = convolve(ycxcz[static_cast<std::size_t>(channel)], width, band, kernel, kernel);
+      for (std::size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(weight) * term[i];
     }
   }
   return p;
 }
 
 // |∇| of the feature response: the length of the (x, y) pair of derivative filters.
-Plane feature_magnitude(const Plane& luminance, int width, int height, const Kernel& derivative,
+Plane feature_magnitude(const Plane& luminance, int width, const Band& band, const Kernel& derivative,
                         const Kernel& gaussian) {
-  const Plane along_x = convolve(luminance, width, height, derivative, gaussian);
-  const Plane along_y = convolve(luminance, width, height, gaussian, derivative);
-  Plane magnitude(luminance.size());
+  const Plane along_x = convolve(luminance, width, band, derivative, gaussian);
+  const Plane along_y = convolve(luminance, width, band, gaussian, derivative);
+  Plane magnitude(along_x.size());
   for (std::size_t i = 0; i < magnitude.size(); ++i) magnitude[i] = std::hypot(along_x[i], along_y[i]);
   return magnitude;
+}
+
+// The rows either side of a band that the widest filter reads.
+int filter_halo(double pixels_per_degree) {
+  std::size_t widest = 0;
+  for (int channel = 0; channel < 3; ++channel)
+    for (const auto& term : csf_filter(channel, pixels_per_degree)) widest = std::max(widest, term.second.size());
+  const FeatureKernels kernels = feature_kernels(pixels_per_degree);
+  widest = std::max({widest, kernels.gaussian.size(), kernels.edge.size(), kernels.point.size()});
+  return static_cast<int>(widest / 2);
 }
 
 }  // namespace
 
 FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<std::uint8_t>& test, int width,
-                int height, double pixels_per_degree) {
+                int height, double pixels_per_degree, int band_rows) {
   FlipResult result;
   const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   if (count == 0) return result;
-  const Prepared r = prepare(reference, width, height, pixels_per_degree);
-  const Prepared t = prepare(test, width, height, pixels_per_degree);
   const FeatureKernels kernels = feature_kernels(pixels_per_degree);
-  const Plane edges_r = feature_magnitude(r.luminance, width, height, kernels.edge, kernels.gaussian);
-  const Plane edges_t = feature_magnitude(t.luminance, width, height, kernels.edge, kernels.gaussian);
-  const Plane points_r = feature_magnitude(r.luminance, width, height, kernels.point, kernels.gaussian);
-  const Plane points_t = feature_magnitude(t.luminance, width, height, kernels.point, kernels.gaussian);
+  const int halo = filter_halo(pixels_per_degree);
+  // About a million pixels a band: some 70 MB of planes, and few enough bands that the halo's
+  // extra rows stay a small share.
+  if (band_rows <= 0) band_rows = std::max(2 * halo, (1 << 20) / width);
 
   // Section 4.1: the largest colour error, green against blue, anchors the redistribution.
   const double max_color_error =
@@ -207,26 +228,36 @@ FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<st
   result.per_pixel.resize(count);
   const std::size_t w = static_cast<std::size_t>(width);
   std::vector<double> row_sums(static_cast<std::size_t>(height));
-  parallel_dynamic(height, [&](std::int64_t y) {
-    double row_sum = 0;
-    for (std::size_t i = static_cast<std::size_t>(y) * w, end = i + w; i < end; ++i) {
-      auto filtered_lab = [&](const Prepared& p) {
-        return hunt_lab(ycxcz_to_linear_srgb({p.filtered[0][i], p.filtered[1][i], p.filtered[2][i]}));
-      };
-      const double color = std::pow(hyab(filtered_lab(r), filtered_lab(t)), kColorExponent);
-      const double color_error = color < knee ? kKneeOutput / knee * color
-                                              : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
-      // Section 4.2: the larger of the edge and point differences, normalised by 1/sqrt(2).
-      const double feature_difference =
-          std::max(std::fabs(edges_t[i] - edges_r[i]), std::fabs(points_t[i] - points_r[i])) / std::sqrt(2.0);
-      const double feature_error = std::min(1.0, std::pow(feature_difference, kFeatureExponent));
-      // Section 4.3, equation 10: features raise the colour error towards one.
-      const double error = std::pow(color_error, 1.0 - feature_error);
-      result.per_pixel[i] = static_cast<float>(error);
-      row_sum += error;
-    }
-    row_sums[static_cast<std::size_t>(y)] = row_sum;
-  });
+  for (int first = 0; first < height; first += band_rows) {
+    const int last = std::min(height, first + band_rows);
+    const Band band{first, last, std::max(0, first - halo), std::min(height, last + halo), height};
+    const Prepared r = prepare(reference, width, band, pixels_per_degree);
+    const Prepared t = prepare(test, width, band, pixels_per_degree);
+    const Plane edges_r = feature_magnitude(r.luminance, width, band, kernels.edge, kernels.gaussian);
+    const Plane edges_t = feature_magnitude(t.luminance, width, band, kernels.edge, kernels.gaussian);
+    const Plane points_r = feature_magnitude(r.luminance, width, band, kernels.point, kernels.gaussian);
+    const Plane points_t = feature_magnitude(t.luminance, width, band, kernels.point, kernels.gaussian);
+    parallel_dynamic(static_cast<std::int64_t>(band.own_rows()), [&](std::int64_t own) {
+      double row_sum = 0;
+      for (std::size_t i = static_cast<std::size_t>(own) * w, end = i + w; i < end; ++i) {
+        auto filtered_lab = [&](const Prepared& p) {
+          return hunt_lab(ycxcz_to_linear_srgb({p.filtered[0][i], p.filtered[1][i], p.filtered[2][i]}));
+        };
+        const double color = std::pow(hyab(filtered_lab(r), filtered_lab(t)), kColorExponent);
+        const double color_error = color < knee ? kKneeOutput / knee * color
+                                                : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
+        // Section 4.2: the larger of the edge and point differences, normalised by 1/sqrt(2).
+        const double feature_difference =
+            std::max(std::fabs(edges_t[i] - edges_r[i]), std::fabs(points_t[i] - points_r[i])) / std::sqrt(2.0);
+        const double feature_error = std::min(1.0, std::pow(feature_difference, kFeatureExponent));
+        // Section 4.3, equation 10: features raise the colour error towards one.
+        const double error = std::pow(color_error, 1.0 - feature_error);
+        result.per_pixel[static_cast<std::size_t>(first) * w + i] = static_cast<float>(error);
+        row_sum += error;
+      }
+      row_sums[static_cast<std::size_t>(first + own)] = row_sum;
+    });
+  }
   double sum = 0;
   for (double row_sum : row_sums) sum += row_sum;
   result.mean = sum / static_cast<double>(count);

@@ -15,8 +15,10 @@ struct FlipResult {
   double mean = 0;
 };
 
-// reference, test: 8-bit sRGB RGB images of one size.
+// reference, test: 8-bit sRGB RGB images of one size. The filters run over bands of `band_rows`
+// rows (0: about a million pixels a band), so memory stays bounded whatever the size; the result
+// does not depend on the band size.
 FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<std::uint8_t>& test, int width,
-                int height, double pixels_per_degree = kFlipPixelsPerDegree);
+                int height, double pixels_per_degree = kFlipPixelsPerDegree, int band_rows = 0);
 
 }  // namespace gltf_pbr::preview

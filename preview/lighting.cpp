@@ -97,9 +97,15 @@ HdrImage light(const GBuffer& g, Side side, const Environment& env, const Camera
 }
 
 LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
-                   const LightingOptions& options) {
-  LitPair out{empty_image(gbuffers.before), empty_image(gbuffers.after)};
+                   const LightingOptions& options, bool keep_radiance) {
   const GBuffer& a = gbuffers.after;
+  const size_t count = a.depth.size();
+  LitPair out{std::vector<std::uint8_t>(count * 3), std::vector<std::uint8_t>(count * 3),
+              std::vector<std::uint8_t>(count), {}, {}};
+  if (keep_radiance) {
+    out.before_hdr = empty_image(gbuffers.before);
+    out.after_hdr = empty_image(a);
+  }
   const RayGenerator rays(camera, a.width, a.height);
   parallel_dynamic(a.height, [&](std::int64_t y) {
     for (int x = 0; x < a.width; ++x) {
@@ -107,17 +113,24 @@ LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camer
       const glm::vec3 ray =
           glm::normalize(rays.unnormalised(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
       const GBufferTexel after = read_after(a, i);
-      if (!after.covered) {
-        out.before.radiance[i] = out.after.radiance[i] = env.background(ray);
-        out.before.covered[i] = out.after.covered[i] = 0;
-        continue;
+      glm::vec3 before_radiance, after_radiance;
+      if (after.covered) {
+        const GBufferTexel before = read_before_material(gbuffers.before, i);  // normal: after's
+        // Both sides share the normal buffer's geometry: one set of environment look-ups.
+        const PixelGeometry geometry = prepare(after.normal, -ray, env);
+        after_radiance = shade_texel(after, Side::After, geometry, env, options);
+        before_radiance = shade_texel(before, Side::Before, geometry, env, options);
+      } else {
+        before_radiance = after_radiance = env.background(ray);
       }
-      const GBufferTexel before = read_before_material(gbuffers.before, i);  // normal: after's
-      out.before.covered[i] = out.after.covered[i] = 1;
-      // Both sides share the normal buffer's geometry: one set of environment look-ups.
-      const PixelGeometry geometry = prepare(after.normal, -ray, env);
-      out.after.radiance[i] = shade_texel(after, Side::After, geometry, env, options);
-      out.before.radiance[i] = shade_texel(before, Side::Before, geometry, env, options);
+      out.covered[i] = after.covered ? 1 : 0;
+      tone_map_srgb8(before_radiance, options, &out.before[i * 3]);
+      tone_map_srgb8(after_radiance, options, &out.after[i * 3]);
+      if (keep_radiance) {
+        out.before_hdr.radiance[i] = before_radiance;
+        out.after_hdr.radiance[i] = after_radiance;
+        out.before_hdr.covered[i] = out.after_hdr.covered[i] = out.covered[i];
+      }
     }
   });
   return out;
@@ -141,16 +154,20 @@ glm::vec3 aces_fitted(glm::vec3 x) {
   return glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
 }
 
+void tone_map_srgb8(glm::vec3 radiance, const LightingOptions& options, std::uint8_t* rgb) {
+  glm::vec3 c = glm::max(radiance * options.exposure, glm::vec3(0.0f));
+  c = options.tone_map == ToneMap::KhronosPbrNeutral ? khronos_pbr_neutral(c)
+      : options.tone_map == ToneMap::Aces            ? aces_fitted(c)
+                                                     : glm::clamp(c, 0.0f, 1.0f);
+  for (int k = 0; k < 3; ++k) rgb[k] = encode_srgb8(c[k]);
+}
+
 std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions& options) {
   std::vector<std::uint8_t> out(image.radiance.size() * 3);
   parallel_dynamic(image.height, [&](std::int64_t y) {
     for (int x = 0; x < image.width; ++x) {
       const size_t i = static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x);
-      glm::vec3 c = glm::max(image.radiance[i] * options.exposure, glm::vec3(0.0f));
-      c = options.tone_map == ToneMap::KhronosPbrNeutral ? khronos_pbr_neutral(c)
-          : options.tone_map == ToneMap::Aces            ? aces_fitted(c)
-                                                         : glm::clamp(c, 0.0f, 1.0f);
-      for (int k = 0; k < 3; ++k) out[i * 3 + static_cast<size_t>(k)] = encode_srgb8(c[k]);
+      tone_map_srgb8(image.radiance[i], options, &out[i * 3]);
     }
   });
   return out;

@@ -30,13 +30,17 @@ enum class Side { Before, After };
 HdrImage light(const GBuffer& gbuffer, Side side, const Environment& env, const Camera& camera,
                const LightingOptions& options);
 
-// Both sides in one pass (they share normals and so environment look-ups). The normals are the
-// same buffer content on both sides by construction (fill_gbuffers, sphere_grid_gbuffers).
+// Both sides in one pass (they share normals and so environment look-ups), tone-mapped to 8-bit
+// sRGB in the same pass. The normals are the same buffer content on both sides by construction
+// (fill_gbuffers, sphere_grid_gbuffers). The HDR radiance, 24 bytes a pixel for the pair, is
+// kept only when asked for.
 struct LitPair {
-  HdrImage before, after;
+  std::vector<std::uint8_t> before, after;  // 8-bit sRGB RGB, as to_srgb8
+  std::vector<std::uint8_t> covered;        // 1 where geometry was drawn
+  HdrImage before_hdr, after_hdr;           // empty unless keep_radiance
 };
 LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
-                   const LightingOptions& options);
+                   const LightingOptions& options, bool keep_radiance = false);
 
 // Radiance leaving one shading point towards v (unit vectors, world space).
 glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, glm::vec3 v, float occlusion,
@@ -49,6 +53,7 @@ glm::vec3 khronos_pbr_neutral(glm::vec3 color);
 glm::vec3 aces_fitted(glm::vec3 color);
 
 // Exposure, tone map and the sRGB transfer function (IEC 61966-2-1), 8 bits, RGB interleaved.
+void tone_map_srgb8(glm::vec3 radiance, const LightingOptions& options, std::uint8_t* rgb);
 std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions& options);
 
 }  // namespace gltf_pbr::preview

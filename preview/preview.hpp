@@ -25,6 +25,7 @@ struct PreviewOptions {
   LightingOptions lighting;
   std::filesystem::path environment;  // .hdr / .exr; empty: the built-in procedural sky
   ConvertOptions convert;
+  bool keep_radiance = false;  // keep PreviewResult::before_hdr/after_hdr (24 bytes a pixel more)
 };
 
 // --grid: spheres in a metalness (rows, top 0 to bottom 1) x roughness (columns, left 0 to
@@ -48,7 +49,7 @@ struct PreviewResult {
   std::vector<std::uint8_t> sheet;                      // before | after | difference
   int sheet_width = 0;
   std::vector<std::uint8_t> covered;
-  HdrImage before_hdr, after_hdr;
+  HdrImage before_hdr, after_hdr;  // empty unless PreviewOptions::keep_radiance
   std::vector<BufferSize> before_layout, after_layout;
   DifferenceMetrics metrics;
   PreviewTimes times;
@@ -67,8 +68,8 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options);
 
 // The common tail: both G-buffers lit, tone-mapped and compared (used by tests with analytic
-// G-buffers too).
-PreviewResult light_and_compare(const GBuffers& gbuffers, const Camera& camera, const Environment& env,
+// G-buffers too). The G-buffers are taken, and released once lit.
+PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const Environment& env,
                                 const PreviewOptions& options);
 
 // Analytic spheres for --grid and tests: `after` materials per cell, "before" from to_spec_gloss.

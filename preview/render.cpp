@@ -38,7 +38,7 @@ nlohmann::json layout_json(const std::vector<BufferSize>& layout) {
 
 }  // namespace
 
-PreviewResult light_and_compare(const GBuffers& gbuffers, const Camera& camera, const Environment& env,
+PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const Environment& env,
                                 const PreviewOptions& options) {
   PreviewResult result;
   result.width = gbuffers.after.width;
@@ -46,18 +46,23 @@ PreviewResult light_and_compare(const GBuffers& gbuffers, const Camera& camera, 
   result.before_layout = gbuffers.before.layout();
   result.after_layout = gbuffers.after.layout();
   auto start = Clock::now();
-  LitPair lit = light_both(gbuffers, env, camera, options.lighting);
-  result.before_hdr = std::move(lit.before);
-  result.after_hdr = std::move(lit.after);
-  result.before = to_srgb8(result.before_hdr, options.lighting);
-  result.after = to_srgb8(result.after_hdr, options.lighting);
+  {
+    LitPair lit = light_both(gbuffers, env, camera, options.lighting, options.keep_radiance);
+    GBuffers released = std::move(gbuffers);  // the largest buffers, done with before the metrics
+    result.before = std::move(lit.before);
+    result.after = std::move(lit.after);
+    result.covered = std::move(lit.covered);
+    result.before_hdr = std::move(lit.before_hdr);
+    result.after_hdr = std::move(lit.after_hdr);
+  }
   result.times.lighting_ms = ms_since(start);
   start = Clock::now();
-  result.covered.assign(result.after_hdr.covered.begin(), result.after_hdr.covered.end());
-  std::vector<float> delta_e;
-  result.metrics = compare_images(result.before, result.after, result.covered, result.width, result.height, &delta_e);
+  {
+    std::vector<float> delta_e;
+    result.metrics = compare_images(result.before, result.after, result.covered, result.width, result.height, &delta_e);
+    result.difference = heat_map(delta_e, result.covered, result.after);
+  }
   result.metrics.flip_mean = flip(result.before, result.after, result.width, result.height).mean;
-  result.difference = heat_map(delta_e, result.covered, result.after);
   result.sheet = side_by_side({&result.before, &result.after, &result.difference}, result.width, result.height, 4,
                               &result.sheet_width);
   result.times.metrics_ms = ms_since(start);
@@ -103,13 +108,17 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
 
   start = Clock::now();
   RasterStats raster_stats;
-  const VisibilityBuffer visibility = rasterize(scene, camera, options.width, options.height, &raster_stats);
-  const double raster_ms = ms_since(start);
-  start = Clock::now();
-  const GBuffers gbuffers = fill_gbuffers(scene, visibility, camera);
+  double raster_ms = 0;
+  GBuffers gbuffers;
+  {  // the visibility buffer lives only until the G-buffers are filled
+    const VisibilityBuffer visibility = rasterize(scene, camera, options.width, options.height, &raster_stats);
+    raster_ms = ms_since(start);
+    start = Clock::now();
+    gbuffers = fill_gbuffers(scene, visibility, camera);
+  }
   const double gbuffer_ms = ms_since(start);
 
-  PreviewResult result = light_and_compare(gbuffers, camera, env, options);
+  PreviewResult result = light_and_compare(std::move(gbuffers), camera, env, options);
   result.camera = camera_json(camera, camera_source);
   result.times.scene_ms = scene_ms;
   result.times.environment_ms = environment_ms;
@@ -171,9 +180,9 @@ PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options
   (void)dfg_lookup(0.5f, 0.5f);
   Camera camera;
   const auto start = Clock::now();
-  const GBuffers gbuffers = sphere_grid_gbuffers(grid, &camera);
+  GBuffers gbuffers = sphere_grid_gbuffers(grid, &camera);
   const double gbuffer_ms = ms_since(start);
-  PreviewResult result = light_and_compare(gbuffers, camera, env, options);
+  PreviewResult result = light_and_compare(std::move(gbuffers), camera, env, options);
   result.times.gbuffer_ms = gbuffer_ms;
   return result;
 }

@@ -192,6 +192,7 @@ TEST(Render, SphereGridHasNoFireflies) {
   grid.cell = 48;
   PreviewOptions options;
   options.lighting.sun = false;
+  options.keep_radiance = true;
   const PreviewResult r = render_grid(grid, options);
   const int w = r.width, h = r.height;
   auto luminance = [&](const HdrImage& image, int x, int y) {
@@ -210,6 +211,23 @@ TEST(Render, SphereGridHasNoFireflies) {
         std::nth_element(around, around + 4, around + 9);
         ASSERT_LE(centre, 3.0f * around[4] + 0.05f) << x << "," << y;
       }
+}
+
+TEST(Render, LightingTonemapsInItsOwnPassAsToSrgb8DoesAndKeepsRadianceOnlyWhenAsked) {
+  GridOptions grid;
+  grid.rows = grid.columns = 3;
+  grid.cell = 32;
+  PreviewOptions options;
+  const PreviewResult lean = render_grid(grid, options);
+  EXPECT_TRUE(lean.before_hdr.radiance.empty());
+  EXPECT_TRUE(lean.after_hdr.radiance.empty());
+  options.keep_radiance = true;
+  const PreviewResult kept = render_grid(grid, options);
+  EXPECT_EQ(kept.after, to_srgb8(kept.after_hdr, options.lighting));
+  EXPECT_EQ(kept.before, to_srgb8(kept.before_hdr, options.lighting));
+  EXPECT_EQ(lean.after, kept.after);
+  EXPECT_EQ(lean.before, kept.before);
+  EXPECT_EQ(lean.covered, kept.covered);
 }
 
 TEST(Render, DracoMeshDrawsLikeItsUncompressedOriginal) {
@@ -247,7 +265,10 @@ TEST(Render, EverySharedAssetDrawsFiniteAndFramed) {
       ADD_FAILURE() << "missing " << path;
       continue;
     }
-    const PreviewResult r = render_preview(load_asset(path), small(96));
+    PreviewOptions options = small(96);
+    options.keep_radiance = true;
+    const PreviewResult r = render_preview(load_asset(path), options);
+    ASSERT_EQ(r.after_hdr.radiance.size(), 96u * 96u) << file;
     long covered = 0;
     for (auto c : r.covered) covered += c;
     EXPECT_GT(covered, 96 * 96 / 20) << file;

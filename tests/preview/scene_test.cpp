@@ -125,9 +125,10 @@ TEST(GBufferResolve, NormalMapPointingBehindTheSurfaceShadesFinite) {
   Camera camera;
   camera.eye = glm::dvec3(0, 0, 3);
   camera.tan_half_fov_y = 0.3;
-  const LitPair lit = light_both(g, default_environment(), camera, LightingOptions{});
-  for (const auto& c : lit.after.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z));
-  for (const auto& c : lit.before.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z));
+  const LitPair lit = light_both(g, default_environment(), camera, LightingOptions{}, /*keep_radiance=*/true);
+  ASSERT_FALSE(lit.after_hdr.radiance.empty());
+  for (const auto& c : lit.after_hdr.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z));
+  for (const auto& c : lit.before_hdr.radiance) ASSERT_TRUE(std::isfinite(c.x + c.y + c.z));
 }
 
 TEST(GBufferResolve, AlphaMaskCutsAndBlendDithersCoverage) {
