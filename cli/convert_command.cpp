@@ -62,9 +62,14 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
     if (!args.preview.empty()) preview_folder = fs::path(args.preview) / fs::path(relative).replace_extension();
     jobs.push_back({file, target, preview_folder});
   }
-  std::vector<fs::path> outputs;
-  for (const Job& job : jobs) outputs.push_back(job.output);
+  std::vector<fs::path> outputs, previews;
+  for (const Job& job : jobs) {
+    outputs.push_back(job.output);
+    previews.push_back(job.preview);
+  }
   refuse_shared_outputs(files, outputs);
+  if (!args.preview.empty())  // a preview folder is the file's path without its extension
+    refuse_shared_outputs(files, previews, "rename one, or preview them in separate runs");
   return jobs;
 }
 

@@ -123,14 +123,14 @@ void write_stdout(const std::string& text) {
     throw OutputError(std::string("cannot write to standard output: ") + std::strerror(errno));
 }
 
-void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs) {
+void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs,
+                           const std::string& remedy) {
   std::map<fs::path, std::size_t> first_input;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const auto [it, fresh] = first_input.emplace(resolved(outputs[i]), i);
     if (!fresh)
       throw CLI::ValidationError("input", files[it->second].file.string() + " and " + files[i].file.string() +
-                                              " would both be written to " + outputs[i].string() +
-                                              "; give their folders instead, or run them separately");
+                                              " would both be written to " + outputs[i].string() + "; " + remedy);
   }
 }
 

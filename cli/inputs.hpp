@@ -35,8 +35,9 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const std::f
 
 // One run never writes an output twice: throws CLI::ValidationError naming both inputs when two
 // would go to the same output (the same file given twice, or a/Box.gltf and b/Box.gltf as files
-// under one -o folder). outputs[i] belongs to files[i].
-void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<std::filesystem::path>& outputs);
+// under one -o folder). outputs[i] belongs to files[i]; `remedy` ends the message.
+void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<std::filesystem::path>& outputs,
+                           const std::string& remedy = "give their folders instead, or run them separately");
 
 bool is_gltf_file(const std::filesystem::path& path);
 

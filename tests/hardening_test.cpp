@@ -365,6 +365,27 @@ TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
   EXPECT_TRUE(fs::exists(scratch / "out" / "b" / "Box.gltf"));
 }
 
+TEST(LostOutputs, PreviewsOfAGltfAndAGlbOfOneNameAreRefusedNotDrawnIntoOneFolder) {
+  ScratchDir scratch;
+  copy_model("Box", scratch / "lib");
+  ASSERT_EQ(run_cli("convert -q " + quoted(scratch / "lib" / "Box.gltf") + " -o " + quoted(scratch / "lib" / "Box.glb"),
+                    scratch)
+                .exit_code,
+            0);
+  const auto r = run_cli("convert " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out") + " --preview " +
+                             quoted(scratch / "previews"),
+                         scratch);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("would both be written to " + (scratch / "previews" / "lib" / "Box").string()),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(scratch / "previews"));
+  // Without previews the two outputs differ (Box.gltf, Box.glb) and both are written.
+  EXPECT_EQ(run_cli("convert -q " + quoted(scratch / "lib") + " -o " + quoted(scratch / "out"), scratch).exit_code, 0);
+  EXPECT_TRUE(fs::exists(scratch / "out" / "lib" / "Box.gltf"));
+  EXPECT_TRUE(fs::exists(scratch / "out" / "lib" / "Box.glb"));
+}
+
 TEST(LostOutputs, AClosedPipeIsAWriteErrorNotASilentDeath) {
   ScratchDir scratch;
   // The reader is gone before we write: SIGPIPE (status 141) unless it is ignored and EPIPE reported.
