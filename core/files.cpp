@@ -269,8 +269,4 @@ ResolvedUri resolve_uri(const fs::path& asset_folder, const std::string& uri, bo
   return {UriStatus::Readable, resolved, {}};
 }
 
-std::string uri_problem(const fs::path& folder, const std::string& uri, bool allow_outside) {
-  return resolve_uri(folder, uri, allow_outside).problem;
-}
-
 }  // namespace gltf_pbr

@@ -81,7 +81,4 @@ struct ResolvedUri {
 };
 ResolvedUri resolve_uri(const fs::path& folder, const std::string& uri, bool allow_outside);
 
-// resolve_uri's problem: empty when the URI is readable.
-std::string uri_problem(const fs::path& folder, const std::string& uri, bool allow_outside);
-
 }  // namespace gltf_pbr

@@ -192,12 +192,27 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
       }
       if (!uri->is_string()) throw InputError(file, where + "/uri", "uri is not a string");
       const std::string text = uri->get<std::string>();
+      std::uintmax_t size = 0;
       if (is_data_uri(text)) {
-        if (!decode_data_uri(text)) throw InputError(file, where + "/uri", "data URI is not valid base64");
-        continue;
+        const auto data = decode_data_uri(text);
+        if (!data) throw InputError(file, where + "/uri", "data URI is not valid base64");
+        size = data->size();
+      } else {
+        const ResolvedUri resolved = resolve_uri(folder, text, options.allow_outside_uris);
+        if (resolved.status != UriStatus::Readable) throw InputError(file, where + "/uri", resolved.problem);
+        std::error_code error;
+        size = fs::file_size(resolved.path, error);
+        if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
       }
-      if (const std::string problem = uri_problem(folder, text, options.allow_outside_uris); !problem.empty())
-        throw InputError(file, where + "/uri", problem);
+      // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf says so
+      // without a pointer ("File size mismatch"); a wrong-typed byteLength is tinygltf's to refuse.
+      const auto length = entry.find("byteLength");
+      if (std::strcmp(collection, "buffers") == 0 && length != entry.end() && length->is_number_unsigned() &&
+          size < length->get<std::uintmax_t>())
+        throw InputError(file, where + "/byteLength",
+                         "byteLength is " + std::to_string(length->get<std::uintmax_t>()) + " but " +
+                             (is_data_uri(text) ? std::string("the data URI") : "the file " + text) + " holds " +
+                             std::to_string(size) + " bytes");
     }
   }
   return root;

@@ -16,6 +16,7 @@
 
 #include "converter/convert.hpp"
 #include "core/asset.hpp"
+#include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/image.hpp"
 #include "core/text.hpp"
@@ -566,6 +567,23 @@ TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
   EXPECT_NE(first_line.find(gltf.string()), std::string::npos) << r.err;
   EXPECT_EQ(first_line.find((scratch / "box").string() + "/Box0.bin"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("\n\n"), std::string::npos) << r.err;
+  // Ours, with the pointer, not tinygltf's "File size mismatch".
+  EXPECT_NE(first_line.find("/buffers/0/byteLength"), std::string::npos) << r.err;
+  EXPECT_NE(first_line.find("byteLength is 100000 but the file Box0.bin holds 648 bytes"), std::string::npos) << r.err;
+}
+
+TEST(Messages, AShortDataUriBufferIsNamedByItsPointer) {
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) {
+    d["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA";
+  });
+  try {
+    (void)load_asset(gltf);
+    FAIL() << "a 3-byte data URI standing for 648 bytes loaded";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.pointer, "/buffers/0/byteLength");
+    EXPECT_NE(std::string(error.what()).find("the data URI holds 3 bytes"), std::string::npos) << error.what();
+  }
 }
 
 TEST(MeasuredFigures, TheExtensionRouteReportsTheErrorItMeasuredUnderBothReadings) {
