@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <mutex>
 #include <stdexcept>
 
 #include "core/image.hpp"
@@ -31,7 +32,17 @@ std::string name_for_signature(std::span<const std::uint8_t> bytes) {
 
 namespace {
 
+// OpenImageIO 2.4 is not safe to enter from several threads at once here: ThreadSanitizer reports
+// a data race inside ustring::make_unique (its global string table) between two concurrent
+// ImageInput::open calls of one PNG held in memory, with or without an ICC profile. The rare
+// convert -j 2 segfault inside decode_icc_profile fits it (not proven: it never reproduced under a
+// sanitizer): that is where an open first interns some twenty new attribute names
+// ("ICCProfile:..."). Only formats without a lean codec and resizes come here, so one call at a
+// time costs little.
+std::mutex oiio_calls;
+
 Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels) {
+  const std::lock_guard lock(oiio_calls);
   OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it
@@ -74,6 +85,7 @@ Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, std::uint64_t max
 }
 
 Pixels resample_with_oiio(const Pixels& pixels, int width, int height) {
+  const std::lock_guard lock(oiio_calls);
   // The source as it is stored; the result in float, so no precision is lost to the filter.
   const OIIO::TypeDesc stored = !pixels.bytes.empty()    ? OIIO::TypeDesc::UINT8
                                 : !pixels.shorts.empty() ? OIIO::TypeDesc::UINT16

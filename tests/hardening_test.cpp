@@ -633,6 +633,50 @@ TEST(MeasuredFigures, ImagesDecodedCountsEachFilesOwnDecodesWhateverRunsBesideIt
   for (const auto& file : report["files"]) EXPECT_EQ(file["imagesDecoded"], 1) << file["input"];
 }
 
+// A 24-bit BMP (BITMAPINFOHEADER, rows bottom-up, padded to 4 bytes): a format only OpenImageIO reads.
+Bytes bmp(int width, int height) {
+  const int row = (width * 3 + 3) / 4 * 4;
+  const std::uint32_t size = 54 + static_cast<std::uint32_t>(row * height);
+  Bytes out(size, 0);
+  auto put = [&](std::size_t at, std::uint32_t value, int bytes) {
+    for (int k = 0; k < bytes; ++k) out[at + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(value >> (8 * k));
+  };
+  out[0] = 'B';
+  out[1] = 'M';
+  put(2, size, 4);
+  put(10, 54, 4);
+  put(14, 40, 4);
+  put(18, static_cast<std::uint32_t>(width), 4);
+  put(22, static_cast<std::uint32_t>(height), 4);
+  put(26, 1, 2);
+  put(28, 24, 2);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width * 3; ++x)
+      out[54 + static_cast<std::size_t>(y * row + x)] = static_cast<std::uint8_t>(x * 7 + y * 13);
+  return out;
+}
+
+// The OpenImageIO module takes one call at a time (core/image_oiio.cpp says why); many threads
+// decoding and resizing through it at once get the same texels every time.
+TEST(ConcurrentDecodes, ManyThreadsThroughOpenImageIoGetIdenticalTexels) {
+  const Bytes image = bmp(37, 29);
+  const Pixels reference = decode_image(image, "bmp");
+  ASSERT_EQ(reference.width, 37);
+  const Pixels resized_reference = resize(reference, 16, 16);
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t)
+    threads.emplace_back([&] {
+      for (int i = 0; i < 6; ++i) {
+        const Pixels decoded = decode_image(image, "bmp");
+        mismatches += decoded.bytes != reference.bytes;
+        mismatches += resize(decoded, 16, 16).floats != resized_reference.floats;
+      }
+    });
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(mismatches, 0);
+}
+
 // OpenImageIO's PNG reader crashed now and then in decode_icc_profile under `convert -j 2`; PNG and
 // JPEG no longer go through it, and concurrent decodes must give the same texels every time.
 TEST(ConcurrentDecodes, ManyThreadsDecodingPngAndJpegGetIdenticalTexels) {
