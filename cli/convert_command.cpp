@@ -12,6 +12,7 @@
 #include "cli/report.hpp"
 #include "core/asset.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "core/text.hpp"
 #include "preview/preview.hpp"
 #include "validators/validate.hpp"
@@ -45,8 +46,8 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
   skipped_under_output = found.skipped_under_output;
   const std::vector<InputFile>& files = found.files;
   if (single_file_output && files.size() > 1)
-    throw CLI::ValidationError("--output", output.string() + " is one file, for " + std::to_string(files.size()) +
-                                               " inputs: give a folder");
+    throw CLI::ValidationError(
+        "--output", output.string() + " is one file, for " + std::to_string(files.size()) + " inputs: give a folder");
   std::vector<Job> jobs;
   for (auto& [file, relative] : files) {
     fs::path target;
@@ -153,9 +154,7 @@ int run(const ConvertArgs& args) {
       progress.done(!args.quiet || results[i].status == "failed" ? file_summary(results[i], args.verbose) : "");
     }
   };
-  std::vector<std::thread> threads;
-  for (unsigned t = 0; t < std::min<size_t>(args.jobs, jobs.size()); ++t) threads.emplace_back(worker);
-  for (auto& thread : threads) thread.join();
+  run_on_threads(static_cast<std::int64_t>(std::min<std::size_t>(args.jobs, jobs.size())), worker);
 
   const auto failed =
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
@@ -211,7 +210,8 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
-  cmd->add_option("--jpeg-quality", args->jpeg_quality, "quality 1-100 of base colours baked from JPEG diffuse textures")
+  cmd->add_option("--jpeg-quality", args->jpeg_quality,
+                  "quality 1-100 of base colours baked from JPEG diffuse textures")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_option("--error-samples", args->error_samples,

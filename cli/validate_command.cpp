@@ -13,6 +13,7 @@
 #include "cli/validation_formats.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/parallel.hpp"
 #include "core/text.hpp"
 #include "validators/validate.hpp"
 
@@ -60,14 +61,9 @@ nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity
     failing += fails(report, fail_on);
     files.push_back(std::move(entry));
   }
-  return {{"files", reports.size()},
-          {"failing", failing},
-          {"failOn", severity_name(fail_on)},
-          {"numErrors", totals[0]},
-          {"numWarnings", totals[1]},
-          {"numInfos", totals[2]},
-          {"numHints", totals[3]},
-          {"reports", std::move(files)}};
+  return {{"files", reports.size()}, {"failing", failing},         {"failOn", severity_name(fail_on)},
+          {"numErrors", totals[0]},  {"numWarnings", totals[1]},   {"numInfos", totals[2]},
+          {"numHints", totals[3]},   {"reports", std::move(files)}};
 }
 
 int run(const ValidateArgs& args) {
@@ -95,7 +91,8 @@ int run(const ValidateArgs& args) {
   std::vector<fs::path> report_paths;
   if (report_folder) {
     // A folder: <input path>.report.json per file, as the reference names them, and summary.json.
-    for (const InputFile& file : files) report_paths.push_back(fs::path(args.output) / (file.relative.string() + ".report.json"));
+    for (const InputFile& file : files)
+      report_paths.push_back(fs::path(args.output) / (file.relative.string() + ".report.json"));
     refuse_shared_outputs(files, report_paths);
   }
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
@@ -106,20 +103,19 @@ int run(const ValidateArgs& args) {
     for (std::size_t i; (i = next++) < files.size();) {
       // Heat maps go under the input's own relative folder, so a/Box.gltf and b/Box.gltf keep theirs.
       ValidateOptions file_options = options;
-      if (!options.heatmaps_dir.empty()) file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
+      if (!options.heatmaps_dir.empty())
+        file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
       reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, file_options);
       const Report& report = reports[i];
       std::ostringstream line;
       if (!args.quiet || fails(report, fail_on))
         line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
-             << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information)
-             << " infos, " << report.count(Severity::Hint) << " hints\n";
+             << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
+             << report.count(Severity::Hint) << " hints\n";
       progress.done(line.str());
     }
   };
-  std::vector<std::thread> threads;
-  for (unsigned t = 0; t < std::min<std::size_t>(args.jobs, files.size()); ++t) threads.emplace_back(worker);
-  for (auto& thread : threads) thread.join();
+  run_on_threads(static_cast<std::int64_t>(std::min<std::size_t>(args.jobs, files.size())), worker);
 
   const nlohmann::ordered_json summary = summary_json(reports, fail_on);
   if (args.format == "sarif") {

@@ -328,9 +328,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (!asset.binary && extension == ".glb")  // glTF 2.0 section 4.4.2: a GLB starts with its magic
-    throw InputError(file, "byte 0", bytes->size() < 12 ? "not a GLB: " + std::to_string(bytes->size()) +
-                                                               " bytes, shorter than the 12-byte GLB header"
-                                                         : "not a GLB: the file does not start with the magic 'glTF'");
+    throw InputError(file, "byte 0",
+                     bytes->size() < 12
+                         ? "not a GLB: " + std::to_string(bytes->size()) + " bytes, shorter than the 12-byte GLB header"
+                         : "not a GLB: the file does not start with the magic 'glTF'");
 
   bool glb_has_bin = false;
   if (asset.binary) {

@@ -39,7 +39,8 @@ struct Band {
 Plane convolve(const Plane& in, int width, const Band& band, const Kernel& along_rows, const Kernel& along_columns) {
   const std::size_t w = static_cast<std::size_t>(width);
   Plane across(in.size()), out(band.own_rows() * w);
-  const int row_radius = static_cast<int>(along_rows.size() / 2), column_radius = static_cast<int>(along_columns.size() / 2);
+  const int row_radius = static_cast<int>(along_rows.size() / 2),
+            column_radius = static_cast<int>(along_columns.size() / 2);
   parallel_dynamic(static_cast<std::int64_t>(band.rows()), [&](std::int64_t y) {
     // The row with its edge values repeated `row_radius` times on each side.
     std::vector<float> padded(w + 2 * static_cast<std::size_t>(row_radius));
@@ -73,9 +74,9 @@ struct CsfTerm {
   double a, b;
 };
 const std::array<std::vector<CsfTerm>, 3> kCsf = {{
-    {{1.0, 0.0047}},                   // achromatic
-    {{1.0, 0.0053}},                   // red-green
-    {{34.1, 0.04}, {13.5, 0.025}},     // blue-yellow
+    {{1.0, 0.0047}},                // achromatic
+    {{1.0, 0.0053}},                // red-green
+    {{34.1, 0.04}, {13.5, 0.025}},  // blue-yellow
 }};
 
 // One channel's CSF filter, as normalised separable terms with their weights (the 2-D filter is
@@ -222,8 +223,7 @@ FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<st
   if (band_rows <= 0) band_rows = std::max(2 * halo, (1 << 20) / width);
 
   // Section 4.1: the largest colour error, green against blue, anchors the redistribution.
-  const double max_color_error =
-      std::pow(hyab(hunt_lab({0.0, 1.0, 0.0}), hunt_lab({0.0, 0.0, 1.0})), kColorExponent);
+  const double max_color_error = std::pow(hyab(hunt_lab({0.0, 1.0, 0.0}), hunt_lab({0.0, 0.0, 1.0})), kColorExponent);
   const double knee = kKneeInput * max_color_error;
   result.per_pixel.resize(count);
   const std::size_t w = static_cast<std::size_t>(width);
@@ -244,8 +244,9 @@ FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<st
           return hunt_lab(ycxcz_to_linear_srgb({p.filtered[0][i], p.filtered[1][i], p.filtered[2][i]}));
         };
         const double color = std::pow(hyab(filtered_lab(r), filtered_lab(t)), kColorExponent);
-        const double color_error = color < knee ? kKneeOutput / knee * color
-                                                : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
+        const double color_error = color < knee
+                                       ? kKneeOutput / knee * color
+                                       : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
         // Section 4.2: the larger of the edge and point differences, normalised by 1/sqrt(2).
         const double feature_difference =
             std::max(std::fabs(edges_t[i] - edges_r[i]), std::fabs(points_t[i] - points_r[i])) / std::sqrt(2.0);

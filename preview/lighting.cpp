@@ -100,8 +100,11 @@ LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camer
                    const LightingOptions& options, bool keep_radiance) {
   const GBuffer& a = gbuffers.after;
   const size_t count = a.depth.size();
-  LitPair out{std::vector<std::uint8_t>(count * 3), std::vector<std::uint8_t>(count * 3),
-              std::vector<std::uint8_t>(count), {}, {}};
+  LitPair out{std::vector<std::uint8_t>(count * 3),
+              std::vector<std::uint8_t>(count * 3),
+              std::vector<std::uint8_t>(count),
+              {},
+              {}};
   if (keep_radiance) {
     out.before_hdr = empty_image(gbuffers.before);
     out.after_hdr = empty_image(a);

@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/parallel.hpp"  // parallel_dynamic, which the passes use
 #include "preview/scene.hpp"
 #include "preview/texel_buffer.hpp"
 
@@ -66,19 +67,5 @@ struct RasterStats {
 
 VisibilityBuffer rasterize(const Scene& scene, const Camera& camera, int width, int height,
                            RasterStats* stats = nullptr);
-
-// Runs body(i) for i in [0, count) on every hardware thread, handing out indices one at a time
-// (tiles and rows differ in cost, so a static split would leave cores idle).
-template <typename Body>
-void parallel_dynamic(std::int64_t count, const Body& body) {
-  const std::int64_t threads = std::min<std::int64_t>(std::max(1u, std::thread::hardware_concurrency()), count);
-  std::atomic<std::int64_t> next{0};
-  auto work = [&] {
-    for (std::int64_t i; (i = next.fetch_add(1)) < count;) body(i);
-  };
-  std::vector<std::jthread> workers;
-  for (std::int64_t t = 1; t < threads; ++t) workers.emplace_back(work);
-  work();
-}
 
 }  // namespace gltf_pbr::preview

@@ -217,8 +217,9 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
   const double peak = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports KiB
   report["memory"] = {{"process_peak_rss_bytes", measured ? nlohmann::json(peak) : nlohmann::json(nullptr)},
                       {"gbuffers_bytes", gbuffer_bytes},
-                      {"note", "the process's peak so far (getrusage), not this preview's alone: under "
-                               "convert --preview it includes the conversions and other files"}};
+                      {"note",
+                       "the process's peak so far (getrusage), not this preview's alone: under "
+                       "convert --preview it includes the conversions and other files"}};
   report["difference"] = {
       {"delta_e_2000",
        {{"mean", r.metrics.delta_e_mean}, {"p95", r.metrics.delta_e_p95}, {"max", r.metrics.delta_e_max}}},

@@ -574,9 +574,8 @@ TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
 
 TEST(Messages, AShortDataUriBufferIsNamedByItsPointer) {
   ScratchDir scratch;
-  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) {
-    d["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA";
-  });
+  const fs::path gltf = edited_box(
+      scratch, [](nlohmann::json& d) { d["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA"; });
   try {
     (void)load_asset(gltf);
     FAIL() << "a 3-byte data URI standing for 648 bytes loaded";

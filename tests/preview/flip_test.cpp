@@ -1,11 +1,11 @@
 // LDR-FLIP (preview/flip.hpp): zero for identical images, the paper's colour metric alone on flat
 // images, and feature errors concentrated where an edge moved.
+#include "preview/flip.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "preview/flip.hpp"
 
 namespace gltf_pbr::preview {
 namespace {
