@@ -1,5 +1,6 @@
 #include "converter/bake.hpp"
 
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -49,9 +50,13 @@ class SolveCache {
     std::uint32_t key[6];
     std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
     std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
+    // Neighbouring texels repeat each other: the last entry answers without touching the table,
+    // which at a few MB does not stay in cache (the table look-up was half of the bake's time).
+    if (last_ && std::memcmp(last_->key, key, sizeof key) == 0) return *last_;
     std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
     for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
     Entry& entry = entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
+    last_ = &entry;
     if (entry.filled && std::memcmp(entry.key, key, sizeof key) == 0) return entry;
     const MetalRough r = gltf_pbr::solve(legacy, settings_);
     std::memcpy(entry.key, key, sizeof key);
@@ -83,6 +88,7 @@ class SolveCache {
  private:
   const SolverSettings& settings_;
   std::vector<Entry> entries_;
+  Entry* last_ = nullptr;
 };
 
 }  // namespace
@@ -99,43 +105,50 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
   std::vector<ErrorAccumulator> rows_extension_b(rows_extension_a.size());
 
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  parallel_for(0, threads, [&](std::int64_t thread) {
-    SolveCache cache(settings, texels / static_cast<size_t>(threads));
-    for (std::int64_t y = in.height * thread / threads, last = in.height * (thread + 1) / threads; y < last; ++y) {
-      for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width), end = i + static_cast<size_t>(in.width);
-           i < end; ++i) {
-        SpecGloss legacy;
-        float alpha = in.diffuse_factor.a;
-        legacy.diffuse = glm::vec3(in.diffuse_factor);
-        if (in.diffuse) {
-          for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
-          alpha *= channel(*in.diffuse, i, 3, false);
-        }
-        legacy.specular = in.specular_factor;
-        legacy.glossiness = in.glossiness_factor;
-        if (in.spec_gloss) {
-          for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
-          legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
-        }
-        SolveCache::Entry& solved = cache.solve(legacy);
-        std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
-        out.base_color[i * 4 + 3] = quantize(alpha);
-        out.metal_rough[i * 3 + 0] = 0;
-        out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
-        out.metal_rough[i * 3 + 2] = solved.metalness;
-        if (i % stride == 0) {
-          const float* delta_e = SolveCache::error(solved, legacy);
-          rows_a[static_cast<size_t>(y)].add(delta_e[0], delta_e[1]);
-          rows_b[static_cast<size_t>(y)].add(delta_e[2], delta_e[3]);
-          if (in.measure_extension_route) {
-            const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
-            rows_extension_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), route);
-            rows_extension_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), route);
+  // Bands of rows handed out one at a time: the distinct colours, and so the solves, gather in
+  // parts of a texture, and a static split left one core with most of them. Each thread keeps its
+  // cache across its bands (neighbouring rows share colours).
+  constexpr std::int64_t kBandRows = 16;
+  const std::int64_t bands = (in.height + kBandRows - 1) / kBandRows;
+  const std::int64_t threads = std::min(hardware_threads(), bands);
+  std::atomic<std::int64_t> next_band{0};
+  run_on_threads(threads, [&] {
+    SolveCache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
+    for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;)
+      for (std::int64_t y = band * kBandRows, last = std::min<std::int64_t>(in.height, y + kBandRows); y < last; ++y) {
+        for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width), end = i + static_cast<size_t>(in.width);
+             i < end; ++i) {
+          SpecGloss legacy;
+          float alpha = in.diffuse_factor.a;
+          legacy.diffuse = glm::vec3(in.diffuse_factor);
+          if (in.diffuse) {
+            for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
+            alpha *= channel(*in.diffuse, i, 3, false);
+          }
+          legacy.specular = in.specular_factor;
+          legacy.glossiness = in.glossiness_factor;
+          if (in.spec_gloss) {
+            for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
+            legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
+          }
+          SolveCache::Entry& solved = cache.solve(legacy);
+          std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
+          out.base_color[i * 4 + 3] = quantize(alpha);
+          out.metal_rough[i * 3 + 0] = 0;
+          out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
+          out.metal_rough[i * 3 + 2] = solved.metalness;
+          if (i % stride == 0) {
+            const float* delta_e = SolveCache::error(solved, legacy);
+            rows_a[static_cast<size_t>(y)].add(delta_e[0], delta_e[1]);
+            rows_b[static_cast<size_t>(y)].add(delta_e[2], delta_e[3]);
+            if (in.measure_extension_route) {
+              const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
+              rows_extension_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), route);
+              rows_extension_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), route);
+            }
           }
         }
       }
-    }
   });
   for (size_t y = 0; y < rows_a.size(); ++y) {
     out.error_a.merge(rows_a[y]);

@@ -4,8 +4,10 @@
 #include <spng.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "core/codecs.hpp"
 
@@ -86,23 +88,123 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
   return pixels;
 }
 
+namespace {
+
+// What a set of 8-bit texels needs (PNG spec 11.2.2): whether every texel is grey (R = G = B),
+// whether the alpha channel is all 255, and the distinct colours when there are at most 256.
+struct ColourUse {
+  bool grey = true, opaque = true;
+  std::vector<std::uint32_t> palette;  // RGBA packed; empty when more than 256 colours occur
+};
+
+ColourUse colour_use(std::span<const std::uint8_t> texels, int channels) {
+  ColourUse use;
+  const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
+  // Open addressing over 1024 slots holds 256 colours with few collisions; 0 marks an empty slot,
+  // so each colour is stored with a low bit set above its 32 bits.
+  std::vector<std::uint64_t> slots(1024, 0);
+  bool few = true;
+  const std::size_t count = texels.size() / static_cast<std::size_t>(channels);
+  for (std::size_t i = 0; i < count && (few || use.grey || use.opaque); ++i) {
+    const std::uint8_t* t = &texels[i * static_cast<std::size_t>(channels)];
+    const std::uint8_t r = t[0], g = colour ? t[1] : r, b = colour ? t[2] : r, a = alpha ? t[channels - 1] : 255;
+    use.grey = use.grey && r == g && g == b;
+    use.opaque = use.opaque && a == 255;
+    if (!few) continue;
+    const std::uint32_t rgba = static_cast<std::uint32_t>(r) | static_cast<std::uint32_t>(g) << 8 |
+                               static_cast<std::uint32_t>(b) << 16 | static_cast<std::uint32_t>(a) << 24;
+    const std::uint64_t key = (static_cast<std::uint64_t>(rgba) << 1) | 1;
+    for (std::size_t slot = (rgba * 2654435761u) >> 22;; slot = (slot + 1) & 1023) {
+      if (slots[slot] == key) break;
+      if (slots[slot] == 0) {
+        slots[slot] = key;
+        use.palette.push_back(rgba);
+        few = use.palette.size() <= 256;
+        break;
+      }
+    }
+  }
+  if (!few) use.palette.clear();
+  return use;
+}
+
+}  // namespace
+
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
+  if (channels < 1 || channels > 4) throw std::runtime_error("PNG encoder: " + std::to_string(channels) + " channels");
   Context ctx(spng_ctx_new(SPNG_CTX_ENCODER), &spng_ctx_free);
   if (!ctx) throw std::bad_alloc();
   check(spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1), "PNG encoder");
   check(spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, compression_level), "PNG encoder");
   check(spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_STRATEGY, Z_RLE), "PNG encoder");
-  check(spng_set_option(ctx.get(), SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_SUB), "PNG encoder");
-  static constexpr std::uint8_t kColourType[] = {SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_TYPE_GRAYSCALE_ALPHA,
-                                                 SPNG_COLOR_TYPE_TRUECOLOR, SPNG_COLOR_TYPE_TRUECOLOR_ALPHA};
-  if (channels < 1 || channels > 4) throw std::runtime_error("PNG encoder: " + std::to_string(channels) + " channels");
+
+  // The smallest lossless form, one byte a texel where it can be: grey when R = G = B and no alpha
+  // is needed, else a palette (with tRNS for alpha) when at most 256 colours occur, else grey with
+  // alpha, else the channels as given. An opaque alpha channel is left out (it reads back as 1).
+  // Baked maps of a few colours (BoxTexturedNonPowerOfTwo's) shrink to a fraction.
+  const ColourUse use = colour_use(texels, channels);
+  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
+  const bool keep_alpha = alpha && !use.opaque;
+  std::vector<std::uint8_t> converted;
+  auto gather = [&](int out_channels, auto&& write) {
+    converted.resize(count * static_cast<std::size_t>(out_channels));
+    for (std::size_t i = 0; i < count; ++i)
+      write(&texels[i * static_cast<std::size_t>(channels)], &converted[i * static_cast<std::size_t>(out_channels)]);
+  };
   spng_ihdr header{};
   header.width = static_cast<std::uint32_t>(width);
   header.height = static_cast<std::uint32_t>(height);
   header.bit_depth = 8;
-  header.color_type = kColourType[channels - 1];
-  check(spng_set_ihdr(ctx.get(), &header), "PNG encoder");
-  check(spng_encode_image(ctx.get(), texels.data(), texels.size(), SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE), "PNG encoder");
+  std::span<const std::uint8_t> image = texels;
+  spng_plte plte{};
+  spng_trns trns{};
+  if (use.grey && !keep_alpha) {
+    header.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
+    if (channels != 1) gather(1, [](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0]; });
+  } else if (!use.palette.empty() && (colour || keep_alpha)) {
+    header.color_type = SPNG_COLOR_TYPE_INDEXED;
+    plte.n_entries = static_cast<std::uint32_t>(use.palette.size());
+    std::vector<std::pair<std::uint32_t, std::uint8_t>> sorted;
+    for (std::size_t k = 0; k < use.palette.size(); ++k) {
+      const std::uint32_t rgba = use.palette[k];
+      plte.entries[k] = {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
+                         static_cast<std::uint8_t>(rgba >> 16), 0};
+      trns.type3_alpha[k] = static_cast<std::uint8_t>(rgba >> 24);
+      sorted.emplace_back(rgba, static_cast<std::uint8_t>(k));
+    }
+    std::sort(sorted.begin(), sorted.end());
+    gather(1, [&](const std::uint8_t* in, std::uint8_t* out) {
+      const std::uint8_t r = in[0], g = colour ? in[1] : r, b = colour ? in[2] : r, a = alpha ? in[channels - 1] : 255;
+      const std::uint32_t rgba = static_cast<std::uint32_t>(r) | static_cast<std::uint32_t>(g) << 8 |
+                                 static_cast<std::uint32_t>(b) << 16 | static_cast<std::uint32_t>(a) << 24;
+      out[0] = std::lower_bound(sorted.begin(), sorted.end(), std::pair<std::uint32_t, std::uint8_t>(rgba, 0))->second;
+    });
+    if (keep_alpha) trns.n_type3_entries = plte.n_entries;
+  } else if (use.grey) {
+    header.color_type = SPNG_COLOR_TYPE_GRAYSCALE_ALPHA;
+    if (channels != 2)
+      gather(2, [&](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0], out[1] = in[channels - 1]; });
+  } else if (alpha && !keep_alpha) {
+    header.color_type = SPNG_COLOR_TYPE_TRUECOLOR;  // colour: the grey cases are above
+    gather(3, [](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0], out[1] = in[1], out[2] = in[2]; });
+  } else {
+    static constexpr std::uint8_t kColourType[] = {SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_TYPE_GRAYSCALE_ALPHA,
+                                                   SPNG_COLOR_TYPE_TRUECOLOR, SPNG_COLOR_TYPE_TRUECOLOR_ALPHA};
+    header.color_type = kColourType[channels - 1];
+  }
+  if (!converted.empty()) image = converted;
+  // PNG spec 12.8: palette images compress best unfiltered; the others with the sub filter.
+  check(
+      spng_set_option(ctx.get(), SPNG_FILTER_CHOICE,
+                      header.color_type == SPNG_COLOR_TYPE_INDEXED ? SPNG_FILTER_CHOICE_NONE : SPNG_FILTER_CHOICE_SUB),
+      "PNG encoder");
+  check(spng_set_ihdr(ctx.get(), &header), "PNG encoder");  // before PLTE and tRNS, as in the file
+  if (header.color_type == SPNG_COLOR_TYPE_INDEXED) {
+    check(spng_set_plte(ctx.get(), &plte), "PNG encoder");
+    if (trns.n_type3_entries > 0) check(spng_set_trns(ctx.get(), &trns), "PNG encoder");
+  }
+  check(spng_encode_image(ctx.get(), image.data(), image.size(), SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE), "PNG encoder");
   std::size_t size = 0;
   int status = 0;
   std::unique_ptr<void, decltype(&std::free)> buffer(spng_get_png_buffer(ctx.get(), &size, &status), &std::free);

@@ -7,10 +7,12 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <thread>
 
@@ -150,16 +152,73 @@ TEST(CorruptImages, ConvertRefusesToBakeATruncatedJpegAndValidateReportsIt) {
   EXPECT_NE(validated.out.find("IMAGE_UNDECODABLE"), std::string::npos) << validated.out;
 }
 
+// Texel i as RGBA, as every reader expands it (grey repeats, a missing alpha is opaque).
+std::array<std::uint8_t, 4> rgba_at(const std::vector<std::uint8_t>& texels, int channels, std::size_t i) {
+  const std::uint8_t* t = &texels[i * static_cast<std::size_t>(channels)];
+  const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
+  return {t[0], colour ? t[1] : t[0], colour ? t[2] : t[0], alpha ? t[channels - 1] : std::uint8_t{255}};
+}
+
 TEST(LeanCodecs, EveryChannelCountRoundTripsThroughPngExactly) {
+  // The encoder may store fewer channels (a palette, grey); every texel reads back the same.
   for (int channels = 1; channels <= 4; ++channels) {
     std::vector<std::uint8_t> texels(static_cast<std::size_t>(37 * 11 * channels));
     for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>((i * 97 + 13) % 256);
     const Pixels decoded = decode_image(encode_png(texels, 37, 11, channels, 3), "round trip");
-    EXPECT_EQ(decoded.channels, channels);
     EXPECT_EQ(decoded.width, 37);
     EXPECT_EQ(decoded.height, 11);
-    EXPECT_EQ(decoded.bytes, texels) << channels << " channels";
+    for (std::size_t i = 0; i < 37 * 11; ++i)
+      ASSERT_EQ(rgba_at(decoded.bytes, decoded.channels, i), rgba_at(texels, channels, i)) << channels << " channels";
   }
+}
+
+TEST(LeanCodecs, PngTakesTheSmallestLosslessFormAndReadsBackTheSameColours) {
+  std::mt19937 random(5);
+  constexpr int kWidth = 23, kHeight = 19;
+  constexpr std::size_t kCount = kWidth * kHeight;
+  enum : std::uint8_t { kGrey = 0, kRgb = 2, kIndexed = 3, kGreyAlpha = 4, kRgba = 6 };
+  for (int channels = 1; channels <= 4; ++channels)
+    for (int colours : {1, 2, 17, 256, 400})
+      for (bool grey : {false, true})
+        for (bool opaque : {false, true}) {
+          const bool has_alpha = channels == 2 || channels == 4;
+          if ((channels < 3 && !grey) || (!has_alpha && !opaque)) continue;
+          std::vector<std::array<std::uint8_t, 4>> palette;
+          for (int k = 0; k < colours; ++k) {
+            const auto v = [&] { return static_cast<std::uint8_t>(random()); };
+            const std::uint8_t r = v();
+            palette.push_back({r, grey ? r : v(), grey ? r : v(), opaque ? std::uint8_t{255} : v()});
+          }
+          std::vector<std::uint8_t> texels;
+          for (std::size_t i = 0; i < kCount; ++i) {
+            const auto& c = palette[i < palette.size() ? i : random() % palette.size()];
+            if (channels >= 3)
+              texels.insert(texels.end(), {c[0], c[1], c[2]});
+            else
+              texels.push_back(c[0]);
+            if (has_alpha) texels.push_back(c[3]);
+          }
+          const Bytes png = encode_png(texels, kWidth, kHeight, channels, 3);
+          const Pixels decoded = decode_image(png, "round trip");
+          const std::string what = std::to_string(channels) + " channels, " + std::to_string(colours) + " colours" +
+                                   (grey ? ", grey" : "") + (opaque ? ", opaque" : "");
+          ASSERT_EQ(decoded.width * decoded.height, static_cast<int>(kCount)) << what;
+          for (std::size_t i = 0; i < kCount; ++i)
+            ASSERT_EQ(rgba_at(decoded.bytes, decoded.channels, i), rgba_at(texels, channels, i))
+                << what << ", texel " << i;
+          // IHDR's colour type (PNG spec 11.2.2) sits at byte 25.
+          const std::uint8_t type = png[25];
+          const int distinct = std::min<int>(colours, static_cast<int>(kCount));
+          const bool alpha_needed = has_alpha && !opaque;
+          if (grey && !alpha_needed)
+            EXPECT_EQ(type, kGrey) << what;
+          else if (distinct <= 256)
+            EXPECT_EQ(type, kIndexed) << what;
+          else if (grey)
+            EXPECT_EQ(type, kGreyAlpha) << what;
+          else
+            EXPECT_EQ(type, alpha_needed ? kRgba : kRgb) << what;
+        }
 }
 
 TEST(LeanCodecs, JpegRoundTripStaysCloseAtHighQuality) {

@@ -54,14 +54,15 @@ TEST(TextureChecks, ConstantImageCouldBeAFactorAndEmptyUsedChannelsAreNamed) {
   for (int i = 0; i < 64; ++i) orm.insert(orm.end(), {static_cast<std::uint8_t>(i * 4), 0, 0});
   auto& material = builder.metal_rough(glm::vec4(1.0f), 1.0, 1.0);
   material.pbrMetallicRoughness.metallicRoughnessTexture.index = builder.add_png(8, 8, 3, orm);
-  material.pbrMetallicRoughness.baseColorTexture.index =
-      builder.add_png(4, 4, 3, std::vector<std::uint8_t>(48, 200));  // constant
+  std::vector<std::uint8_t> constant_rgb;
+  for (int i = 0; i < 16; ++i) constant_rgb.insert(constant_rgb.end(), {200, 120, 40});
+  material.pbrMetallicRoughness.baseColorTexture.index = builder.add_png(4, 4, 3, constant_rgb);
   const Report report = texture_checks(builder.asset());
 
   const auto constant = issues_with(report, "IMAGE_CONSTANT");
   ASSERT_EQ(constant.size(), 1u) << describe(report.messages);
   EXPECT_EQ(constant[0].pointer, "/images/1");
-  EXPECT_NE(constant[0].message.find("(200, 200, 200)"), std::string::npos) << constant[0].message;
+  EXPECT_NE(constant[0].message.find("(200, 120, 40)"), std::string::npos) << constant[0].message;
 
   const auto empty = issues_with(report, "IMAGE_CHANNEL_EMPTY");
   ASSERT_EQ(empty.size(), 2u) << describe(report.messages);
