@@ -50,13 +50,9 @@ class SolveCache {
     std::uint32_t key[6];
     std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
     std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
-    // Neighbouring texels repeat each other: the last entry answers without touching the table,
-    // which at a few MB does not stay in cache (the table look-up was half of the bake's time).
-    if (last_ && std::memcmp(last_->key, key, sizeof key) == 0) return *last_;
     std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
     for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
     Entry& entry = entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
-    last_ = &entry;
     if (entry.filled && std::memcmp(entry.key, key, sizeof key) == 0) return entry;
     const MetalRough r = gltf_pbr::solve(legacy, settings_);
     std::memcpy(entry.key, key, sizeof key);
@@ -88,7 +84,6 @@ class SolveCache {
  private:
   const SolverSettings& settings_;
   std::vector<Entry> entries_;
-  Entry* last_ = nullptr;
 };
 
 }  // namespace
