@@ -70,12 +70,16 @@ class SolveCache {
       for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(entry.base_srgb[c]);
       stored.metalness = static_cast<float>(entry.metalness) / 255.0f;
       const Reflectance converted = core_reflectance(stored);
-      ErrorAccumulator a, b;
-      a.add(legacy_reflectance(legacy, LegacyReading::A), converted);
-      b.add(legacy_reflectance(legacy, LegacyReading::B), converted);
-      const ReflectanceError ea = a.finish(), eb = b.finish();
-      entry.delta_e[0] = static_cast<float>(ea.diffuse.max), entry.delta_e[1] = static_cast<float>(ea.f0.max);
-      entry.delta_e[2] = static_cast<float>(eb.diffuse.max), entry.delta_e[3] = static_cast<float>(eb.f0.max);
+      const Reflectance a = legacy_reflectance(legacy, LegacyReading::A),
+                        b = legacy_reflectance(legacy, LegacyReading::B);
+      // Each colour's Lab once: the converted pair serves both readings, and so does F0, which is
+      // the specular colour under either.
+      auto lab = [](glm::vec3 linear) { return linear_srgb_to_lab(glm::dvec3(linear)); };
+      const glm::dvec3 diffuse = lab(converted.diffuse), f0 = lab(converted.f0);
+      entry.delta_e[0] = static_cast<float>(delta_e_2000(lab(a.diffuse), diffuse));
+      entry.delta_e[1] = static_cast<float>(delta_e_2000(lab(a.f0), f0));
+      entry.delta_e[2] = static_cast<float>(delta_e_2000(lab(b.diffuse), diffuse));
+      entry.delta_e[3] = b.f0 == a.f0 ? entry.delta_e[1] : static_cast<float>(delta_e_2000(lab(b.f0), f0));
       entry.has_error = true;
     }
     return entry.delta_e;

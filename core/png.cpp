@@ -1,6 +1,6 @@
-// PNG through libspng: decode with the tRNS chunk as alpha (as OpenImageIO did), and encode with the
-// sub filter and zlib's run-length strategy, which DESIGN.md measured at a third of OpenImageIO's
-// encode time for smaller files on baked maps.
+// PNG through libspng: decode with the tRNS chunk as alpha (as OpenImageIO did), and encode in the
+// smallest lossless colour type with the sub filter and zlib's run-length strategy, which DESIGN.md
+// measured at a third of OpenImageIO's encode time for smaller files on baked maps.
 #include <spng.h>
 #include <zlib.h>
 
@@ -90,6 +90,14 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
 
 namespace {
 
+// Texel t of `channels` 8-bit channels as RGBA packed little-end first: grey repeats, a missing
+// alpha is opaque (how PNG readers expand it).
+std::uint32_t packed_rgba(const std::uint8_t* t, int channels) {
+  const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
+  const std::uint32_t r = t[0], g = colour ? t[1] : r, b = colour ? t[2] : r, a = alpha ? t[channels - 1] : 255;
+  return r | g << 8 | b << 16 | a << 24;
+}
+
 // What a set of 8-bit texels needs (PNG spec 11.2.2): whether every texel is grey (R = G = B),
 // whether the alpha channel is all 255, and the distinct colours when there are at most 256.
 struct ColourUse {
@@ -99,20 +107,17 @@ struct ColourUse {
 
 ColourUse colour_use(std::span<const std::uint8_t> texels, int channels) {
   ColourUse use;
-  const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
-  // Open addressing over 1024 slots holds 256 colours with few collisions; 0 marks an empty slot,
-  // so each colour is stored with a low bit set above its 32 bits.
+  // Open addressing over 1024 slots holds 256 colours with few collisions. A slot holds its
+  // colour shifted up by one with the low bit set, so that 0 can mark it empty.
   std::vector<std::uint64_t> slots(1024, 0);
   bool few = true;
   const std::size_t count = texels.size() / static_cast<std::size_t>(channels);
   for (std::size_t i = 0; i < count && (few || use.grey || use.opaque); ++i) {
-    const std::uint8_t* t = &texels[i * static_cast<std::size_t>(channels)];
-    const std::uint8_t r = t[0], g = colour ? t[1] : r, b = colour ? t[2] : r, a = alpha ? t[channels - 1] : 255;
+    const std::uint32_t rgba = packed_rgba(&texels[i * static_cast<std::size_t>(channels)], channels);
+    const std::uint32_t r = rgba & 0xFF, g = rgba >> 8 & 0xFF, b = rgba >> 16 & 0xFF;
     use.grey = use.grey && r == g && g == b;
-    use.opaque = use.opaque && a == 255;
+    use.opaque = use.opaque && rgba >> 24 == 0xFF;
     if (!few) continue;
-    const std::uint32_t rgba = static_cast<std::uint32_t>(r) | static_cast<std::uint32_t>(g) << 8 |
-                               static_cast<std::uint32_t>(b) << 16 | static_cast<std::uint32_t>(a) << 24;
     const std::uint64_t key = (static_cast<std::uint64_t>(rgba) << 1) | 1;
     for (std::size_t slot = (rgba * 2654435761u) >> 22;; slot = (slot + 1) & 1023) {
       if (slots[slot] == key) break;
@@ -175,10 +180,8 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
     }
     std::sort(sorted.begin(), sorted.end());
     gather(1, [&](const std::uint8_t* in, std::uint8_t* out) {
-      const std::uint8_t r = in[0], g = colour ? in[1] : r, b = colour ? in[2] : r, a = alpha ? in[channels - 1] : 255;
-      const std::uint32_t rgba = static_cast<std::uint32_t>(r) | static_cast<std::uint32_t>(g) << 8 |
-                                 static_cast<std::uint32_t>(b) << 16 | static_cast<std::uint32_t>(a) << 24;
-      out[0] = std::lower_bound(sorted.begin(), sorted.end(), std::pair<std::uint32_t, std::uint8_t>(rgba, 0))->second;
+      const std::pair<std::uint32_t, std::uint8_t> colour_at(packed_rgba(in, channels), 0);
+      out[0] = std::lower_bound(sorted.begin(), sorted.end(), colour_at)->second;
     });
     if (keep_alpha) trns.n_type3_entries = plte.n_entries;
   } else if (use.grey) {
