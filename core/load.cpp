@@ -204,15 +204,22 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
         size = fs::file_size(resolved.path, error);
         if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
       }
-      // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf says so
-      // without a pointer ("File size mismatch"); a wrong-typed byteLength is tinygltf's to refuse.
+      // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf 2.7
+      // reads a buffer only when it holds exactly byteLength, and says so without a pointer ("File
+      // size mismatch"): both cases are named here. Longer data is valid glTF that we cannot load
+      // yet. A wrong-typed byteLength is tinygltf's to refuse.
       const auto length = entry.find("byteLength");
       if (std::strcmp(collection, "buffers") == 0 && length != entry.end() && length->is_number_unsigned() &&
-          size < length->get<std::uintmax_t>())
+          size != length->get<std::uintmax_t>()) {
+        const std::uintmax_t declared = length->get<std::uintmax_t>();
+        const std::string data = is_data_uri(text) ? std::string("the data URI") : "the file " + text;
         throw InputError(file, where + "/byteLength",
-                         "byteLength is " + std::to_string(length->get<std::uintmax_t>()) + " but " +
-                             (is_data_uri(text) ? std::string("the data URI") : "the file " + text) + " holds " +
-                             std::to_string(size) + " bytes");
+                         "byteLength is " + std::to_string(declared) + " but " + data + " holds " +
+                             std::to_string(size) + " bytes" +
+                             (size > declared ? " (valid glTF, but the document library reads a buffer only "
+                                                "when the two are equal)"
+                                              : ""));
+      }
     }
   }
   return root;

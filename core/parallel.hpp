@@ -33,6 +33,7 @@ void run_on_threads(std::int64_t threads, const Worker& worker) {
   };
   {
     std::vector<std::jthread> workers;
+    workers.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, threads - 1)));
     for (std::int64_t t = 1; t < threads; ++t) {
       try {
         workers.emplace_back(guarded);
@@ -55,9 +56,18 @@ void parallel_for(std::int64_t begin, std::int64_t end, const Body& body) {
     return;
   }
   std::atomic<std::int64_t> next_chunk{0};
+  std::atomic<bool> failed{false};  // once one index throws, the others stop at their next index
   run_on_threads(chunks, [&] {
     for (std::int64_t t; (t = next_chunk.fetch_add(1)) < chunks;)
-      for (std::int64_t i = begin + count * t / chunks, stop = begin + count * (t + 1) / chunks; i < stop; ++i) body(i);
+      for (std::int64_t i = begin + count * t / chunks, stop = begin + count * (t + 1) / chunks;
+           i < stop && !failed.load(std::memory_order_relaxed); ++i) {
+        try {
+          body(i);
+        } catch (...) {
+          failed = true;
+          throw;
+        }
+      }
   });
 }
 
@@ -67,7 +77,14 @@ template <typename Body>  // Body: void(std::int64_t index)
 void parallel_dynamic(std::int64_t count, const Body& body) {
   std::atomic<std::int64_t> next{0};
   run_on_threads(std::min(hardware_threads(), count), [&] {
-    for (std::int64_t i; (i = next.fetch_add(1)) < count;) body(i);
+    for (std::int64_t i; (i = next.fetch_add(1)) < count;) {
+      try {
+        body(i);
+      } catch (...) {
+        next = count;  // the others take no further index
+        throw;
+      }
+    }
   });
 }
 

@@ -137,6 +137,11 @@ ColourUse colour_use(std::span<const std::uint8_t> texels, int channels) {
 
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
   if (channels < 1 || channels > 4) throw std::runtime_error("PNG encoder: " + std::to_string(channels) + " channels");
+  if (width < 1 || height < 1 ||
+      texels.size() !=
+          static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels))
+    throw std::runtime_error("PNG encoder: " + std::to_string(texels.size()) + " bytes for " + std::to_string(width) +
+                             "x" + std::to_string(height) + "x" + std::to_string(channels));
   Context ctx(spng_ctx_new(SPNG_CTX_ENCODER), &spng_ctx_free);
   if (!ctx) throw std::bad_alloc();
   check(spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1), "PNG encoder");

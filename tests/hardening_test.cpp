@@ -221,6 +221,19 @@ TEST(LeanCodecs, PngTakesTheSmallestLosslessFormAndReadsBackTheSameColours) {
         }
 }
 
+TEST(LeanCodecs, APaletteHoldsAtMost256Colours) {
+  for (int colours : {256, 257}) {
+    std::vector<std::uint8_t> texels;
+    for (int k = 0; k < 20 * 20; ++k) {
+      const int c = k % colours;  // distinct for c < 512: (c mod 256, c / 256, 7)
+      texels.insert(texels.end(), {static_cast<std::uint8_t>(c & 255), static_cast<std::uint8_t>(c >> 8), 7});
+    }
+    const Bytes png = encode_png(texels, 20, 20, 3, 3);
+    EXPECT_EQ(png[25], colours == 256 ? 3 : 2) << colours << " colours";  // IHDR colour type
+    EXPECT_EQ(decode_image(png, "palette").bytes, texels) << colours << " colours";
+  }
+}
+
 TEST(LeanCodecs, JpegRoundTripStaysCloseAtHighQuality) {
   std::vector<std::uint8_t> texels(64 * 64 * 3);
   for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>(64 + (i / 3 % 64) * 2);
@@ -629,6 +642,20 @@ TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
   // Ours, with the pointer, not tinygltf's "File size mismatch".
   EXPECT_NE(first_line.find("/buffers/0/byteLength"), std::string::npos) << r.err;
   EXPECT_NE(first_line.find("byteLength is 100000 but the file Box0.bin holds 648 bytes"), std::string::npos) << r.err;
+}
+
+TEST(Messages, ABufferFileLongerThanItsByteLengthIsNamedByItsPointer) {
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) { d["buffers"][0]["byteLength"] = 600; });
+  try {
+    (void)load_asset(gltf);
+    FAIL() << "tinygltf would have refused it without a pointer";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.pointer, "/buffers/0/byteLength");
+    EXPECT_NE(error.reason.find("byteLength is 600 but the file Box0.bin holds 648 bytes (valid glTF"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(Messages, AShortDataUriBufferIsNamedByItsPointer) {

@@ -72,6 +72,22 @@ TEST(TextureChecks, ConstantImageCouldBeAFactorAndEmptyUsedChannelsAreNamed) {
   EXPECT_NE(empty[0].message.find("while R has content"), std::string::npos) << empty[0].message;
 }
 
+TEST(TextureChecks, GreyImagesAreCheckedAsTheRgbTheyAreSampledAs) {
+  // glTF samples a grey PNG as R = G = B: a black grey metallicRoughness map has empty G and B, and
+  // a mid-grey normal map decodes to (0.004, 0.004, 0.004), far from unit length.
+  AssetBuilder builder;
+  auto& material = builder.metal_rough(glm::vec4(1.0f), 1.0, 1.0);
+  material.pbrMetallicRoughness.metallicRoughnessTexture.index =
+      builder.add_png(8, 8, 1, std::vector<std::uint8_t>(64, 0));
+  material.normalTexture.index = builder.add_png(8, 8, 1, std::vector<std::uint8_t>(64, 128));
+  const Report report = texture_checks(builder.asset());
+  const auto empty = issues_with(report, "IMAGE_CHANNEL_EMPTY");
+  ASSERT_EQ(empty.size(), 2u) << describe(report.messages);
+  EXPECT_NE(empty[0].message.find("G (roughness)"), std::string::npos);
+  EXPECT_NE(empty[1].message.find("B (metalness)"), std::string::npos);
+  EXPECT_EQ(issues_with(report, "IMAGE_NORMAL_NOT_UNIT").size(), 1u) << describe(report.messages);
+}
+
 TEST(TextureChecks, SmoothImageIsLargerThanNeededAndNoiseIsNot) {
   AssetBuilder builder;
   std::vector<std::uint8_t> smooth, noise;

@@ -30,7 +30,8 @@ bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 // glTF 2.0 spec 3.9.3: a normal texel t decodes to n = 2t - 1, a tangent-space unit vector with z > 0.
 void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& rules, Report& report) {
-  if (p.channels < 3) return;  // not an RGB normal map; nothing to decode
+  // A grey image reads as R = G = B (PNG colour expansion): a normal map of (2g-1, 2g-1, 2g-1).
+  const int green = p.channels >= 3 ? 1 : 0, blue = p.channels >= 3 ? 2 : 0;
   const bool check_length = rules.enabled("IMAGE_NORMAL_NOT_UNIT");
   const bool check_z = rules.enabled("IMAGE_NORMAL_BACK_FACING");
   const float max_length_error =
@@ -39,7 +40,7 @@ void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& 
   float worst_length = 1.0f, lowest_z = 1.0f;
   for (int y = 0; y < p.height; ++y)
     for (int x = 0; x < p.width; ++x) {
-      const glm::vec3 n(2.0f * p.at(x, y, 0) - 1.0f, 2.0f * p.at(x, y, 1) - 1.0f, 2.0f * p.at(x, y, 2) - 1.0f);
+      const glm::vec3 n(2.0f * p.at(x, y, 0) - 1.0f, 2.0f * p.at(x, y, green) - 1.0f, 2.0f * p.at(x, y, blue) - 1.0f);
       const float length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
       if (std::abs(length - 1.0f) > max_length_error) {
         ++not_unit;
@@ -76,6 +77,17 @@ ChannelRange channel_range(const Pixels& p) {
     const float v = p.value(i) * 255.0f;
     r.low[c] = std::min(r.low[c], v);
     r.high[c] = std::max(r.high[c], v);
+  }
+  return r;
+}
+
+// The range as RGBA, as glTF samples the image: grey repeats into G and B, grey's alpha is A.
+ChannelRange rgba_range(const Pixels& p) {
+  ChannelRange r = channel_range(p);
+  if (p.channels < 3) {
+    if (p.channels == 2) r.low[3] = r.low[1], r.high[3] = r.high[1];
+    r.low[1] = r.low[2] = r.low[0];
+    r.high[1] = r.high[2] = r.high[0];
   }
   return r;
 }
@@ -160,13 +172,14 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
     const float max_value = static_cast<float>(rules.at("IMAGE_CHANNEL_EMPTY").threshold("max_value_8bit"));
     for (const auto& [image, where] : metal_rough_maps) {
       const Pixels* p = images.get(image, rules, report);
-      if (!p || p->channels < 3) continue;
-      const ChannelRange range = channel_range(*p);
+      if (!p) continue;
+      const ChannelRange range = rgba_range(*p);
       // glTF 2.0 3.9.2: G roughness, B metalness. R (occlusion in ORM packing) or A with content
       // beside an empty used channel points to a packing for another layout.
       std::string elsewhere;
       if (range.high[0] > max_value) elsewhere = "R";
-      if (p->channels == 4 && range.high[3] < 255.0f - max_value) elsewhere += elsewhere.empty() ? "A" : " and A";
+      if ((p->channels == 2 || p->channels == 4) && range.high[3] < 255.0f - max_value)
+        elsewhere += elsewhere.empty() ? "A" : " and A";
       const std::string hint =
           elsewhere.empty() ? "" : " while " + elsewhere + " has content (packed for another layout?)";
       if (range.high[1] <= max_value) add_issue(rules, "IMAGE_CHANNEL_EMPTY", {"G (roughness)", hint}, where, report);
