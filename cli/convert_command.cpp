@@ -205,7 +205,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
-  cmd->add_option("-j,--jobs", args->jobs, "files converted in parallel (default: all cores)")
+  cmd->add_option("-j,--jobs", args->jobs, "files converted at once, at most one per core: files and the work inside them share one pool of threads (default: all cores)")
       ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))

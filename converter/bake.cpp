@@ -109,7 +109,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // cache across its bands (neighbouring rows share colours).
   constexpr std::int64_t kBandRows = 16;
   const std::int64_t bands = (in.height + kBandRows - 1) / kBandRows;
-  const std::int64_t threads = std::min(hardware_threads(), bands);
+  const std::int64_t threads = std::min(ThreadPool::shared().threads(), bands);
   std::atomic<std::int64_t> next_band{0};
   run_on_threads(threads, [&] {
     SolveCache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));

@@ -15,6 +15,7 @@
 #include "core/color.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/parallel.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -85,8 +86,8 @@ class Converter {
     BakedTexels texels;
     ReflectanceError error_a, error_b;
     ReflectanceError extension_a, extension_b;  // the KHR_materials_specular route's (target specular)
-    MetalRough factor_solution;  // full precision, for factor-only materials
-    bool reuse_diffuse = false;  // baseColor texels equal the diffuse image's: keep its bytes
+    MetalRough factor_solution;                 // full precision, for factor-only materials
+    bool reuse_diffuse = false;                 // baseColor texels equal the diffuse image's: keep its bytes
     int base_color_image = -1, metal_rough_image = -1;
   };
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
@@ -235,9 +236,8 @@ class Converter {
       auto start = Clock::now();
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
-      auto pending_spec = std::async(std::launch::async, [&] { return spec_image >= 0 ? decode(spec_image) : nullptr; });
-      if (diffuse_image >= 0 && !roughness_only) diffuse = decode(diffuse_image);
-      spec_gloss = pending_spec.get();
+      parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },
+                      [&] { diffuse = diffuse_image >= 0 && !roughness_only ? decode(diffuse_image) : nullptr; });
       inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
       inputs.height = std::max(diffuse ? diffuse->height : 1, spec_gloss ? spec_gloss->height : 1);
       // The bake takes the larger of each dimension: 16384x1 beside 1x16384 would be 16384².
@@ -267,27 +267,32 @@ class Converter {
       start = Clock::now();
       const BakedTexels& t = bake.texels;
       // The two textures encode concurrently; images are added in a fixed order afterwards.
-      auto metal_rough_png = std::async(std::launch::async, [&] {
-        return t.metal_rough_constant ? Bytes{}
-                                      : encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
-      });
-      if (!roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant)) {
-        // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
-        std::vector<std::uint8_t> rgb;
-        if (t.alpha_constant) {
-          rgb.reserve(t.base_color.size() / 4 * 3);
-          for (size_t i = 0; i < t.base_color.size(); i += 4)
-            rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
-        }
-        const std::span<const std::uint8_t> texels = t.alpha_constant ? std::span<const std::uint8_t>(rgb) : t.base_color;
-        // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
-        const bool jpeg = t.alpha_constant && diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
-        bake.base_color_image =
-            jpeg ? add_image(encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality), "baseColor", "image/jpeg")
-                 : add_image(encode_png(texels, t.width, t.height, t.alpha_constant ? 3 : 4, options_.png_compression),
-                             "baseColor", "image/png");
-      }
-      Bytes metal_rough = metal_rough_png.get();
+      Bytes metal_rough, base_color;
+      const bool jpeg_base = t.alpha_constant && diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
+      const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
+      parallel_invoke(
+          [&] {
+            if (!t.metal_rough_constant)
+              metal_rough = encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
+          },
+          [&] {
+            if (!bake_base) return;
+            // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
+            std::vector<std::uint8_t> rgb;
+            if (t.alpha_constant) {
+              rgb.reserve(t.base_color.size() / 4 * 3);
+              for (size_t i = 0; i < t.base_color.size(); i += 4)
+                rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
+            }
+            const std::span<const std::uint8_t> texels =
+                t.alpha_constant ? std::span<const std::uint8_t>(rgb) : t.base_color;
+            // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
+            base_color =
+                jpeg_base ? encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality)
+                          : encode_png(texels, t.width, t.height, t.alpha_constant ? 3 : 4, options_.png_compression);
+          });
+      if (bake_base)
+        bake.base_color_image = add_image(std::move(base_color), "baseColor", jpeg_base ? "image/jpeg" : "image/png");
       if (!t.metal_rough_constant)
         bake.metal_rough_image = add_image(std::move(metal_rough), "metallicRoughness", "image/png");
       entry.times.encode_ms += ms_since(start);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "converter/convert.hpp"
@@ -790,6 +791,30 @@ TEST(ConcurrentDecodes, ConvertingManyTexturedCopiesInParallelNeverCrashes) {
                 scratch);
     ASSERT_EQ(r.exit_code, 0) << "run " << run << ":\n" << r.err;
   }
+}
+
+// Files, bakes, decodes and encodes share one pool (core/parallel.hpp): `-j 8` on a machine of N
+// cores holds at most N threads of work, plus the thread that waits for signals.
+TEST(Threads, ConvertWithMoreJobsThanCoresNeverHoldsMoreThreadsThanThePool) {
+  ScratchDir scratch;
+  for (int i = 0; i < 6; ++i) copy_model("CesiumMilkTruck", scratch / "lib" / ("truck" + std::to_string(i)));
+  // Samples the process's thread count (/proc/PID/status) until it exits; prints the most seen.
+  test::write_text(scratch / "count.sh", "'" GLTF_PBR_CLI
+                                         "' convert -q -j 8 \"$1/lib\" -o \"$1/out\" & pid=$!\n"
+                                         "most=0\n"
+                                         "while [ -r /proc/$pid/status ]; do\n"
+                                         "  n=$(sed -n 's/^Threads:[[:space:]]*//p' /proc/$pid/status 2>/dev/null)\n"
+                                         "  [ -n \"$n\" ] && [ \"$n\" -gt \"$most\" ] && most=$n\n"
+                                         "done\n"
+                                         "wait $pid; echo \"$? $most\" > \"$1/result\"\n");
+  std::system(("bash " + quoted(scratch / "count.sh") + " " + quoted(scratch.path())).c_str());
+  std::istringstream result(test::read_text(scratch / "result"));
+  int status = -1, most = 0;
+  result >> status >> most;
+  EXPECT_EQ(status, 0);
+  EXPECT_GT(most, 0);
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  EXPECT_LE(most, cores + 1) << "threads seen at once, on " << cores << " cores";
 }
 
 TEST(DecodeOnce, AnImageReadUnderDifferentFactorsOrInBothSlotsIsDecodedOnce) {

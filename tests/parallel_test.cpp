@@ -7,8 +7,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -69,23 +72,71 @@ TEST(Parallel, AWorkersExceptionReachesTheCallerAfterAllStopped) {
 
 TEST(Parallel, ThreadsTheSystemWillNotStartLeaveTheirWorkToTheOthers) {
   // In a child: as a user limited to one process (root gives up root first, as limits do not bind
-  // it), no thread can start (EAGAIN); every index must still run, with no std::terminate.
+  // it), no thread can start (EAGAIN); a pool asked for 8 workers gets none, and every index still
+  // runs once, on the caller, with no std::terminate.
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
     if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) ::_exit(3);
     const rlimit one{1, 1};
     if (::setrlimit(RLIMIT_NPROC, &one) != 0) ::_exit(4);
-    std::atomic<int> ran{0};
-    run_on_threads(8, [&] { ++ran; });
-    const bool all = each_index_once(1000, false) && each_index_once(1000, true);
-    ::_exit(ran == 1 && all ? 0 : 5);  // ran: only this thread started
+    ThreadPool pool(8);
+    if (pool.threads() != 1) ::_exit(5);
+    std::vector<int> runs(1000, 0);
+    pool.run(1000, [&](std::int64_t i) { ++runs[static_cast<std::size_t>(i)]; });
+    ::_exit(std::all_of(runs.begin(), runs.end(), [](int r) { return r == 1; }) ? 0 : 6);
   }
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << WTERMSIG(status);
   if (WEXITSTATUS(status) == 3) GTEST_SKIP() << "root without CAP_SETUID: the process limit cannot bind";
   EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
+TEST(Parallel, NestedLoopsRunOnThePoolsThreadsOnly) {
+  // Loops inside loops inside loops, as files, materials and texels nest: every index runs once,
+  // and no more distinct threads take part than the pool holds (its workers and this thread).
+  ThreadPool& pool = ThreadPool::shared();
+  std::mutex mutex;
+  std::set<std::thread::id> seen;
+  std::atomic<int> leaves{0};
+  pool.run(6, [&](std::int64_t) {
+    pool.run(5, [&](std::int64_t) {
+      parallel_dynamic(7, [&](std::int64_t) {
+        ++leaves;
+        const std::lock_guard lock(mutex);
+        seen.insert(std::this_thread::get_id());
+      });
+    });
+  });
+  EXPECT_EQ(leaves.load(), 6 * 5 * 7);
+  EXPECT_LE(static_cast<std::int64_t>(seen.size()), pool.threads());
+}
+
+TEST(Parallel, ManyShortNestedLoopsEndCleanly) {
+  // A loop ends while other threads may still hold it (they picked it, then found nothing left):
+  // thousands of tiny nested loops make that window likely. It must neither crash nor hang, and
+  // every index runs once.
+  std::atomic<long> leaves{0};
+  parallel_dynamic(20000, [&](std::int64_t) {
+    parallel_for(0, 3, [&](std::int64_t) { parallel_dynamic(2, [&](std::int64_t) { ++leaves; }); });
+  });
+  EXPECT_EQ(leaves.load(), 20000L * 3 * 2);
+}
+
+TEST(Parallel, ALoopLimitedToNThreadsNeverRunsMoreAtOnce) {
+  std::atomic<int> running{0}, most{0};
+  ThreadPool::shared().run(
+      40,
+      [&](std::int64_t) {
+        const int now = ++running;
+        for (int seen = most.load(); now > seen && !most.compare_exchange_weak(seen, now);) {
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        --running;
+      },
+      1);
+  EXPECT_EQ(most.load(), 1);
 }
 
 }  // namespace
