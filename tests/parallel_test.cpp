@@ -118,6 +118,9 @@ TEST(Parallel, ManyShortNestedLoopsEndCleanly) {
   // thousands of tiny nested loops make that window likely. It must neither crash nor hang, and
   // every index runs once.
   std::atomic<long> leaves{0};
+  // Idle workers woken for a tiny loop often find it already run by its caller.
+  for (int k = 0; k < 50000; ++k) ThreadPool::shared().run(2, [&](std::int64_t) { ++leaves; });
+  EXPECT_EQ(leaves.exchange(0), 100000L);
   parallel_dynamic(20000, [&](std::int64_t) {
     parallel_for(0, 3, [&](std::int64_t) { parallel_dynamic(2, [&](std::int64_t) { ++leaves; }); });
   });
