@@ -205,8 +205,6 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--preview", args->preview,
                   "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
-  cmd->add_option("-j,--jobs", args->jobs, "files converted at once, at most one per core: files and the work inside them share one pool of threads (default: all cores)")
-      ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
@@ -217,8 +215,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--error-samples", args->error_samples,
                   "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
-  add_image_limit_option(*cmd);
-  cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  add_batch_options(*cmd, "converted", args->jobs, args->allow_outside);
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
   return [cmd, args]() -> int {

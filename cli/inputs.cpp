@@ -97,6 +97,17 @@ void add_image_limit_option(CLI::App& command) {
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
 }
 
+void add_batch_options(CLI::App& command, const std::string& verb, unsigned& jobs, bool& allow_outside) {
+  command
+      .add_option("-j,--jobs", jobs,
+                  "files " + verb +
+                      " at once, at most one per core: files and the work inside them share one pool of threads "
+                      "(default: all cores)")
+      ->check(CLI::Range(1u, 4096u));
+  add_image_limit_option(command);
+  command.add_flag("--allow-outside-uris", allow_outside, "read buffer/image URIs outside the asset's folder");
+}
+
 int run_command(const char* name, const std::function<int()>& body) {
   auto say = [name](const std::exception& e) {
     std::fprintf(stderr, "gltf-pbr %s: %s\n", name, printable(e.what()).c_str());

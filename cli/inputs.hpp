@@ -23,6 +23,10 @@ std::string counted(std::size_t count, const std::string& noun);
 // --max-image-pixels N, for every command that decodes images (core/image.hpp's limit).
 void add_image_limit_option(CLI::App& command);
 
+// What the batch commands share: -j (files at once), --max-image-pixels and --allow-outside-uris.
+// `verb` says what happens to a file ("converted", "validated").
+void add_batch_options(CLI::App& command, const std::string& verb, unsigned& jobs, bool& allow_outside);
+
 struct FoundInputs {
   std::vector<InputFile> files;
   std::size_t skipped_under_output = 0;  // found inside the output folder: earlier outputs, not inputs

@@ -189,10 +189,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
                   "write one PNG per failing texture showing where it fails, under DIR/<the input's relative folder>/");
   cmd->add_flag("--no-self-intersections", args->no_self_intersections,
                 "skip the self-intersection mesh check (the costliest)");
-  cmd->add_option("-j,--jobs", args->jobs, "files validated at once, at most one per core: files and the work inside them share one pool of threads (default: all cores)")
-      ->check(CLI::Range(1u, 4096u));
-  add_image_limit_option(*cmd);
-  cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  add_batch_options(*cmd, "validated", args->jobs, args->allow_outside);
   cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
   return [cmd, args]() -> int {
     if (!cmd->parsed()) return -1;
