@@ -74,28 +74,6 @@ glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, g
   return shade_prepared(lobes, roughness, prepare(n, v, env), occlusion, emissive, env, options);
 }
 
-HdrImage light(const GBuffer& g, Side side, const Environment& env, const Camera& camera,
-               const LightingOptions& options) {
-  HdrImage out = empty_image(g);
-  const RayGenerator rays(camera, g.width, g.height);
-  parallel_dynamic(g.height, [&](std::int64_t y) {
-    for (int x = 0; x < g.width; ++x) {
-      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(g.width) + static_cast<size_t>(x);
-      const glm::vec3 ray =
-          glm::normalize(rays.unnormalised(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
-      const GBufferTexel t = side == Side::After ? read_after(g, i) : read_before(g, i);
-      if (!t.covered) {
-        out.radiance[i] = env.background(ray);
-        out.covered[i] = 0;
-        continue;
-      }
-      out.covered[i] = 1;
-      out.radiance[i] = shade_texel(t, side, prepare(t.normal, -ray, env), env, options);
-    }
-  });
-  return out;
-}
-
 LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
                    const LightingOptions& options, bool keep_radiance) {
   const GBuffer& a = gbuffers.after;

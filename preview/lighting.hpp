@@ -27,8 +27,6 @@ struct HdrImage {
 };
 
 enum class Side { Before, After };
-HdrImage light(const GBuffer& gbuffer, Side side, const Environment& env, const Camera& camera,
-               const LightingOptions& options);
 
 // Both sides in one pass (they share normals and so environment look-ups), tone-mapped to 8-bit
 // sRGB in the same pass. The normals are the same buffer content on both sides by construction

@@ -141,7 +141,7 @@ TEST(Render, LambertSphereMatchesClosedFormAndIsSymmetric) {
   Environment env = uniform_environment(glm::vec3(0.0f));
   env.sun_direction = glm::vec3(0, 0, 1);
   env.sun_irradiance = glm::vec3(3.0f);
-  const HdrImage image = light(g.before, Side::Before, env, camera, LightingOptions{});
+  const HdrImage image = light_both(g, env, camera, LightingOptions{}, /*keep_radiance=*/true).before_hdr;
   int checked = 0;
   for (int y = 0; y < 128; ++y)
     for (int x = 0; x < 128; ++x) {
