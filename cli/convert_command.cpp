@@ -78,9 +78,9 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
 void refuse_value_errors(const fs::path& input) {
   static const RuleSet rules = builtin_rules();
   if (const std::optional<Issue> issue = first_value_error(input, rules)) {
-    const std::string where = issue->offset ? "byte " + std::to_string(*issue->offset) : issue->pointer;
-    throw InputError(input.string(), where,
-                     issue->code + ": " + issue->message + " (converting would lose or change this value)");
+    const std::string reason = issue->code + ": " + issue->message + " (converting would lose or change this value)";
+    if (issue->offset) throw InputError(input.string(), ByteOffset{*issue->offset}, reason);
+    throw InputError(input.string(), issue->pointer, reason);
   }
 }
 

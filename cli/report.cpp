@@ -30,7 +30,10 @@ std::string format(const char* pattern, double a, double b, double c) {
 
 json file_json(const FileResult& r) {
   json out = {{"input", r.input}, {"output", r.output}, {"status", r.status}};
-  if (r.error) out["error"] = {{"file", r.error->file}, {"pointer", r.error->pointer}, {"reason", r.error->reason}};
+  if (r.error) {
+    out["error"] = {{"file", r.error->file}, {"pointer", r.error->pointer}, {"reason", r.error->reason}};
+    if (r.error->offset) out["error"]["offset"] = *r.error->offset;
+  }
   if (!r.failure.empty()) out["error"] = {{"file", r.input}, {"pointer", ""}, {"reason", r.failure}};
   if (r.status == "failed") return out;
   json materials = json::array();
@@ -99,11 +102,11 @@ std::string file_summary(const FileResult& r, bool verbose) {
   const ConversionReport& c = r.report;
   // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
   const std::string input = printable(r.input), output = printable(r.output);
-  std::string out = r.status == "copied" ? "copied " + input + " -> " + output + " (nothing to convert)\n"
-                                         : "converted " + input + " -> " + output +
-                                               " (" + counted(c.materials.size(), "material") +
-                                               format(", %.0f ms, %.0f images decoded)\n", r.total_ms,
-                                                      static_cast<double>(c.images_decoded), 0);
+  std::string out =
+      r.status == "copied"
+          ? "copied " + input + " -> " + output + " (nothing to convert)\n"
+          : "converted " + input + " -> " + output + " (" + counted(c.materials.size(), "material") +
+                format(", %.0f ms, %.0f images decoded)\n", r.total_ms, static_cast<double>(c.images_decoded), 0);
   double worst = 0;
   for (const MaterialReport& m : c.materials) {
     if (m.error_a) worst = std::max(worst, m.error_a->worst());
@@ -114,8 +117,7 @@ std::string file_summary(const FileResult& r, bool verbose) {
                   : ", ΔE2000 not measured";
     out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") +
            m.outcome + format(": texels %.0f", static_cast<double>(m.texels), 0, 0) + error +
-           format(", %.1f ms", m.times.total(), 0, 0) +
-           (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
+           format(", %.1f ms", m.times.total(), 0, 0) + (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
   }
   if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);
   for (const std::string& w : c.warnings) out += "  warning: " + printable(w) + "\n";

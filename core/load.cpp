@@ -40,7 +40,7 @@ std::uint32_t read_u32(const Bytes& bytes, size_t at) {
 // glTF 2.0 spec section 4.4 (GLB file format specification).
 GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
   auto fail = [&](size_t offset, const std::string& why) -> GlbChunks {
-    throw InputError(file, "byte " + std::to_string(offset), why);
+    throw InputError(file, ByteOffset{offset}, why);
   };
   if (bytes.size() < 20) fail(0, "truncated GLB: " + std::to_string(bytes.size()) + " bytes, a header needs 20");
   if (read_u32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(read_u32(bytes, 4)) + ", only 2 is supported");
@@ -150,7 +150,7 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
                                const LoadOptions& options) {
   const std::string file = asset.path.string();
   if (const auto offset = too_deep_at(json_text))
-    throw InputError(file, "byte " + std::to_string((asset.binary ? 20 : 0) + *offset),
+    throw InputError(file, ByteOffset{(asset.binary ? 20u : 0u) + *offset},
                      "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   nlohmann::json root;
   try {
@@ -159,7 +159,7 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
     // nlohmann counts from 1 within the JSON text; the pointer is a 0-based file offset, as for
     // GLB header errors, so a GLB's JSON starts at byte 20 (glTF 2.0 section 4.4).
     const size_t offset = (asset.binary ? 20 : 0) + (e.byte > 0 ? e.byte - 1 : 0);
-    throw InputError(file, "byte " + std::to_string(offset), std::string("malformed JSON: ") + e.what());
+    throw InputError(file, ByteOffset{offset}, std::string("malformed JSON: ") + e.what());
   } catch (const nlohmann::json::out_of_range& e) {
     // JSON cannot hold NaN or Inf, but 1e999 overflows to Inf: refused here, naming its pointer.
     FailurePointer failure;
@@ -335,7 +335,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (!asset.binary && extension == ".glb")  // glTF 2.0 section 4.4.2: a GLB starts with its magic
-    throw InputError(file, "byte 0",
+    throw InputError(file, ByteOffset{0},
                      bytes->size() < 12
                          ? "not a GLB: " + std::to_string(bytes->size()) + " bytes, shorter than the 12-byte GLB header"
                          : "not a GLB: the file does not start with the magic 'glTF'");

@@ -142,7 +142,7 @@ TEST(BadInput, TruncatedGlbNamesTheByteOffsetAndWritesNothing) {
   write_bytes(half, std::span(*whole).first(whole->size() / 2));
 
   const InputError e = load_error(half);
-  EXPECT_EQ(e.pointer, "byte 8");  // the header's length field, which claims the whole file
+  EXPECT_EQ(e.offset, 8u);  // the header's length field, which claims the whole file
   EXPECT_NE(e.reason.find("truncated"), std::string::npos) << e.reason;
   EXPECT_NE(e.reason.find(std::to_string(whole->size())), std::string::npos) << e.reason;
   expect_cli_refuses(half, "truncated GLB", scratch);
@@ -155,7 +155,7 @@ TEST(BadInput, TenByteGlbStubIsRefusedAsATruncatedHeader) {
   write_bytes(stub, bytes);
 
   const InputError e = load_error(stub);
-  EXPECT_EQ(e.pointer, "byte 0");
+  EXPECT_EQ(e.offset, 0u);
   EXPECT_NE(e.reason.find("truncated"), std::string::npos) << e.reason;
   EXPECT_NE(e.reason.find("10 bytes"), std::string::npos) << e.reason;
   expect_cli_refuses(stub, "truncated GLB", scratch);
@@ -173,7 +173,7 @@ TEST(BadInput, GlbWhoseBinChunkRunsPastTheEndNamesTheChunkOffset) {
 
   const size_t padded_json = (json.size() + 3) & ~size_t{3};
   const InputError e = load_error(file);
-  EXPECT_EQ(e.pointer, "byte " + std::to_string(20 + padded_json));
+  EXPECT_EQ(e.offset, 20u + padded_json);
   EXPECT_NE(e.reason.find("BIN chunk"), std::string::npos) << e.reason;
 }
 
@@ -184,7 +184,7 @@ TEST(BadInput, MalformedJsonNamesTheByteOfTheError) {
   write_text(file, text);
 
   const InputError e = load_error(file);
-  EXPECT_EQ(e.pointer, "byte " + std::to_string(text.find('}', text.find('['))));
+  EXPECT_EQ(e.offset, text.find('}', text.find('[')));
   EXPECT_NE(e.reason.find("malformed JSON"), std::string::npos) << e.reason;
   expect_cli_refuses(file, "malformed JSON", scratch);
 }
@@ -197,7 +197,7 @@ TEST(BadInput, MalformedJsonInsideAGlbNamesTheFileOffset) {
 
   const InputError e = load_error(file);
   // The JSON chunk starts after the 12-byte header and the 8-byte chunk header.
-  EXPECT_EQ(e.pointer, "byte " + std::to_string(20 + json.find(']')));
+  EXPECT_EQ(e.offset, 20u + json.find(']'));
 }
 
 TEST(BadInput, TopLevelJsonThatIsNotAnObjectIsRefused) {

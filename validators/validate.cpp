@@ -15,18 +15,12 @@ namespace gltf_pbr {
 namespace {
 bool wants(const ValidateOptions& options, const char* step) { return options.steps.contains(step); }
 
-// core/load names a place in the file as a JSON pointer or, for GLB and JSON syntax errors, as
-// "byte N": the report's offset.
 // Prefixed to a loader failure when the structure step ran, so the report says what was skipped.
 constexpr const char* kChecksDidNotRun = "the material, texture and mesh checks did not run: ";
 
 Issue load_failure_issue(const InputError& error) {
-  Issue issue{"IO_ERROR", error.reason, Severity::Error, error.pointer, std::nullopt, 1};
-  if (error.pointer.rfind("byte ", 0) == 0) {
-    issue.offset = std::stoull(error.pointer.substr(5));
-    issue.pointer.clear();
-  }
-  return issue;
+  // core/load names a place by JSON pointer or, for GLB and JSON syntax errors, by byte offset.
+  return Issue{"IO_ERROR", error.reason, Severity::Error, error.pointer, error.offset, 1};
 }
 }  // namespace
 
@@ -51,8 +45,8 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       report.add({"IO_ERROR", "out of memory in the structure checks", Severity::Error, "", std::nullopt, 1});
       structure_found_errors = true;
     } catch (const std::exception& error) {  // ours, not the document's: a report, not a lost batch
-      report.add({"IO_ERROR", std::string("the structure checks did not finish: ") + error.what(), Severity::Error,
-                  "", std::nullopt, 1});
+      report.add({"IO_ERROR", std::string("the structure checks did not finish: ") + error.what(), Severity::Error, "",
+                  std::nullopt, 1});
       structure_found_errors = true;
     }
   } else {
@@ -83,8 +77,8 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       }
       if (!issue.code.empty()) report.add(std::move(issue));
     } catch (const std::bad_alloc&) {
-      report.add({"IO_ERROR", kChecksDidNotRun + std::string("out of memory loading the document"), Severity::Error,
-                  "", std::nullopt, 1});
+      report.add({"IO_ERROR", kChecksDidNotRun + std::string("out of memory loading the document"), Severity::Error, "",
+                  std::nullopt, 1});
     } catch (const std::exception& error) {
       // Anything else is our loader's fault, not the document's: say so instead of ending the batch.
       report.add({"IO_ERROR", kChecksDidNotRun + std::string(error.what()), Severity::Error, "", std::nullopt, 1});
@@ -104,8 +98,10 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       if (wants(options, "meshes"))
         validate_meshes(*asset, rules, MeshCheckOptions{options.self_intersections}, report);
     } catch (const std::bad_alloc&) {
-      report.add({"IO_ERROR", "out of memory in the material, texture or mesh checks (--max-image-pixels lowers the "
-                  "largest image decoded)", Severity::Error, "", std::nullopt, 1});
+      report.add({"IO_ERROR",
+                  "out of memory in the material, texture or mesh checks (--max-image-pixels lowers the "
+                  "largest image decoded)",
+                  Severity::Error, "", std::nullopt, 1});
     } catch (const std::exception& error) {
       // A step that cannot finish (a heat map that cannot be written, memory) still leaves a report
       // that says so, rather than ending the whole batch.
@@ -123,7 +119,7 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   // as written (gold's specular 1.022, a lowercase alphaMode, a dangling index) is not a loss:
   // the conversion handles or keeps it (DESIGN.md: F0 above 1 must convert).
   static const std::set<std::string> kDroppedCodes{"ARRAY_TYPE_MISMATCH", "TYPE_MISMATCH", "INVALID_JSON",
-                                                  "UNDEFINED_PROPERTY"};
+                                                   "UNDEFINED_PROPERTY"};
   static const std::set<std::string> kUnsignedProperties{"byteOffset", "byteLength", "byteStride", "count"};
   const std::optional<MappedFile> mapped = MappedFile::open(file);
   if (!mapped) return std::nullopt;
