@@ -29,8 +29,10 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
 }
 
 // The solve depends only on diffuse and specular (roughness is 1 - glossiness), and textures
-// repeat those pairs a lot: a direct-mapped cache of recent solves, keyed by the exact input bits,
-// skips most of the work without changing any result. The ΔE2000 of the stored (quantized) result
+// repeat those pairs a lot: a direct-mapped cache of solves, keyed by the exact input bits, skips
+// most of the work without changing any result. Misses are gathered and solved together in SIMD
+// lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
+// result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
 // against both legacy readings depends on the same inputs, so it is cached too.
 class SolveCache {
  public:
@@ -39,28 +41,44 @@ class SolveCache {
     std::uint8_t base_srgb[3];
     std::uint8_t metalness;
     float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
-    bool filled = false, has_error = false;
+    bool filled = false, queued = false, has_error = false;
   };
 
   // Sized to the texels it will see (a power of two up to 65536 entries, about 3 MB).
   SolveCache(const SolverSettings& settings, size_t texels)
       : settings_(settings), entries_(std::bit_ceil(std::clamp<size_t>(texels, 256, 65536))) {}
 
-  Entry& solve(const SpecGloss& legacy) {
+  // The solved entry of `legacy`, or null when it has not been solved yet: then `legacy` is queued
+  // for solve_queued() (once, however often it is asked for before then).
+  Entry* find_or_queue(const SpecGloss& legacy) {
     std::uint32_t key[6];
-    std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
-    std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
-    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
-    for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
-    Entry& entry = entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
+    Entry& entry = slot(legacy, key);
+    if ((entry.filled || entry.queued) && std::memcmp(entry.key, key, sizeof key) == 0)
+      return entry.filled ? &entry : nullptr;
+    std::memcpy(entry.key, key, sizeof key);  // claim: later asks of the same key wait for this solve
+    entry.filled = false;
+    entry.queued = true;
+    queue_.push_back(legacy);
+    return nullptr;
+  }
+
+  // Solves the queued inputs together and stores them. Two queued keys that share a slot leave the
+  // later one there; the earlier is solved again by find() when asked.
+  void solve_queued() {
+    solved_.resize(queue_.size());
+    solve_batch(queue_, solved_, settings_);
+    for (size_t i = 0; i < queue_.size(); ++i) store(queue_[i], solved_[i]);
+    queue_.clear();
+  }
+
+  // The solved entry of `legacy`, solving it now if it is not there.
+  Entry& find(const SpecGloss& legacy) {
+    std::uint32_t key[6];
+    Entry& entry = slot(legacy, key);
     if (entry.filled && std::memcmp(entry.key, key, sizeof key) == 0) return entry;
-    const MetalRough r = gltf_pbr::solve(legacy, settings_);
-    std::memcpy(entry.key, key, sizeof key);
-    for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
-    entry.metalness = quantize(r.metalness);
-    entry.filled = true;
-    entry.has_error = false;
-    return entry;
+    MetalRough solved;
+    solve_batch(std::span(&legacy, 1), std::span(&solved, 1), settings_);
+    return store(legacy, solved);
   }
 
   // The error of what is stored: the quantized texels, read back as a viewer reads them.
@@ -86,8 +104,30 @@ class SolveCache {
   }
 
  private:
+  Entry& slot(const SpecGloss& legacy, std::uint32_t (&key)[6]) {
+    std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
+    std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
+    for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
+    return entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
+  }
+
+  Entry& store(const SpecGloss& legacy, const MetalRough& r) {
+    std::uint32_t key[6];
+    Entry& entry = slot(legacy, key);
+    std::memcpy(entry.key, key, sizeof key);
+    for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
+    entry.metalness = quantize(r.metalness);
+    entry.filled = true;
+    entry.queued = false;
+    entry.has_error = false;
+    return entry;
+  }
+
   const SolverSettings& settings_;
   std::vector<Entry> entries_;
+  std::vector<SpecGloss> queue_;
+  std::vector<MetalRough> solved_;
 };
 
 }  // namespace
@@ -104,6 +144,24 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
   std::vector<ErrorAccumulator> rows_extension_b(rows_extension_a.size());
 
+  // The legacy material of texel i: factor x texel, each in its colour space.
+  const auto legacy_at = [&](size_t i) {
+    SpecGloss legacy;
+    legacy.diffuse = glm::vec3(in.diffuse_factor);
+    if (in.diffuse)
+      for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
+    legacy.specular = in.specular_factor;
+    legacy.glossiness = in.glossiness_factor;
+    if (in.spec_gloss) {
+      for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
+      legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
+    }
+    return legacy;
+  };
+  const auto alpha_at = [&](size_t i) {
+    return in.diffuse_factor.a * (in.diffuse ? channel(*in.diffuse, i, 3, false) : 1.0f);
+  };
+
   // Bands of rows handed out one at a time: the distinct colours, and so the solves, gather in
   // parts of a texture, and a static split left one core with most of them. Each thread keeps its
   // cache across its bands (neighbouring rows share colours).
@@ -113,41 +171,34 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   std::atomic<std::int64_t> next_band{0};
   run_on_threads(threads, [&] {
     SolveCache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
-    for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;)
-      for (std::int64_t y = band * kBandRows, last = std::min<std::int64_t>(in.height, y + kBandRows); y < last; ++y) {
-        for (size_t i = static_cast<size_t>(y) * static_cast<size_t>(in.width), end = i + static_cast<size_t>(in.width);
-             i < end; ++i) {
-          SpecGloss legacy;
-          float alpha = in.diffuse_factor.a;
-          legacy.diffuse = glm::vec3(in.diffuse_factor);
-          if (in.diffuse) {
-            for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
-            alpha *= channel(*in.diffuse, i, 3, false);
-          }
-          legacy.specular = in.specular_factor;
-          legacy.glossiness = in.glossiness_factor;
-          if (in.spec_gloss) {
-            for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
-            legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
-          }
-          SolveCache::Entry& solved = cache.solve(legacy);
-          std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
-          out.base_color[i * 4 + 3] = quantize(alpha);
-          out.metal_rough[i * 3 + 0] = 0;
-          out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
-          out.metal_rough[i * 3 + 2] = solved.metalness;
-          if (i % stride == 0) {
-            const float* delta_e = SolveCache::error(solved, legacy);
-            rows_a[static_cast<size_t>(y)].add(delta_e[0], delta_e[1]);
-            rows_b[static_cast<size_t>(y)].add(delta_e[2], delta_e[3]);
-            if (in.measure_extension_route) {
-              const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
-              rows_extension_a[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::A), route);
-              rows_extension_b[static_cast<size_t>(y)].add(legacy_reflectance(legacy, LegacyReading::B), route);
-            }
+    for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
+      // Two passes over the band: queue what the cache lacks and solve it in one batch, then write.
+      const std::int64_t last = std::min<std::int64_t>(in.height, band * kBandRows + kBandRows);
+      const size_t first_texel = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
+      const size_t end_texel = static_cast<size_t>(last) * static_cast<size_t>(in.width);
+      for (size_t i = first_texel; i < end_texel; ++i) cache.find_or_queue(legacy_at(i));
+      cache.solve_queued();
+      for (size_t i = first_texel; i < end_texel; ++i) {
+        const SpecGloss legacy = legacy_at(i);
+        SolveCache::Entry& solved = cache.find(legacy);
+        std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
+        out.base_color[i * 4 + 3] = quantize(alpha_at(i));
+        out.metal_rough[i * 3 + 0] = 0;
+        out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
+        out.metal_rough[i * 3 + 2] = solved.metalness;
+        if (i % stride == 0) {
+          const size_t y = i / static_cast<size_t>(in.width);
+          const float* delta_e = SolveCache::error(solved, legacy);
+          rows_a[y].add(delta_e[0], delta_e[1]);
+          rows_b[y].add(delta_e[2], delta_e[3]);
+          if (in.measure_extension_route) {
+            const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
+            rows_extension_a[y].add(legacy_reflectance(legacy, LegacyReading::A), route);
+            rows_extension_b[y].add(legacy_reflectance(legacy, LegacyReading::B), route);
           }
         }
       }
+    }
   });
   for (size_t y = 0; y < rows_a.size(); ++y) {
     out.error_a.merge(rows_a[y]);

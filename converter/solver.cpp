@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace gltf_pbr {
@@ -87,9 +89,11 @@ glm::mat3 lab_metric(glm::vec3 t) {
   glm::mat3 slope(0.0f);
   for (int c = 0; c < 3; ++c) slope[c][c] = cube_root_slope(xyz[c]);
   glm::mat3 jacobian = kLabRows * slope * kToXyzOverWhite;
-  const glm::vec3 f(std::cbrt(xyz.x + kWeightEpsilon), std::cbrt(xyz.y + kWeightEpsilon),
-                    std::cbrt(xyz.z + kWeightEpsilon));
-  const float chroma = std::hypot(500.0f * (f.x - f.y), 200.0f * (f.y - f.z));
+  // (u + eps)^(1/3) = 3 (u + eps) · slope(u): the cube roots come from the slopes already looked up.
+  glm::vec3 f;
+  for (int c = 0; c < 3; ++c) f[c] = 3.0f * (xyz[c] + kWeightEpsilon) * slope[c][c];
+  const float a = 500.0f * (f.x - f.y), b = 200.0f * (f.y - f.z);
+  const float chroma = std::sqrt(a * a + b * b);
   const float compression = 1.0f / (1.0f + kChromaCompression * chroma);
   for (int column = 0; column < 3; ++column) jacobian[column][1] *= compression, jacobian[column][2] *= compression;
   return glm::transpose(jacobian) * jacobian;
@@ -207,33 +211,299 @@ Minimum refine(float lo, float hi, float m, float error, int iterations, const O
   return {m, error, 0.0f};
 }
 
-// The local minima of the sampled errors, refined, each with its prominence: how far it lies
-// below the highest sample between it and the nearest other minimum (infinite with none).
-std::vector<Minimum> local_minima(const std::vector<float>& samples, int refine_iterations, const Objective& o) {
+// The indices of the local minima of the sampled errors (the lowest of a flat run), written to
+// `at` (room for samples.size() / 2 + 1); returns how many.
+size_t sampled_minima(std::span<const float> samples, std::span<int> at) {
   const int last = static_cast<int>(samples.size()) - 1;
   const auto sample = [&](int i) { return samples[static_cast<size_t>(i)]; };
-  std::vector<int> at;
+  size_t found = 0;
   for (int i = 0; i <= last; ++i)
-    if ((i == 0 || sample(i) <= sample(i - 1)) && (i == last || sample(i) < sample(i + 1))) at.push_back(i);
+    if ((i == 0 || sample(i) <= sample(i - 1)) && (i == last || sample(i) < sample(i + 1))) at[found++] = i;
+  return found;
+}
+
+// The bracket a sampled minimum is refined in: one grid step either side, within [0, 1].
+struct Bracket {
+  float lo, hi, m;
+};
+Bracket bracket_of(int i, size_t samples) {
+  const float step = 1.0f / static_cast<float>(std::max<size_t>(1, samples - 1));
+  const float m = static_cast<float>(i) * step;
+  return {std::max(0.0f, m - step), std::min(1.0f, m + step), m};
+}
+
+// How far minimum j (refined to `error`) lies below the highest sample between it and the
+// nearest other minimum: infinite with none.
+float prominence(std::span<const float> samples, std::span<const int> at, size_t j, float error) {
   const auto highest_between = [&](int from, int to) {
-    float highest = sample(from);
-    for (int i = from + 1; i <= to; ++i) highest = std::max(highest, sample(i));
-    return highest;
+    return *std::max_element(samples.begin() + from, samples.begin() + to + 1);
   };
-  const float step = 1.0f / static_cast<float>(std::max(1, last));
+  float barrier = std::numeric_limits<float>::infinity();
+  if (j > 0) barrier = std::min(barrier, highest_between(at[j - 1], at[j]));
+  if (j + 1 < at.size()) barrier = std::min(barrier, highest_between(at[j], at[j + 1]));
+  return barrier - error;
+}
+
+// The local minima of the sampled errors, refined, each with its prominence.
+std::vector<Minimum> local_minima(const std::vector<float>& samples, int refine_iterations, const Objective& o) {
+  std::vector<int> at(samples.size() / 2 + 1);
+  at.resize(sampled_minima(samples, at));
   std::vector<Minimum> minima;
   for (size_t j = 0; j < at.size(); ++j) {
-    const int i = at[j];
-    const float m = static_cast<float>(i) * step;
-    Minimum found = refine(std::max(0.0f, m - step), std::min(1.0f, m + step), m, sample(i), refine_iterations, o);
-    float barrier = std::numeric_limits<float>::infinity();
-    if (j > 0) barrier = std::min(barrier, highest_between(at[j - 1], i));
-    if (j + 1 < at.size()) barrier = std::min(barrier, highest_between(i, at[j + 1]));
-    found.prominence = barrier - found.error;
+    const Bracket b = bracket_of(at[j], samples.size());
+    Minimum found = refine(b.lo, b.hi, b.m, samples[static_cast<size_t>(at[j])], refine_iterations, o);
+    found.prominence = prominence(samples, at, j, found.error);
     minima.push_back(found);
   }
   return minima;
 }
+
+// Minima within the blend width of the lowest share the answer, weighted by how close they come
+// to it and by how prominent they are. As the inputs move, a minimum's weight falls smoothly to 0
+// as its error rises above the lowest or as it flattens out and vanishes, so m moves continuously
+// where a plain argmin jumps. One clear minimum, the usual case, keeps its m exactly.
+float blended_metalness(std::span<const Minimum> minima) {
+  float lowest = std::numeric_limits<float>::infinity(), lowest_m = 0.0f;
+  for (const Minimum& minimum : minima)
+    if (minimum.error < lowest) lowest = minimum.error, lowest_m = minimum.m;
+  const float width = kBlendWidthRelative * lowest + kBlendWidthAbsolute;
+  float weight_sum = 0.0f, weighted_m = 0.0f;
+  for (const Minimum& minimum : minima) {
+    const float weight =
+        std::max(0.0f, 1.0f - (minimum.error - lowest) / width) * std::min(1.0f, minimum.prominence / width);
+    weight_sum += weight, weighted_m += weight * minimum.m;
+  }
+  return weight_sum > 0.0f ? weighted_m / weight_sum : lowest_m;
+}
+
+float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
+
+// The batch solver: kLanes solves side by side in SIMD lanes (GCC/Clang vector extensions; each
+// lane is an independent solve, so a lane's answer never depends on its neighbours). Same
+// objective, grid, refinement and blending as solve(); the 3×3 systems are solved by cofactors
+// rather than glm::inverse, so results agree with solve() to float rounding, not bit for bit.
+// The rare lane whose unconstrained base has a negative channel takes the scalar active set.
+namespace lanes {
+
+constexpr int kLanes = 8;
+constexpr int kMaxGrid = 64;  // the "exact" preset's; finer grids take the scalar solve
+using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
+using Mask = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+
+#define GLTF_PBR_INLINE [[gnu::always_inline]] inline
+
+GLTF_PBR_INLINE Floats splat(float v) { return Floats{} + v; }
+GLTF_PBR_INLINE Floats select(Mask mask, Floats yes, Floats no) {
+  return reinterpret_cast<Floats>((reinterpret_cast<Mask>(yes) & mask) | (reinterpret_cast<Mask>(no) & ~mask));
+}
+GLTF_PBR_INLINE Floats max(Floats a, Floats b) { return select(a > b, a, b); }
+GLTF_PBR_INLINE bool any(Mask mask) {
+  for (int l = 0; l < kLanes; ++l)
+    if (mask[l]) return true;
+  return false;
+}
+
+// A symmetric 3×3 matrix per lane: xx, yy, zz, xy, xz, yz.
+struct Symmetric {
+  Floats e[6];
+};
+struct Vec {
+  Floats c[3];
+};
+
+// What solve() builds per input, as structure of arrays.
+struct Objectives {
+  Vec target_diffuse, target_f0, diffuse_pull, f0_pull, dielectric_pull;
+  Symmetric diffuse_metric, f0_metric;
+  Floats prior_m, prior_weight;
+};
+
+GLTF_PBR_INLINE Floats quadratic_form(const Symmetric& q, const Vec& r) {
+  const Floats x = r.c[0], y = r.c[1], z = r.c[2];
+  return q.e[0] * x * x + q.e[1] * y * y + q.e[2] * z * z + 2.0f * (q.e[3] * x * y + q.e[4] * x * z + q.e[5] * y * z);
+}
+
+// nonnegative_minimiser() of the lanes in `todo`, whose unconstrained minimiser `b` has a negative
+// channel. For a positive definite H the constrained minimiser is the one point that meets the
+// KKT conditions: the free channels solve their reduced system and are >= 0, and the gradient
+// H b - g of each channel held at 0 is >= 0. The lanes try the free sets in turn (two channels,
+// one, none) and keep the first that meets them; a lane that rounding leaves without one takes
+// the scalar active set.
+GLTF_PBR_INLINE Vec nonnegative_minimiser(const Symmetric& h, const Vec& g, Vec b, Mask todo) {
+  static constexpr int kIndex[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+  const auto at = [&](int i, int j) { return h.e[kIndex[i][j]]; };
+  const auto take = [&](Mask ok, const Floats(&candidate)[3]) {
+    const Mask now = todo & ok;
+    for (int c = 0; c < 3; ++c) b.c[c] = select(now, candidate[c], b.c[c]);
+    todo &= ~now;
+  };
+  for (int k = 0; k < 3 && any(todo); ++k) {  // free i and j, k held
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const Floats inverse_det = 1.0f / (at(i, i) * at(j, j) - at(i, j) * at(i, j));
+    Floats candidate[3];
+    candidate[i] = (at(j, j) * g.c[i] - at(i, j) * g.c[j]) * inverse_det;
+    candidate[j] = (at(i, i) * g.c[j] - at(i, j) * g.c[i]) * inverse_det;
+    candidate[k] = splat(0.0f);
+    take((candidate[i] >= 0.0f) & (candidate[j] >= 0.0f) &
+             (at(k, i) * candidate[i] + at(k, j) * candidate[j] - g.c[k] >= 0.0f),
+         candidate);
+  }
+  for (int i = 0; i < 3 && any(todo); ++i) {  // free i alone
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    Floats candidate[3];
+    candidate[i] = g.c[i] / at(i, i);
+    candidate[j] = candidate[k] = splat(0.0f);
+    take((candidate[i] >= 0.0f) & (at(j, i) * candidate[i] - g.c[j] >= 0.0f) &
+             (at(k, i) * candidate[i] - g.c[k] >= 0.0f),
+         candidate);
+  }
+  if (any(todo)) {  // all held: the gradient -g must be >= 0
+    const Floats zero[3] = {splat(0.0f), splat(0.0f), splat(0.0f)};
+    take((g.c[0] <= 0.0f) & (g.c[1] <= 0.0f) & (g.c[2] <= 0.0f), zero);
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    if (!todo[l]) continue;
+    const glm::mat3 hl(at(0, 0)[l], at(1, 0)[l], at(2, 0)[l], at(0, 1)[l], at(1, 1)[l], at(2, 1)[l], at(0, 2)[l],
+                       at(1, 2)[l], at(2, 2)[l]);
+    const glm::vec3 bl = gltf_pbr::nonnegative_minimiser(hl, glm::vec3(g.c[0][l], g.c[1][l], g.c[2][l]));
+    for (int c = 0; c < 3; ++c) b.c[c][l] = bl[c];
+  }
+  return b;
+}
+
+// base_at() of every lane.
+GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) {
+  const float k = kDielectricDiffuse;
+  const Floats one_minus = 1.0f - m;
+  const Floats a = (k * k) * one_minus * one_minus, c = m * m;
+  Symmetric h;
+  for (int i = 0; i < 6; ++i) h.e[i] = a * o.diffuse_metric.e[i] + c * o.f0_metric.e[i];
+  Vec g;
+  for (int i = 0; i < 3; ++i)
+    g.c[i] = (k * one_minus) * o.diffuse_pull.c[i] +
+             m * (o.f0_pull.c[i] - kDielectricF0 * one_minus * o.dielectric_pull.c[i]);
+  // H⁻¹ g by cofactors (H is symmetric, so is its adjugate).
+  const Floats xx = h.e[0], yy = h.e[1], zz = h.e[2], xy = h.e[3], xz = h.e[4], yz = h.e[5];
+  const Floats c00 = yy * zz - yz * yz, c01 = xz * yz - xy * zz, c02 = xy * yz - xz * yy;
+  const Floats c11 = xx * zz - xz * xz, c12 = xy * xz - xx * yz, c22 = xx * yy - xy * xy;
+  const Floats inverse_det = 1.0f / (xx * c00 + xy * c01 + xz * c02);
+  Vec b;
+  b.c[0] = (c00 * g.c[0] + c01 * g.c[1] + c02 * g.c[2]) * inverse_det;
+  b.c[1] = (c01 * g.c[0] + c11 * g.c[1] + c12 * g.c[2]) * inverse_det;
+  b.c[2] = (c02 * g.c[0] + c12 * g.c[1] + c22 * g.c[2]) * inverse_det;
+  const Mask negative = (b.c[0] < 0.0f) | (b.c[1] < 0.0f) | (b.c[2] < 0.0f);
+  if (any(negative)) b = nonnegative_minimiser(h, g, b, negative);
+  const Floats largest = max(b.c[0], max(b.c[1], b.c[2]));
+  const Floats scale = select(largest > 1.0f, 1.0f / largest, splat(1.0f));
+  for (int i = 0; i < 3; ++i) b.c[i] *= scale;
+  return b;
+}
+
+// error_at() of every lane.
+GLTF_PBR_INLINE Floats error_at(Floats m, const Objectives& o) {
+  const Vec b = base_at(m, o);
+  const Floats one_minus = 1.0f - m;
+  Vec diffuse_error, f0_error;
+  for (int i = 0; i < 3; ++i) {
+    diffuse_error.c[i] = (kDielectricDiffuse * one_minus) * b.c[i] - o.target_diffuse.c[i];
+    f0_error.c[i] = kDielectricF0 * one_minus + m * b.c[i] - o.target_f0.c[i];
+  }
+  const Floats prior = m - o.prior_m;
+  return quadratic_form(o.diffuse_metric, diffuse_error) + quadratic_form(o.f0_metric, f0_error) +
+         o.prior_weight * prior * prior;
+}
+
+Objectives objectives_for(const SpecGloss* legacy) {
+  Objectives o;
+  for (int l = 0; l < kLanes; ++l) {
+    const Objective one = objective_for(legacy[l]);
+    for (int i = 0; i < 3; ++i) {
+      o.target_diffuse.c[i][l] = one.target.diffuse[i];
+      o.target_f0.c[i][l] = one.target.f0[i];
+      o.diffuse_pull.c[i][l] = one.diffuse_pull[i];
+      o.f0_pull.c[i][l] = one.f0_pull[i];
+      o.dielectric_pull.c[i][l] = one.dielectric_pull[i];
+    }
+    constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
+    for (int i = 0; i < 6; ++i) {
+      o.diffuse_metric.e[i][l] = one.diffuse_metric[kColumn[i]][kRow[i]];
+      o.f0_metric.e[i][l] = one.f0_metric[kColumn[i]][kRow[i]];
+    }
+    o.prior_m[l] = one.prior_m;
+    o.prior_weight[l] = one.prior_weight;
+  }
+  return o;
+}
+
+// refine() of every lane, each in its own bracket; iterations are the same for all lanes.
+GLTF_PBR_INLINE void refine(Floats lo, Floats hi, Floats& m, Floats& error, int iterations, const Objectives& o) {
+  constexpr float kInvPhi = 0.6180339887f;
+  Floats x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  Floats e1 = error_at(x1, o), e2 = error_at(x2, o);
+  for (int i = 0; i < iterations; ++i) {
+    const Mask left = e1 < e2;
+    // Left: the minimum is in [lo, x2]; else in [x1, hi]. One new point either way.
+    hi = select(left, x2, hi), lo = select(left, lo, x1);
+    const Floats kept_x = select(left, x1, x2), kept_e = select(left, e1, e2);
+    const Floats fresh_x = select(left, hi - kInvPhi * (hi - lo), lo + kInvPhi * (hi - lo));
+    const Floats fresh_e = error_at(fresh_x, o);
+    x1 = select(left, fresh_x, kept_x), e1 = select(left, fresh_e, kept_e);
+    x2 = select(left, kept_x, fresh_x), e2 = select(left, kept_e, fresh_e);
+  }
+  if (iterations > 0) {
+    const Mask first = e1 < error;
+    error = select(first, e1, error), m = select(first, x1, m);
+    const Mask second = e2 < error;
+    error = select(second, e2, error), m = select(second, x2, m);
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// AVX2 + FMA where the processor has them (8 lanes in one register), plain x86-64 otherwise.
+[[gnu::target_clones("arch=x86-64-v3", "default")]]
+#endif
+void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& settings) {
+  const Objectives o = objectives_for(legacy);
+  const int steps = std::max(1, settings.grid_steps);
+  const size_t count = static_cast<size_t>(steps) + 1;
+  // Each lane's sampled errors and minima, on the stack (a container of vectors would be code
+  // shared between the clones below, compiled for one of them only); the k-th minima of all lanes
+  // are refined together.
+  float samples[kLanes][kMaxGrid + 1];
+  for (int i = 0; i <= steps; ++i) {
+    const Floats errors = error_at(splat(static_cast<float>(i) / static_cast<float>(steps)), o);
+    for (int l = 0; l < kLanes; ++l) samples[l][i] = errors[l];
+  }
+  int at[kLanes][kMaxGrid / 2 + 1];
+  size_t minima_count[kLanes], most = 0;
+  for (int l = 0; l < kLanes; ++l) {
+    minima_count[l] = sampled_minima(std::span(samples[l], count), at[l]);
+    most = std::max(most, minima_count[l]);
+  }
+  Minimum minima[kLanes][kMaxGrid / 2 + 1];
+  for (size_t j = 0; j < most; ++j) {
+    Floats lo = splat(0.0f), hi = splat(1.0f), m = splat(0.5f), error = splat(0.0f);
+    for (int l = 0; l < kLanes; ++l) {
+      if (j >= minima_count[l]) continue;  // an idle lane refines [0, 1]; its result is dropped
+      const Bracket b = bracket_of(at[l][j], count);
+      lo[l] = b.lo, hi[l] = b.hi, m[l] = b.m, error[l] = samples[l][at[l][j]];
+    }
+    refine(lo, hi, m, error, settings.refine_iterations, o);
+    for (int l = 0; l < kLanes; ++l)
+      if (j < minima_count[l])
+        minima[l][j] = {m[l], error[l],
+                        prominence(std::span(samples[l], count), std::span(at[l], minima_count[l]), j, error[l])};
+  }
+  Floats m = splat(0.0f);
+  for (int l = 0; l < kLanes; ++l) m[l] = blended_metalness(std::span(minima[l], minima_count[l]));
+  const Vec base = base_at(m, o);
+  for (int l = 0; l < kLanes; ++l)
+    out[l] = {glm::vec3(base.c[0][l], base.c[1][l], base.c[2][l]), m[l], roughness_of(legacy[l])};
+}
+
+#undef GLTF_PBR_INLINE
+
+}  // namespace lanes
 
 }  // namespace
 
@@ -272,25 +542,27 @@ MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   std::vector<float> samples(static_cast<size_t>(steps) + 1);
   for (int i = 0; i <= steps; ++i)
     samples[static_cast<size_t>(i)] = error_at(static_cast<float>(i) / static_cast<float>(steps), objective);
-  const std::vector<Minimum> minima = local_minima(samples, settings.refine_iterations, objective);
+  const float m = blended_metalness(local_minima(samples, settings.refine_iterations, objective));
+  return {base_at(m, objective), m, roughness_of(legacy)};
+}
 
-  // Minima within the blend width of the lowest share the answer, weighted by how close they
-  // come to it and by how prominent they are. As the inputs move, a minimum's weight falls
-  // smoothly to 0 as its error rises above the lowest or as it flattens out and vanishes, so m
-  // moves continuously where a plain argmin jumps. One clear minimum, the usual case, keeps its
-  // m exactly.
-  float lowest = std::numeric_limits<float>::infinity(), lowest_m = 0.0f;
-  for (const Minimum& minimum : minima)
-    if (minimum.error < lowest) lowest = minimum.error, lowest_m = minimum.m;
-  const float width = kBlendWidthRelative * lowest + kBlendWidthAbsolute;
-  float weight_sum = 0.0f, weighted_m = 0.0f;
-  for (const Minimum& minimum : minima) {
-    const float weight =
-        std::max(0.0f, 1.0f - (minimum.error - lowest) / width) * std::min(1.0f, minimum.prominence / width);
-    weight_sum += weight, weighted_m += weight * minimum.m;
+void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, const SolverSettings& settings) {
+  if (settings.reference_formula) {
+    for (size_t i = 0; i < legacy.size(); ++i) out[i] = solve_reference(legacy[i]);
+    return;
   }
-  const float m = weight_sum > 0.0f ? weighted_m / weight_sum : lowest_m;
-  return {base_at(m, objective), m, std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f)};
+  if (settings.grid_steps > lanes::kMaxGrid) {
+    for (size_t i = 0; i < legacy.size(); ++i) out[i] = solve(legacy[i], settings);
+    return;
+  }
+  for (size_t first = 0; first < legacy.size(); first += lanes::kLanes) {
+    const size_t n = std::min<size_t>(lanes::kLanes, legacy.size() - first);
+    SpecGloss in[lanes::kLanes];
+    MetalRough solved[lanes::kLanes];
+    for (size_t l = 0; l < lanes::kLanes; ++l) in[l] = legacy[first + std::min(l, n - 1)];  // pad with the last
+    lanes::solve(in, solved, settings);
+    std::copy_n(solved, n, out.begin() + static_cast<std::ptrdiff_t>(first));
+  }
 }
 
 MetalRough solve_reference(const SpecGloss& legacy) {

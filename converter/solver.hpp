@@ -1,6 +1,7 @@
 // Per-texel spec-gloss -> albedo + metalness solver (DESIGN.md, "Conversion").
 #pragma once
 #include <glm/vec3.hpp>
+#include <span>
 
 namespace gltf_pbr {
 
@@ -69,6 +70,12 @@ SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default)
 // Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
 // any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings = {});
+
+// solve() of many inputs at once, eight side by side in SIMD lanes (AVX2 where the processor has
+// it): the same objective, search and blending, with the 3×3 systems solved by cofactors, so each
+// answer agrees with solve() to float rounding. An input's answer never depends on the others in
+// its batch. out.size() must be legacy.size().
+void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, const SolverSettings& settings = {});
 
 // The reference formula (archived extension examples, Microsoft glTF-SDK PBRUtils): a scalar
 // quadratic on perceived brightness. Kept for comparison in tests and the benchmark.

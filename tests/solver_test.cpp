@@ -244,5 +244,75 @@ TEST(Solver, MoreEffortNeverFitsWorse) {
   EXPECT_LE(exact, fast * 1.001);
 }
 
+// Random materials over the whole input range, plus the stiff corners: black, white, F0 above 1,
+// the 0.04 line and pure metals.
+std::vector<SpecGloss> varied_materials(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), specular(0.0f, 1.1f);
+  std::vector<SpecGloss> materials;
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3 diffuse(unit(rng), unit(rng), unit(rng));
+    const glm::vec3 tinted(specular(rng), specular(rng), specular(rng));
+    const glm::vec3 grey(specular(rng));
+    materials.push_back({diffuse, i % 2 ? tinted : grey, unit(rng)});
+  }
+  for (float d : {0.0f, 0.04f, 0.5f, 1.0f})
+    for (float s : {0.0f, 0.02f, 0.04f, 0.0401f, 0.2f, 0.45f, 1.0f, 1.1f})
+      materials.push_back({glm::vec3(d), glm::vec3(s), 0.0f});
+  for (const Metal& metal : kMetals) materials.push_back({glm::vec3(0.0f), metal.f0, 1.0f});
+  return materials;
+}
+
+TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
+  const std::vector<SpecGloss> materials = varied_materials(20000, 5);
+  for (const char* preset : {"fast", "balanced", "exact", "reference"}) {
+    const SolverSettings settings = solver_preset(preset);
+    std::vector<MetalRough> batch(materials.size());
+    solve_batch(materials, batch, settings);
+    double worst = 0.0;
+    for (size_t i = 0; i < materials.size(); ++i) {
+      const MetalRough scalar = solve(materials[i], settings);
+      ASSERT_TRUE(finite_and_in_unit_range(batch[i])) << preset << " " << i;
+      EXPECT_EQ(batch[i].roughness, scalar.roughness);
+      ErrorAccumulator apart;  // the two answers' reflectances against each other
+      apart.add(core_reflectance(scalar), core_reflectance(batch[i]));
+      worst = std::max(worst, apart.finish().worst());
+    }
+    // Float rounding of the 3×3 solves moves m by ~1e-6; where two minima blend, a little more.
+    EXPECT_LT(worst, 0.05) << preset;
+  }
+}
+
+TEST(SolverBatch, AnInputsAnswerDoesNotDependOnItsNeighboursInTheBatch) {
+  const std::vector<SpecGloss> materials = varied_materials(64, 9);
+  std::vector<MetalRough> together(materials.size());
+  solve_batch(materials, together);
+  for (size_t i = 0; i < materials.size(); ++i) {
+    MetalRough alone;
+    solve_batch(std::span(&materials[i], 1), std::span(&alone, 1));
+    EXPECT_EQ(alone.metalness, together[i].metalness) << i;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(alone.base[c], together[i].base[c]) << i;
+  }
+}
+
+TEST(SolverBatch, KeepsTheExactCasesOfTheScalarSolve) {
+  std::vector<SpecGloss> materials;
+  for (glm::vec3 diffuse : {glm::vec3(0.0f), glm::vec3(1.0f), glm::vec3(0.8f, 0.2f, 0.1f)})
+    materials.push_back({diffuse, glm::vec3(0.04f), 0.5f});
+  for (const Metal& metal : kMetals) materials.push_back({glm::vec3(0.0f), metal.f0, 0.8f});
+  std::vector<MetalRough> out(materials.size());
+  solve_batch(materials, out);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(out[i].metalness, 0.0f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i].base[c], materials[i].diffuse[c], 1e-5f);
+  }
+  for (size_t i = 3; i < materials.size(); ++i) {
+    EXPECT_EQ(out[i].metalness, 1.0f) << i;
+    const glm::vec3 f0 = materials[i].specular;
+    const float scale = std::max(1.0f, std::max(f0.r, std::max(f0.g, f0.b)));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i].base[c], f0[c] / scale, 1e-5f) << i;
+  }
+}
+
 }  // namespace
 }  // namespace gltf_pbr
