@@ -30,10 +30,10 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
 
 // The solve depends only on diffuse and specular (roughness is 1 - glossiness), and textures
 // repeat those pairs a lot: a direct-mapped cache of solves, keyed by the exact input bits, skips
-// most of the work without changing any result. Misses are gathered and solved together in SIMD
-// lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
-// result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
-// against both legacy readings depends on the same inputs, so it is cached too.
+// most of the work without changing any result. Misses are gathered per band and solved together
+// in SIMD lanes (solve_batch), whose answer for an input never depends on its neighbours, so a
+// texel's result is the same whichever batch solved it. The ΔE2000 of the stored (quantized)
+// result against both legacy readings depends on the same inputs, so it is cached too.
 class SolveCache {
  public:
   struct Entry {
@@ -43,43 +43,65 @@ class SolveCache {
     float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
     bool filled = false, queued = false, has_error = false;
   };
+  enum class Found { Solved, Queued };
+  struct Lookup {
+    Found found;
+    Entry* entry;  // Solved: the entry; Queued: null until solve_queued(), then entry(ticket)
+    size_t ticket;
+  };
 
   // Sized to the texels it will see (a power of two up to 65536 entries, about 3 MB).
   SolveCache(const SolverSettings& settings, size_t texels)
       : settings_(settings), entries_(std::bit_ceil(std::clamp<size_t>(texels, 256, 65536))) {}
 
-  // The solved entry of `legacy`, or null when it has not been solved yet: then `legacy` is queued
-  // for solve_queued() (once, however often it is asked for before then).
-  Entry* find_or_queue(const SpecGloss& legacy) {
+  // The solved entry of `legacy` (valid until the next call), or a ticket for it in the next
+  // solve_queued(). An input already queued shares its ticket. A queued slot is never taken by another input before the
+  // solve: one that maps there is queued apart, so every ticket stays valid.
+  Lookup find_or_queue(const SpecGloss& legacy) {
     std::uint32_t key[6];
     Entry& entry = slot(legacy, key);
-    if ((entry.filled || entry.queued) && std::memcmp(entry.key, key, sizeof key) == 0)
-      return entry.filled ? &entry : nullptr;
-    std::memcpy(entry.key, key, sizeof key);  // claim: later asks of the same key wait for this solve
-    entry.filled = false;
-    entry.queued = true;
+    const bool same = std::memcmp(entry.key, key, sizeof key) == 0;
+    if (entry.filled && same) return {Found::Solved, &entry, 0};
+    const size_t slot_index = static_cast<size_t>(&entry - entries_.data());
+    if (entry.queued && same) return {Found::Queued, nullptr, ticket_of_slot_[slot_index]};
+    if (solves_to_its_diffuse(legacy)) {               // no search needed (solver.hpp); cached all the same
+      Entry& into = entry.queued ? unqueued_ : entry;  // a queued slot keeps its claim
+      std::memcpy(into.key, key, sizeof key);
+      fill(into, {legacy.diffuse, 0.0f, 0.0f});
+      return {Found::Solved, &into, 0};
+    }
+    const size_t ticket = queue_.size();
     queue_.push_back(legacy);
-    return nullptr;
+    if (entry.queued) {
+      spill_.push_back(ticket);
+    } else {  // claim the slot (an older solve there is dropped)
+      std::memcpy(entry.key, key, sizeof key);
+      entry.filled = false, entry.queued = true;
+      ticket_of_slot_[slot_index] = ticket;
+      claimed_.push_back(slot_index);
+    }
+    return {Found::Queued, nullptr, ticket};
   }
 
-  // Solves the queued inputs together and stores them. Two queued keys that share a slot leave the
-  // later one there; the earlier is solved again by find() when asked.
+  // Solves every queued input in one batch; tickets then name their entries until the next call.
   void solve_queued() {
-    solved_.resize(queue_.size());
-    solve_batch(queue_, solved_, settings_);
-    for (size_t i = 0; i < queue_.size(); ++i) store(queue_[i], solved_[i]);
-    queue_.clear();
+    std::vector<MetalRough> solved(queue_.size());
+    solve_batch(queue_, solved, settings_);
+    ticket_entries_.assign(queue_.size(), nullptr);
+    for (size_t slot_index : claimed_) {
+      Entry& entry = entries_[slot_index];
+      const size_t ticket = ticket_of_slot_[slot_index];
+      fill(entry, solved[ticket]);
+      ticket_entries_[ticket] = &entry;
+    }
+    spilled_.resize(spill_.size());
+    for (size_t i = 0; i < spill_.size(); ++i) {
+      fill(spilled_[i], solved[spill_[i]]);
+      ticket_entries_[spill_[i]] = &spilled_[i];
+    }
+    queue_.clear(), claimed_.clear(), spill_.clear();
   }
-
-  // The solved entry of `legacy`, solving it now if it is not there.
-  Entry& find(const SpecGloss& legacy) {
-    std::uint32_t key[6];
-    Entry& entry = slot(legacy, key);
-    if (entry.filled && std::memcmp(entry.key, key, sizeof key) == 0) return entry;
-    MetalRough solved;
-    solve_batch(std::span(&legacy, 1), std::span(&solved, 1), settings_);
-    return store(legacy, solved);
-  }
+  Entry& entry(size_t ticket) { return *ticket_entries_[ticket]; }
 
   // The error of what is stored: the quantized texels, read back as a viewer reads them.
   static const float* error(Entry& entry, const SpecGloss& legacy) {
@@ -112,22 +134,20 @@ class SolveCache {
     return entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
   }
 
-  Entry& store(const SpecGloss& legacy, const MetalRough& r) {
-    std::uint32_t key[6];
-    Entry& entry = slot(legacy, key);
-    std::memcpy(entry.key, key, sizeof key);
+  static void fill(Entry& entry, const MetalRough& r) {
     for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
     entry.metalness = quantize(r.metalness);
-    entry.filled = true;
-    entry.queued = false;
-    entry.has_error = false;
-    return entry;
+    entry.filled = true, entry.queued = false, entry.has_error = false;
   }
 
   const SolverSettings& settings_;
   std::vector<Entry> entries_;
-  std::vector<SpecGloss> queue_;
-  std::vector<MetalRough> solved_;
+  std::vector<size_t> ticket_of_slot_ = std::vector<size_t>(entries_.size());
+  std::vector<SpecGloss> queue_;         // inputs to solve, by ticket
+  std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose slot was taken
+  std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
+  std::vector<Entry*> ticket_entries_;
+  Entry unqueued_;  // an answer known without a solve whose slot is claimed: good until the next ask
 };
 
 }  // namespace
@@ -137,7 +157,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.width = in.width;
   out.height = in.height;
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
-  out.base_color.resize(texels * 4);
+  // Without an alpha channel in the diffuse, alpha is the factor's: the texels need RGB only.
+  const bool alpha_texels = in.diffuse && (in.diffuse->channels == 2 || in.diffuse->channels == 4);
+  out.base_channels = alpha_texels ? 4 : 3;
+  const size_t base_channels = static_cast<size_t>(out.base_channels);
+  out.base_color.resize(texels * base_channels);
   out.metal_rough.resize(texels * 3);
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
@@ -158,8 +182,21 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
     }
     return legacy;
   };
-  const auto alpha_at = [&](size_t i) {
-    return in.diffuse_factor.a * (in.diffuse ? channel(*in.diffuse, i, 3, false) : 1.0f);
+  out.alpha = quantize(in.diffuse_factor.a * (alpha_texels ? channel(*in.diffuse, 0, 3, false) : 1.0f));
+  // Texel i's solve, written out, and its error when the texel is a sample.
+  const auto write = [&](size_t i, SolveCache::Entry& solved, const SpecGloss& legacy) {
+    std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
+    out.metal_rough[i * 3 + 2] = solved.metalness;
+    if (i % stride != 0) return;
+    const size_t y = i / static_cast<size_t>(in.width);
+    const float* delta_e = SolveCache::error(solved, legacy);
+    rows_a[y].add(delta_e[0], delta_e[1]);
+    rows_b[y].add(delta_e[2], delta_e[3]);
+    if (in.measure_extension_route) {
+      const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
+      rows_extension_a[y].add(legacy_reflectance(legacy, LegacyReading::A), route);
+      rows_extension_b[y].add(legacy_reflectance(legacy, LegacyReading::B), route);
+    }
   };
 
   // Bands of rows handed out one at a time: the distinct colours, and so the solves, gather in
@@ -171,33 +208,27 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   std::atomic<std::int64_t> next_band{0};
   run_on_threads(threads, [&] {
     SolveCache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
+    std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
     for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
-      // Two passes over the band: queue what the cache lacks and solve it in one batch, then write.
-      const std::int64_t last = std::min<std::int64_t>(in.height, band * kBandRows + kBandRows);
-      const size_t first_texel = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
-      const size_t end_texel = static_cast<size_t>(last) * static_cast<size_t>(in.width);
-      for (size_t i = first_texel; i < end_texel; ++i) cache.find_or_queue(legacy_at(i));
-      cache.solve_queued();
-      for (size_t i = first_texel; i < end_texel; ++i) {
+      const size_t first = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
+      const size_t end = static_cast<size_t>(std::min<std::int64_t>(in.height, (band + 1) * kBandRows)) *
+                         static_cast<size_t>(in.width);
+      // Hits are written at once; misses wait for the band's batch.
+      for (size_t i = first; i < end; ++i) {
         const SpecGloss legacy = legacy_at(i);
-        SolveCache::Entry& solved = cache.find(legacy);
-        std::memcpy(&out.base_color[i * 4], solved.base_srgb, 3);
-        out.base_color[i * 4 + 3] = quantize(alpha_at(i));
+        if (alpha_texels) out.base_color[i * 4 + 3] = quantize(in.diffuse_factor.a * channel(*in.diffuse, i, 3, false));
         out.metal_rough[i * 3 + 0] = 0;
         out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
-        out.metal_rough[i * 3 + 2] = solved.metalness;
-        if (i % stride == 0) {
-          const size_t y = i / static_cast<size_t>(in.width);
-          const float* delta_e = SolveCache::error(solved, legacy);
-          rows_a[y].add(delta_e[0], delta_e[1]);
-          rows_b[y].add(delta_e[2], delta_e[3]);
-          if (in.measure_extension_route) {
-            const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
-            rows_extension_a[y].add(legacy_reflectance(legacy, LegacyReading::A), route);
-            rows_extension_b[y].add(legacy_reflectance(legacy, LegacyReading::B), route);
-          }
-        }
+        const SolveCache::Lookup found = cache.find_or_queue(legacy);
+        if (found.found == SolveCache::Found::Solved)
+          write(i, *found.entry, legacy);
+        else
+          waiting.emplace_back(i, found.ticket);
       }
+      if (waiting.empty()) continue;
+      cache.solve_queued();
+      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), legacy_at(i));
+      waiting.clear();
     }
   });
   for (size_t y = 0; y < rows_a.size(); ++y) {
@@ -209,9 +240,9 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
     out.extension_b.merge(rows_extension_b[y]);
   }
   for (size_t i = 1; i < texels; ++i) {
-    out.base_constant =
-        out.base_constant && std::equal(&out.base_color[i * 4], &out.base_color[i * 4 + 3], &out.base_color[0]);
-    out.alpha_constant = out.alpha_constant && out.base_color[i * 4 + 3] == out.base_color[3];
+    const std::uint8_t* base = &out.base_color[i * base_channels];
+    out.base_constant = out.base_constant && std::equal(base, base + 3, &out.base_color[0]);
+    out.alpha_constant = out.alpha_constant && (!alpha_texels || base[3] == out.alpha);
     out.metal_rough_constant = out.metal_rough_constant &&
                                std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
   }

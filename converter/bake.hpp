@@ -23,17 +23,19 @@ struct BakeInputs {
 
 struct BakedTexels {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> base_color;   // RGBA: sRGB RGB, linear A (glTF 2.0 section 3.9.2)
+  // sRGB RGB and linear A (glTF 2.0 section 3.9.2). RGB only (base_channels 3) when the diffuse
+  // has no alpha channel: alpha is then the diffuse factor's, kept in `alpha` alone.
+  std::vector<std::uint8_t> base_color;
+  int base_channels = 4;
+  std::uint8_t alpha = 255;               // the first texel's alpha: all of them when alpha_constant
   std::vector<std::uint8_t> metal_rough;  // RGB linear: R unused (0), G roughness, B metalness
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
-  ErrorAccumulator error_a, error_b;  // against legacy readings A and B
+  ErrorAccumulator error_a, error_b;          // against legacy readings A and B
   ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
 };
 
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are
 // resampled to width x height first by the caller.
 BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_t max_error_samples);
-
-// The linear value of an 8-bit sRGB-encoded channel.
 
 }  // namespace gltf_pbr

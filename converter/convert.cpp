@@ -129,14 +129,14 @@ class Converter {
     // one equal to the diffuse image reuses it.
     if (t.base_constant && t.alpha_constant) {
       pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
-                             srgb8_to_linear(t.base_color[2]), t.base_color[3] / 255.0};
+                             srgb8_to_linear(t.base_color[2]), t.alpha / 255.0};
     } else if (baked.reuse_diffuse) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
       pbr.baseColorFactor = {1.0, 1.0, 1.0, static_cast<double>(legacy.diffuse_factor.a)};
       ++report_.textures_reused;
     } else {
       pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
-      pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.base_color[3] / 255.0 : 1.0};
+      pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.alpha / 255.0 : 1.0};
     }
     if (t.metal_rough_constant) {
       pbr.metallicFactor = t.metal_rough[2] / 255.0;
@@ -279,13 +279,13 @@ class Converter {
             if (!bake_base) return;
             // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
             std::vector<std::uint8_t> rgb;
-            if (t.alpha_constant) {
+            if (t.alpha_constant && t.base_channels == 4) {
               rgb.reserve(t.base_color.size() / 4 * 3);
               for (size_t i = 0; i < t.base_color.size(); i += 4)
                 rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
             }
             const std::span<const std::uint8_t> texels =
-                t.alpha_constant ? std::span<const std::uint8_t>(rgb) : t.base_color;
+                rgb.empty() ? std::span<const std::uint8_t>(t.base_color) : std::span<const std::uint8_t>(rgb);
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
             base_color =
                 jpeg_base ? encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality)
@@ -309,16 +309,16 @@ class Converter {
     return bake_for(legacy, scratch, /*roughness_only=*/true);
   }
 
+  // Whether the baked base colour is the diffuse image itself, up to the 8-bit rounding of the
+  // solve (one code value in RGB; alpha exactly). The bake keeps the diffuse's channels.
   static bool equals_image(const BakedTexels& t, const Pixels& diffuse) {
-    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height || diffuse.channels < 3)
+    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height ||
+        diffuse.channels != t.base_channels || diffuse.bytes.size() != t.base_color.size())
       return false;
-    const size_t texels = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
-    const size_t n = static_cast<size_t>(diffuse.channels);
-    for (size_t i = 0; i < texels; ++i) {
-      for (size_t c = 0; c < n; ++c)
-        if (t.base_color[i * 4 + c] != static_cast<std::uint8_t>(std::lround(diffuse.value(i * n + c) * 255.0f)))
-          return false;
-      if (n == 3 && t.base_color[i * 4 + 3] != t.base_color[3]) return false;
+    const size_t n = static_cast<size_t>(t.base_channels);
+    for (size_t i = 0; i < t.base_color.size(); ++i) {
+      const int difference = std::abs(int{t.base_color[i]} - int{diffuse.bytes[i]});
+      if (difference > (i % n == 3 ? 0 : 1)) return false;
     }
     return true;
   }

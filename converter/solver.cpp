@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 #include <limits>
 #include <span>
 #include <vector>
@@ -15,7 +16,6 @@
 namespace gltf_pbr {
 namespace {
 
-constexpr float kDielectricF0 = 0.04f;                      // glTF 2.0 Appendix B, ior 1.5
 constexpr float kDielectricDiffuse = 1.0f - kDielectricF0;  // (1 - F) at normal incidence
 constexpr float kDarkestMetalF0 = 0.45f;                    // Unity material validator; Hoffman's table
 
@@ -563,6 +563,12 @@ void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, c
     lanes::solve(in, solved, settings);
     std::copy_n(solved, n, out.begin() + static_cast<std::ptrdiff_t>(first));
   }
+}
+
+bool solves_to_its_diffuse(const SpecGloss& legacy) {
+  const glm::vec3 d = legacy.diffuse;
+  return legacy.specular == glm::vec3(kDielectricF0) && glm::all(glm::greaterThanEqual(d, glm::vec3(0.0f))) &&
+         max3(d) <= 1.0f;
 }
 
 MetalRough solve_reference(const SpecGloss& legacy) {

@@ -12,6 +12,9 @@ struct SpecGloss {
   float glossiness = 1.0f;
 };
 
+// glTF 2.0 Appendix B: the F0 of every core dielectric (ior 1.5).
+inline constexpr float kDielectricF0 = 0.04f;
+
 // Core glTF 2.0 pbrMetallicRoughness values, linear.
 struct MetalRough {
   glm::vec3 base{1.0f};
@@ -70,6 +73,12 @@ SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default)
 // Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
 // any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings = {});
+
+// A legacy material whose specular is exactly the core dielectric's grey F0 and whose diffuse is
+// within [0, 1] converts to base = diffuse, metalness 0, with no error under reading A: the fit is
+// exact there and the prior points at m = 0, so solve() returns it (tested over the whole diffuse
+// cube). Callers may take that answer without the search.
+bool solves_to_its_diffuse(const SpecGloss& legacy);
 
 // solve() of many inputs at once, eight side by side in SIMD lanes (AVX2 where the processor has
 // it): the same objective, search and blending, with the 3×3 systems solved by cofactors, so each
