@@ -162,7 +162,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.base_channels = alpha_texels ? 4 : 3;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
   out.base_color.resize(texels * base_channels);
-  out.metal_rough.resize(texels * 3);
+  out.metalness.resize(texels);
+  if (in.spec_gloss) out.roughness.resize(texels);
+  const auto roughness_of = [](float glossiness) { return quantize(std::clamp(1.0f - glossiness, 0.0f, 1.0f)); };
+  out.first_roughness =
+      roughness_of(in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
   std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
@@ -186,7 +190,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // Texel i's solve, written out, and its error when the texel is a sample.
   const auto write = [&](size_t i, SolveCache::Entry& solved, const SpecGloss& legacy) {
     std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
-    out.metal_rough[i * 3 + 2] = solved.metalness;
+    out.metalness[i] = solved.metalness;
     if (i % stride != 0) return;
     const size_t y = i / static_cast<size_t>(in.width);
     const float* delta_e = SolveCache::error(solved, legacy);
@@ -217,8 +221,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
       for (size_t i = first; i < end; ++i) {
         const SpecGloss legacy = legacy_at(i);
         if (alpha_texels) out.base_color[i * 4 + 3] = quantize(in.diffuse_factor.a * channel(*in.diffuse, i, 3, false));
-        out.metal_rough[i * 3 + 0] = 0;
-        out.metal_rough[i * 3 + 1] = quantize(std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f));
+        if (in.spec_gloss) out.roughness[i] = roughness_of(legacy.glossiness);
         const SolveCache::Lookup found = cache.find_or_queue(legacy);
         if (found.found == SolveCache::Found::Solved)
           write(i, *found.entry, legacy);
@@ -243,10 +246,20 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
     const std::uint8_t* base = &out.base_color[i * base_channels];
     out.base_constant = out.base_constant && std::equal(base, base + 3, &out.base_color[0]);
     out.alpha_constant = out.alpha_constant && (!alpha_texels || base[3] == out.alpha);
-    out.metal_rough_constant = out.metal_rough_constant &&
-                               std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
+    out.metal_rough_constant = out.metal_rough_constant && out.metalness[i] == out.metalness[0] &&
+                               (out.roughness.empty() || out.roughness[i] == out.first_roughness);
   }
   return out;
+}
+
+TexelBytes BakedTexels::metal_rough() const {
+  TexelBytes texels(metalness.size() * 3);
+  for (size_t i = 0; i < metalness.size(); ++i) {
+    texels[i * 3] = 0;
+    texels[i * 3 + 1] = roughness.empty() ? first_roughness : roughness[i];
+    texels[i * 3 + 2] = metalness[i];
+  }
+  return texels;
 }
 
 }  // namespace gltf_pbr

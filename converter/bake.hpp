@@ -25,13 +25,19 @@ struct BakedTexels {
   int width = 0, height = 0;
   // sRGB RGB and linear A (glTF 2.0 section 3.9.2). RGB only (base_channels 3) when the diffuse
   // has no alpha channel: alpha is then the diffuse factor's, kept in `alpha` alone.
-  std::vector<std::uint8_t> base_color;
+  TexelBytes base_color;
   int base_channels = 4;
-  std::uint8_t alpha = 255;               // the first texel's alpha: all of them when alpha_constant
-  std::vector<std::uint8_t> metal_rough;  // RGB linear: R unused (0), G roughness, B metalness
+  std::uint8_t alpha = 255;  // the first texel's alpha: all of them when alpha_constant
+  // Linear metalness, a byte a texel; roughness a byte a texel only when the glossiness varies by
+  // texel (a specularGlossiness texture), else empty and `first_roughness` everywhere.
+  TexelBytes metalness, roughness;
+  std::uint8_t first_roughness = 0;
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
   ErrorAccumulator error_a, error_b;          // against legacy readings A and B
   ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
+
+  // The metallicRoughness texels as glTF stores them: RGB, R unused (0), G roughness, B metalness.
+  TexelBytes metal_rough() const;
 };
 
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are

@@ -139,8 +139,8 @@ class Converter {
       pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.alpha / 255.0 : 1.0};
     }
     if (t.metal_rough_constant) {
-      pbr.metallicFactor = t.metal_rough[2] / 255.0;
-      pbr.roughnessFactor = t.metal_rough[1] / 255.0;
+      pbr.metallicFactor = t.metalness[0] / 255.0;
+      pbr.roughnessFactor = t.first_roughness / 255.0;
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
     }
@@ -174,7 +174,7 @@ class Converter {
       // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
       const Bake& rough = bake_roughness(legacy);
       if (rough.texels.metal_rough_constant) {
-        pbr.roughnessFactor = rough.texels.metal_rough[1] / 255.0;
+        pbr.roughnessFactor = rough.texels.first_roughness / 255.0;
       } else {
         pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
@@ -263,22 +263,25 @@ class Converter {
                            legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
                            equals_image(bake.texels, *diffuse);
       entry.times.solve_ms += ms_since(start);
+      // The decoded inputs go before encoding (a later reader of the same image keeps its copy).
+      const bool has_diffuse = diffuse != nullptr;
+      inputs = {}, diffuse = nullptr, spec_gloss = nullptr;
 
       start = Clock::now();
       const BakedTexels& t = bake.texels;
       // The two textures encode concurrently; images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
-      const bool jpeg_base = t.alpha_constant && diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
+      const bool jpeg_base = t.alpha_constant && has_diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
       const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
       parallel_invoke(
           [&] {
             if (!t.metal_rough_constant)
-              metal_rough = encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression);
+              metal_rough = encode_png(t.metal_rough(), t.width, t.height, 3, options_.png_compression);
           },
           [&] {
             if (!bake_base) return;
             // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
-            std::vector<std::uint8_t> rgb;
+            TexelBytes rgb;
             if (t.alpha_constant && t.base_channels == 4) {
               rgb.reserve(t.base_color.size() / 4 * 3);
               for (size_t i = 0; i < t.base_color.size(); i += 4)

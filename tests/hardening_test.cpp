@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <csignal>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <set>
+#include <span>
 #include <sstream>
 #include <thread>
 
@@ -154,7 +156,7 @@ TEST(CorruptImages, ConvertRefusesToBakeATruncatedJpegAndValidateReportsIt) {
 }
 
 // Texel i as RGBA, as every reader expands it (grey repeats, a missing alpha is opaque).
-std::array<std::uint8_t, 4> rgba_at(const std::vector<std::uint8_t>& texels, int channels, std::size_t i) {
+std::array<std::uint8_t, 4> rgba_at(std::span<const std::uint8_t> texels, int channels, std::size_t i) {
   const std::uint8_t* t = &texels[i * static_cast<std::size_t>(channels)];
   const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
   return {t[0], colour ? t[1] : t[0], colour ? t[2] : t[0], alpha ? t[channels - 1] : std::uint8_t{255}};
@@ -231,7 +233,8 @@ TEST(LeanCodecs, APaletteHoldsAtMost256Colours) {
     }
     const Bytes png = encode_png(texels, 20, 20, 3, 3);
     EXPECT_EQ(png[25], colours == 256 ? 3 : 2) << colours << " colours";  // IHDR colour type
-    EXPECT_EQ(decode_image(png, "palette").bytes, texels) << colours << " colours";
+    const Pixels decoded = decode_image(png, "palette");
+    EXPECT_TRUE(std::ranges::equal(decoded.bytes, texels)) << colours << " colours";
   }
 }
 
