@@ -1,5 +1,6 @@
 // Conversion of the real spec-gloss assets in ../shared/assets.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <set>
@@ -78,8 +79,10 @@ TEST(ConvertSharedAssets, EverySpecGlossAssetConvertsInBothTargetsAndReloadsWith
           EXPECT_EQ(m.outcome, "metalness");
         }
       }
-      const fs::path output = scratch / (input.parent_path().parent_path().filename().string() +
-                                         (target == Target::Metalness ? "-m" : "-s")) / input.filename();
+      const fs::path output =
+          scratch /
+          (input.parent_path().parent_path().filename().string() + (target == Target::Metalness ? "-m" : "-s")) /
+          input.filename();
       save_asset(asset, output);
 
       const Asset converted = load_asset(output);
@@ -137,7 +140,8 @@ TEST(Draco, DecodesTheSharedDracoMeshOnDemandAndCountsIt) {
   EXPECT_EQ(work_counters().meshes_decoded - before, 1);
   EXPECT_EQ(primitive.indices.size() % 3, 0u);
   ASSERT_TRUE(primitive.attributes.count("POSITION"));
-  const auto& accessor = asset.model.accessors.at(static_cast<size_t>(asset.model.meshes[0].primitives[0].attributes.at("POSITION")));
+  const auto& accessor =
+      asset.model.accessors.at(static_cast<size_t>(asset.model.meshes[0].primitives[0].attributes.at("POSITION")));
   EXPECT_EQ(primitive.attributes.at("POSITION").size(), accessor.count * 3);
 }
 
@@ -161,7 +165,8 @@ TEST(Untouched, GlbMeshDataKeepsItsBytes) {
   ASSERT_EQ(converted.model.accessors.size(), original.model.accessors.size());
   for (size_t i = 0; i < original.model.accessors.size(); ++i)
     EXPECT_EQ(view_bytes(converted.model, converted.model.accessors[i].bufferView),
-              view_bytes(original.model, original.model.accessors[i].bufferView)) << "accessor " << i;
+              view_bytes(original.model, original.model.accessors[i].bufferView))
+        << "accessor " << i;
 }
 
 TEST(Idempotence, ConvertingAConvertedFileChangesNothing) {
@@ -265,6 +270,34 @@ TEST(Report, TexturedMaterialsReportTexelsAndSampledError) {
   EXPECT_GE(report.materials[0].error_samples, 65536u);
   EXPECT_GT(report.materials[0].times.solve_ms, 0.0);
   EXPECT_EQ(report.images_decoded, 2);
+}
+
+// Which shared objects `gltf-pbr <arguments>` opens, as the dynamic loader logs them (ld.so(8),
+// LD_DEBUG=files): the OpenImageIO module and its ~260 libraries cost 0.3 s and 128 MiB.
+bool loads_the_image_module(const std::string& arguments, const ScratchDir& scratch) {
+  const fs::path log = scratch / "ld-debug.txt";
+  const std::string command =
+      "LD_DEBUG=files " + test::quoted(GLTF_PBR_CLI) + " " + arguments + " >/dev/null 2>" + test::quoted(log);
+  const int status = std::system(command.c_str());  // validate exits 1 for files with errors
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) <= 1) << command;
+  const std::string opened = test::read_text(log);
+  EXPECT_NE(opened.find("file="), std::string::npos) << "the loader logged nothing";
+  return opened.find("libgltf_pbr_images") != std::string::npos || opened.find("libOpenImageIO") != std::string::npos;
+}
+
+TEST(ImageLibraries, PngAndJpegAssetsConvertAndValidateWithoutLoadingOpenImageIo) {
+  ScratchDir scratch;
+  for (const char* model : {"BoxTextured", "CesiumMan", "VC", "Avocado"})  // PNG, JPEG, both, 2K PNGs
+    EXPECT_FALSE(loads_the_image_module(
+        "convert " + test::quoted(asset_file(model)) + " -o " + test::quoted(scratch / model / "out.gltf"), scratch))
+        << model;
+  for (const char* model : {"CesiumMan", "Avocado"})  // every texture check, and previews' decodes
+    EXPECT_FALSE(loads_the_image_module("validate -f json -q " + test::quoted(asset_file(model)), scratch)) << model;
+  // The check sees a load when there is one: a WebP texture needs the module.
+  EXPECT_TRUE(loads_the_image_module(
+      "convert " + test::quoted(fs::path(GLTF_PBR_SOURCE_DIR) / "tests/hostile_inputs/webp_data_uri.gltf") + " -o " +
+          test::quoted(scratch / "webp" / "out.gltf"),
+      scratch));
 }
 
 }  // namespace
