@@ -1,10 +1,10 @@
 #include "converter/bake.hpp"
 
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "core/color.hpp"
 #include "core/parallel.hpp"
@@ -28,16 +28,100 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
 
-// The solve depends only on diffuse and specular (roughness is 1 - glossiness), and textures
-// repeat those pairs a lot: a direct-mapped cache of solves, keyed by the exact input bits, skips
-// most of the work without changing any result. Misses are gathered per band and solved together
-// in SIMD lanes (solve_batch), whose answer for an input never depends on its neighbours, so a
-// texel's result is the same whichever batch solved it. The ΔE2000 of the stored (quantized)
-// result against both legacy readings depends on the same inputs, so it is cached too.
+// How the bake reads texel i: its legacy material, and the key its solve is cached by (the solve
+// depends on diffuse and specular only; roughness is 1 - glossiness).
+//
+// Any inputs: the key is the legacy colours' float bits.
+struct FloatTexels {
+  using Key = std::array<std::uint32_t, 6>;
+  const BakeInputs& in;
+
+  SpecGloss legacy(size_t i) const {
+    SpecGloss legacy;
+    legacy.diffuse = glm::vec3(in.diffuse_factor);
+    if (in.diffuse)
+      for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
+    legacy.specular = in.specular_factor;
+    legacy.glossiness = in.glossiness_factor;
+    if (in.spec_gloss) {
+      for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
+      legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
+    }
+    return legacy;
+  }
+  Key key(size_t i) const {
+    const SpecGloss l = legacy(i);
+    Key key;
+    std::memcpy(key.data(), &l.diffuse, sizeof(float) * 3);
+    std::memcpy(key.data() + 3, &l.specular, sizeof(float) * 3);
+    return key;
+  }
+  static std::uint64_t hash(const Key& key) {
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
+    for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
+    return hash ^ (hash >> 29);
+  }
+};
+
+// 8-bit inputs (PNG and JPEG: nearly every texture): the key is the texel's six sRGB bytes, so a
+// cache hit costs no colour conversion; the material is built from them only on a miss.
+struct ByteTexels {
+  using Key = std::uint64_t;
+  const BakeInputs& in;
+
+  // Where the R, G and B bytes of texel i sit: grey images repeat their one channel.
+  struct Source {
+    const std::uint8_t* bytes = nullptr;
+    size_t step = 0;
+    size_t offset[3] = {0, 0, 0};
+    explicit Source(const Pixels* p) {
+      if (!p) return;
+      bytes = p->bytes.data(), step = static_cast<size_t>(p->channels);
+      if (p->channels >= 3) offset[1] = 1, offset[2] = 2;
+    }
+    std::uint64_t rgb(size_t i) const {
+      const std::uint8_t* t = bytes + i * step;
+      return t[offset[0]] | std::uint64_t{t[offset[1]]} << 8 | std::uint64_t{t[offset[2]]} << 16;
+    }
+  };
+  Source diffuse{in.diffuse}, specular{in.spec_gloss};
+
+  static bool serves(const BakeInputs& in) {
+    const auto bytes = [](const Pixels* p) { return !p || (p->bits == 8 && !p->bytes.empty()); };
+    return bytes(in.diffuse) && bytes(in.spec_gloss);
+  }
+  Key key(size_t i) const {
+    return (diffuse.bytes ? diffuse.rgb(i) : 0) | (specular.bytes ? specular.rgb(i) << 24 : 0);
+  }
+  SpecGloss legacy(size_t i) const {
+    const std::array<float, 256>& linear = srgb8_to_linear_table();
+    const Key k = key(i);
+    SpecGloss legacy;
+    legacy.diffuse = glm::vec3(in.diffuse_factor);
+    legacy.specular = in.specular_factor;
+    for (int c = 0; c < 3; ++c) {
+      if (diffuse.bytes) legacy.diffuse[c] *= linear[k >> (8 * c) & 0xFF];
+      if (specular.bytes) legacy.specular[c] *= linear[k >> (24 + 8 * c) & 0xFF];
+    }
+    legacy.glossiness = in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, i, 3, false) : 1.0f);
+    return legacy;
+  }
+  static std::uint64_t hash(Key key) {
+    const std::uint64_t hash = key * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing: the high bits mix all
+    return hash >> 32 ^ hash;
+  }
+};
+
+// A direct-mapped cache of solves: textures repeat their colour pairs a lot, and a hit skips the
+// solve without changing any result. Misses are gathered per band and solved together in SIMD
+// lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
+// result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
+// against both legacy readings depends on the same inputs, so it is cached too.
+template <class Key>
 class SolveCache {
  public:
   struct Entry {
-    std::uint32_t key[6];
+    Key key{};
     std::uint8_t base_srgb[3];
     std::uint8_t metalness;
     float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
@@ -54,31 +138,33 @@ class SolveCache {
   SolveCache(const SolverSettings& settings, size_t texels)
       : settings_(settings), entries_(std::bit_ceil(std::clamp<size_t>(texels, 256, 65536))) {}
 
-  // The solved entry of `legacy` (valid until the next call), or a ticket for it in the next
-  // solve_queued(). An input already queued shares its ticket. A queued slot is never taken by another input before the
-  // solve: one that maps there is queued apart, so every ticket stays valid.
-  Lookup find_or_queue(const SpecGloss& legacy) {
-    std::uint32_t key[6];
-    Entry& entry = slot(legacy, key);
-    const bool same = std::memcmp(entry.key, key, sizeof key) == 0;
+  // The solved entry of `key` (valid until the next call), or a ticket for it in the next
+  // solve_queued(). `legacy()` gives the material, asked for on a miss only. An input already
+  // queued shares its ticket. A queued slot is never taken by another input before the solve:
+  // one that maps there is queued apart, so every ticket stays valid.
+  template <class Legacy>
+  Lookup find_or_queue(const Key& key, std::uint64_t hash, Legacy&& legacy) {
+    Entry& entry = entries_[hash & (entries_.size() - 1)];
+    const bool same = entry.key == key;
     if (entry.filled && same) return {Found::Solved, &entry, 0};
-    const size_t slot_index = static_cast<size_t>(&entry - entries_.data());
-    if (entry.queued && same) return {Found::Queued, nullptr, ticket_of_slot_[slot_index]};
-    if (solves_to_its_diffuse(legacy)) {               // no search needed (solver.hpp); cached all the same
+    const size_t slot = static_cast<size_t>(&entry - entries_.data());
+    if (entry.queued && same) return {Found::Queued, nullptr, ticket_of_slot_[slot]};
+    const SpecGloss material = legacy();
+    if (solves_to_its_diffuse(material)) {             // no search needed (solver.hpp); cached all the same
       Entry& into = entry.queued ? unqueued_ : entry;  // a queued slot keeps its claim
-      std::memcpy(into.key, key, sizeof key);
-      fill(into, {legacy.diffuse, 0.0f, 0.0f});
+      into.key = key;
+      fill(into, {material.diffuse, 0.0f, 0.0f});
       return {Found::Solved, &into, 0};
     }
     const size_t ticket = queue_.size();
-    queue_.push_back(legacy);
+    queue_.push_back(material);
     if (entry.queued) {
       spill_.push_back(ticket);
     } else {  // claim the slot (an older solve there is dropped)
-      std::memcpy(entry.key, key, sizeof key);
+      entry.key = key;
       entry.filled = false, entry.queued = true;
-      ticket_of_slot_[slot_index] = ticket;
-      claimed_.push_back(slot_index);
+      ticket_of_slot_[slot] = ticket;
+      claimed_.push_back(slot);
     }
     return {Found::Queued, nullptr, ticket};
   }
@@ -88,9 +174,9 @@ class SolveCache {
     std::vector<MetalRough> solved(queue_.size());
     solve_batch(queue_, solved, settings_);
     ticket_entries_.assign(queue_.size(), nullptr);
-    for (size_t slot_index : claimed_) {
-      Entry& entry = entries_[slot_index];
-      const size_t ticket = ticket_of_slot_[slot_index];
+    for (size_t slot : claimed_) {
+      Entry& entry = entries_[slot];
+      const size_t ticket = ticket_of_slot_[slot];
       fill(entry, solved[ticket]);
       ticket_entries_[ticket] = &entry;
     }
@@ -126,14 +212,6 @@ class SolveCache {
   }
 
  private:
-  Entry& slot(const SpecGloss& legacy, std::uint32_t (&key)[6]) {
-    std::memcpy(key, &legacy.diffuse, sizeof(float) * 3);
-    std::memcpy(key + 3, &legacy.specular, sizeof(float) * 3);
-    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
-    for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
-    return entries_[(hash ^ (hash >> 29)) & (entries_.size() - 1)];
-  }
-
   static void fill(Entry& entry, const MetalRough& r) {
     for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
     entry.metalness = quantize(r.metalness);
@@ -150,50 +228,50 @@ class SolveCache {
   Entry unqueued_;  // an answer known without a solve whose slot is claimed: good until the next ask
 };
 
-}  // namespace
+// A channel's 256 byte values through f, quantized: per-texel alpha and roughness by lookup.
+template <class F>
+std::array<std::uint8_t, 256> byte_table(F f) {
+  std::array<std::uint8_t, 256> table;
+  for (int v = 0; v < 256; ++v) table[static_cast<size_t>(v)] = quantize(f(static_cast<float>(v) / 255.0f));
+  return table;
+}
 
-BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples) {
-  BakedTexels out;
-  out.width = in.width;
-  out.height = in.height;
+template <class Texels>
+void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples, BakedTexels& out) {
+  const Texels texels_of{in};
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
-  // Without an alpha channel in the diffuse, alpha is the factor's: the texels need RGB only.
-  const bool alpha_texels = in.diffuse && (in.diffuse->channels == 2 || in.diffuse->channels == 4);
-  out.base_channels = alpha_texels ? 4 : 3;
+  const bool alpha_texels = out.base_channels == 4;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
-  out.base_color.resize(texels * base_channels);
-  out.metalness.resize(texels);
-  if (in.spec_gloss) out.roughness.resize(texels);
-  const auto roughness_of = [](float glossiness) { return quantize(std::clamp(1.0f - glossiness, 0.0f, 1.0f)); };
-  out.first_roughness =
-      roughness_of(in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
   std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
   std::vector<ErrorAccumulator> rows_extension_b(rows_extension_a.size());
 
-  // The legacy material of texel i: factor x texel, each in its colour space.
-  const auto legacy_at = [&](size_t i) {
-    SpecGloss legacy;
-    legacy.diffuse = glm::vec3(in.diffuse_factor);
-    if (in.diffuse)
-      for (int c = 0; c < 3; ++c) legacy.diffuse[c] *= channel(*in.diffuse, i, c, true);
-    legacy.specular = in.specular_factor;
-    legacy.glossiness = in.glossiness_factor;
-    if (in.spec_gloss) {
-      for (int c = 0; c < 3; ++c) legacy.specular[c] *= channel(*in.spec_gloss, i, c, true);
-      legacy.glossiness *= channel(*in.spec_gloss, i, 3, false);
-    }
-    return legacy;
+  // Alpha (linear, times the factor) and roughness (1 - glossiness, glossiness linear in the
+  // specularGlossiness alpha) of 8-bit texels by table; other precisions channel by channel.
+  const auto alpha_table = byte_table([&](float a) { return in.diffuse_factor.a * a; });
+  const auto roughness_table = byte_table([&](float g) { return 1.0f - in.glossiness_factor * g; });
+  const auto alpha_of = [&](size_t i) {
+    const Pixels& d = *in.diffuse;
+    return !d.bytes.empty()
+               ? alpha_table[d.bytes[i * static_cast<size_t>(d.channels) + static_cast<size_t>(d.channels - 1)]]
+               : quantize(in.diffuse_factor.a * channel(d, i, 3, false));
   };
-  out.alpha = quantize(in.diffuse_factor.a * (alpha_texels ? channel(*in.diffuse, 0, 3, false) : 1.0f));
+  const auto roughness_of = [&](size_t i) {
+    const Pixels& s = *in.spec_gloss;
+    if (!s.bytes.empty() && (s.channels == 2 || s.channels == 4))
+      return roughness_table[s.bytes[i * static_cast<size_t>(s.channels) + static_cast<size_t>(s.channels - 1)]];
+    return quantize(1.0f - in.glossiness_factor * channel(s, i, 3, false));
+  };
+
   // Texel i's solve, written out, and its error when the texel is a sample.
-  const auto write = [&](size_t i, SolveCache::Entry& solved, const SpecGloss& legacy) {
+  const auto write = [&](size_t i, auto& solved) {
     std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
     out.metalness[i] = solved.metalness;
     if (i % stride != 0) return;
     const size_t y = i / static_cast<size_t>(in.width);
-    const float* delta_e = SolveCache::error(solved, legacy);
+    const SpecGloss legacy = texels_of.legacy(i);
+    const float* delta_e = SolveCache<typename Texels::Key>::error(solved, legacy);
     rows_a[y].add(delta_e[0], delta_e[1]);
     rows_b[y].add(delta_e[2], delta_e[3]);
     if (in.measure_extension_route) {
@@ -211,7 +289,8 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const std::int64_t threads = std::min(ThreadPool::shared().threads(), bands);
   std::atomic<std::int64_t> next_band{0};
   run_on_threads(threads, [&] {
-    SolveCache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
+    using Cache = SolveCache<typename Texels::Key>;
+    Cache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
     std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
     for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
       const size_t first = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
@@ -219,18 +298,19 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
                          static_cast<size_t>(in.width);
       // Hits are written at once; misses wait for the band's batch.
       for (size_t i = first; i < end; ++i) {
-        const SpecGloss legacy = legacy_at(i);
-        if (alpha_texels) out.base_color[i * 4 + 3] = quantize(in.diffuse_factor.a * channel(*in.diffuse, i, 3, false));
-        if (in.spec_gloss) out.roughness[i] = roughness_of(legacy.glossiness);
-        const SolveCache::Lookup found = cache.find_or_queue(legacy);
-        if (found.found == SolveCache::Found::Solved)
-          write(i, *found.entry, legacy);
+        if (alpha_texels) out.base_color[i * 4 + 3] = alpha_of(i);
+        if (in.spec_gloss) out.roughness[i] = roughness_of(i);
+        const typename Texels::Key key = texels_of.key(i);
+        const typename Cache::Lookup found =
+            cache.find_or_queue(key, Texels::hash(key), [&] { return texels_of.legacy(i); });
+        if (found.found == Cache::Found::Solved)
+          write(i, *found.entry);
         else
           waiting.emplace_back(i, found.ticket);
       }
       if (waiting.empty()) continue;
       cache.solve_queued();
-      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), legacy_at(i));
+      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket));
       waiting.clear();
     }
   });
@@ -242,6 +322,31 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
     out.extension_a.merge(rows_extension_a[y]);
     out.extension_b.merge(rows_extension_b[y]);
   }
+}
+
+}  // namespace
+
+BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples) {
+  BakedTexels out;
+  out.width = in.width;
+  out.height = in.height;
+  const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
+  // Without an alpha channel in the diffuse, alpha is the factor's: the texels need RGB only.
+  const bool alpha_texels = in.diffuse && (in.diffuse->channels == 2 || in.diffuse->channels == 4);
+  out.base_channels = alpha_texels ? 4 : 3;
+  out.base_color.resize(texels * static_cast<size_t>(out.base_channels));
+  out.metalness.resize(texels);
+  if (in.spec_gloss) out.roughness.resize(texels);
+  out.alpha = quantize(in.diffuse_factor.a * (alpha_texels ? channel(*in.diffuse, 0, 3, false) : 1.0f));
+  out.first_roughness =
+      quantize(1.0f - in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));
+
+  if (ByteTexels::serves(in))
+    bake_texels<ByteTexels>(in, settings, max_error_samples, out);
+  else
+    bake_texels<FloatTexels>(in, settings, max_error_samples, out);
+
+  const size_t base_channels = static_cast<size_t>(out.base_channels);
   for (size_t i = 1; i < texels; ++i) {
     const std::uint8_t* base = &out.base_color[i * base_channels];
     out.base_constant = out.base_constant && std::equal(base, base + 3, &out.base_color[0]);
