@@ -190,7 +190,7 @@ class SolveCache {
   Entry& entry(size_t ticket) { return *ticket_entries_[ticket]; }
 
   // The error of what is stored: the quantized texels, read back as a viewer reads them.
-  static const float* error(Entry& entry, const SpecGloss& legacy) {
+  const float* error(Entry& entry, const SpecGloss& legacy) {
     if (!entry.has_error) {
       MetalRough stored;
       for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(entry.base_srgb[c]);
@@ -199,12 +199,15 @@ class SolveCache {
       const Reflectance a = legacy_reflectance(legacy, LegacyReading::A),
                         b = legacy_reflectance(legacy, LegacyReading::B);
       // Each colour's Lab once: the converted pair serves both readings, and so does F0, which is
-      // the specular colour under either.
+      // the specular colour under either; reading B's diffuse is A's where the specular is 0, and
+      // the legacy F0 is one colour for a whole texture when the specular is a factor.
       auto lab = [](glm::vec3 linear) { return linear_srgb_to_lab(glm::dvec3(linear)); };
       const glm::dvec3 diffuse = lab(converted.diffuse), f0 = lab(converted.f0);
+      if (!(legacy_f0_ == a.f0)) legacy_f0_ = a.f0, legacy_f0_lab_ = lab(a.f0);
       entry.delta_e[0] = static_cast<float>(delta_e_2000(lab(a.diffuse), diffuse));
-      entry.delta_e[1] = static_cast<float>(delta_e_2000(lab(a.f0), f0));
-      entry.delta_e[2] = static_cast<float>(delta_e_2000(lab(b.diffuse), diffuse));
+      entry.delta_e[1] = static_cast<float>(delta_e_2000(legacy_f0_lab_, f0));
+      entry.delta_e[2] =
+          b.diffuse == a.diffuse ? entry.delta_e[0] : static_cast<float>(delta_e_2000(lab(b.diffuse), diffuse));
       entry.delta_e[3] = b.f0 == a.f0 ? entry.delta_e[1] : static_cast<float>(delta_e_2000(lab(b.f0), f0));
       entry.has_error = true;
     }
@@ -225,7 +228,9 @@ class SolveCache {
   std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose slot was taken
   std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
   std::vector<Entry*> ticket_entries_;
-  Entry unqueued_;  // an answer known without a solve whose slot is claimed: good until the next ask
+  Entry unqueued_;              // an answer known without a solve whose slot is claimed: good until the next ask
+  glm::vec3 legacy_f0_{-1.0f};  // the last legacy F0 error() saw, and its Lab
+  glm::dvec3 legacy_f0_lab_{0.0};
 };
 
 // A channel's 256 byte values through f, quantized: per-texel alpha and roughness by lookup.
@@ -265,13 +270,13 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   };
 
   // Texel i's solve, written out, and its error when the texel is a sample.
-  const auto write = [&](size_t i, auto& solved) {
+  const auto write = [&](size_t i, auto& solved, auto& cache) {
     std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
     out.metalness[i] = solved.metalness;
     if (i % stride != 0) return;
     const size_t y = i / static_cast<size_t>(in.width);
     const SpecGloss legacy = texels_of.legacy(i);
-    const float* delta_e = SolveCache<typename Texels::Key>::error(solved, legacy);
+    const float* delta_e = cache.error(solved, legacy);
     rows_a[y].add(delta_e[0], delta_e[1]);
     rows_b[y].add(delta_e[2], delta_e[3]);
     if (in.measure_extension_route) {
@@ -304,13 +309,13 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
         const typename Cache::Lookup found =
             cache.find_or_queue(key, Texels::hash(key), [&] { return texels_of.legacy(i); });
         if (found.found == Cache::Found::Solved)
-          write(i, *found.entry);
+          write(i, *found.entry, cache);
         else
           waiting.emplace_back(i, found.ticket);
       }
       if (waiting.empty()) continue;
       cache.solve_queued();
-      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket));
+      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), cache);
       waiting.clear();
     }
   });
