@@ -17,14 +17,15 @@ for (const model of fs.readdirSync(assetsDir).sort())
     for (const f of fs.readdirSync(dir)) if (/\.(gltf|glb)$/.test(f)) inputs.push({ name: variant === 'specgloss' ? model : `${model} (${variant.replace('specgloss-', '').replace('-generated', '')})`, file: path.join(dir, f) });
   }
 
-// Wall seconds (clock around the whole process) and peak RSS in MB (GNU time, whose own wall
-// clock has only 10 ms resolution).
+// Wall seconds (clock around the whole process), CPU seconds (user + system) and peak RSS in MB
+// (GNU time, whose own wall clock has only 10 ms resolution).
 function timed(argv) {
   const start = process.hrtime.bigint();
-  const r = spawnSync('/usr/bin/time', ['-f', '%M', ...argv], { encoding: 'utf8' });
+  const r = spawnSync('/usr/bin/time', ['-f', '%M %U %S', ...argv], { encoding: 'utf8' });
   const seconds = Number(process.hrtime.bigint() - start) / 1e9;
   if (r.status !== 0) throw new Error(`${argv.join(' ')} failed:\n${r.stderr}`);
-  return { seconds, mb: Number(r.stderr.trim().split('\n').pop()) / 1024 };
+  const [kb, user, system] = r.stderr.trim().split('\n').pop().split(' ').map(Number);
+  return { seconds, cpu: user + system, mb: kb / 1024 };
 }
 const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
@@ -44,33 +45,64 @@ function errorSeen(input, output, viewer) {
   return JSON.parse(r.stdout).summary;
 }
 
-function measure(tool, input, index) {
-  const out = path.join(work, tool, String(index), path.basename(input));
-  const argv = tool === 'ours' ? [ours, 'convert', input, '-o', out, '-q'] : [peer, 'metalrough', input, out];
-  const samples = [];
-  for (let i = 0; i < runs; i++) {
-    fs.rmSync(path.dirname(out), { recursive: true, force: true });
-    fs.mkdirSync(path.dirname(out), { recursive: true });
-    samples.push(timed(argv));
-  }
-  return {
-    seconds: median(samples.map((s) => s.seconds)), mb: median(samples.map((s) => s.mb)), bytes: totalBytes(out),
-    core: errorSeen(input, out, 'core'), full: errorSeen(input, out, 'full'),
-  };
+// Ours and the peer's runs alternate, so that a slow spell of the machine falls on both.
+function measure(input, index) {
+  const tools = { ours: [], peer: [] }, outs = {};
+  for (const tool of ['ours', 'peer']) outs[tool] = path.join(work, tool, String(index), path.basename(input));
+  const argv = (tool) => (tool === 'ours' ? [ours, 'convert', input, '-o', outs.ours, '-q'] : [peer, 'metalrough', input, outs.peer]);
+  for (let i = 0; i < runs; i++)
+    for (const tool of ['ours', 'peer']) {
+      fs.rmSync(path.dirname(outs[tool]), { recursive: true, force: true });
+      fs.mkdirSync(path.dirname(outs[tool]), { recursive: true });
+      tools[tool].push(timed(argv(tool)));
+    }
+  const summary = (tool) => ({
+    seconds: median(tools[tool].map((s) => s.seconds)), cpu: median(tools[tool].map((s) => s.cpu)),
+    mb: median(tools[tool].map((s) => s.mb)), bytes: totalBytes(outs[tool]),
+    core: errorSeen(input, outs[tool], 'core'), full: errorSeen(input, outs[tool], 'full'),
+  });
+  return [summary('ours'), summary('peer')];
 }
+
+// Avocado with its maps resized to N², to see how each tool's cost grows with texels (sharp comes
+// with glTF-Transform).
+async function resizedAvocado(size) {
+  const { default: sharp } = await import(path.join(process.env.GLTF_PBR_NODE_MODULES, 'sharp', 'lib', 'index.js'));
+  const source = path.join(assetsDir, 'Avocado', 'specgloss'), dir = path.join(work, `avocado-${size}`);
+  fs.mkdirSync(dir, { recursive: true });
+  for (const f of fs.readdirSync(source)) {
+    if (f.endsWith('.png')) await sharp(path.join(source, f)).resize(size, size).png().toFile(path.join(dir, f));
+    else fs.copyFileSync(path.join(source, f), path.join(dir, f));
+  }
+  return { name: `Avocado ${size}²`, file: path.join(dir, 'Avocado.gltf'), texels: size * size };
+}
+for (const size of (process.env.SIZES || '512,1024,2048,4096').split(',').filter(Boolean).map(Number))
+  inputs.push(await resizedAvocado(size));
 
 // A figure nothing measured is null in our JSON (an asset with no spec-gloss material): say so, never 0.
 const fixed = (digits) => (x) => (x === null || x === undefined ? 'not measured' : x.toFixed(digits));
 const f1 = fixed(1), f2 = fixed(2), f3 = fixed(3);
 console.log(`### gltf-pbr convert vs glTF-Transform ${process.env.GLTF_TRANSFORM_VERSION} metalrough (median of ${runs} runs)\n`);
 console.log('Error: ΔE2000 of diffuse weight and F0 against the legacy material (reading A), mean over materials of the per-material mean, and the worst texel; "core" is a viewer without KHR_materials_specular/_ior, "full" one with them.\n');
-console.log('| asset | ours s | peer s | speed-up | ours MB | peer MB | mem ratio | ours bytes | peer bytes | size ratio | core err ours / peer (worst) | full err ours / peer |');
-console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
-inputs.forEach(({ name, file }, i) => {
-  const a = measure('ours', file, i), b = measure('peer', file, i);
-  console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f1(b.seconds / a.seconds)}× | ${f1(a.mb)} | ${f1(b.mb)} | ${f2(a.mb / b.mb)} | ${a.bytes} | ${b.bytes} | ${f2(a.bytes / b.bytes)} | ` +
+console.log('| asset | ours s | peer s | speed-up | ours CPU s | peer CPU s | ours MB | peer MB | mem ratio | ours bytes | peer bytes | size ratio | core err ours / peer (worst) | full err ours / peer |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
+const grown = [];
+inputs.forEach(({ name, file, texels }, i) => {
+  const [a, b] = measure(file, i);
+  if (texels) grown.push({ name, texels, a, b });
+  console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f1(b.seconds / a.seconds)}× | ${f2(a.cpu)} | ${f2(b.cpu)} | ${f1(a.mb)} | ${f1(b.mb)} | ${f2(a.mb / b.mb)} | ${a.bytes} | ${b.bytes} | ${f2(a.bytes / b.bytes)} | ` +
     `${f2(a.core.meanOfMaterialMeans)} / ${f2(b.core.meanOfMaterialMeans)} (${f1(a.core.worst)} / ${f1(b.core.worst)}) | ${f2(a.full.meanOfMaterialMeans)} / ${f2(b.full.meanOfMaterialMeans)} |`);
 });
+// Cost per added Mtexel (per map) between consecutive sizes: the slope of wall time against texels.
+if (grown.length > 1) {
+  console.log('\n#### Growth with texture size (Avocado maps resized): wall seconds per added Mtexel per map\n');
+  console.log('| from | to | ours s/Mtexel | peer s/Mtexel |');
+  console.log('|---|---|---|---|');
+  for (let k = 1; k < grown.length; k++) {
+    const p = grown[k - 1], q = grown[k], mtexels = (q.texels - p.texels) / 1e6;
+    console.log(`| ${p.name} | ${q.name} | ${f3((q.a.seconds - p.a.seconds) / mtexels)} | ${f3((q.b.seconds - p.b.seconds) / mtexels)} |`);
+  }
+}
 
 // Error against time for each solver setting, from our own report.
 console.log(`\n### Error against time per solver setting (median of ${runs} runs; error from --report, reading A)\n`);
