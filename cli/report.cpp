@@ -44,6 +44,9 @@ json file_json(const FileResult& r) {
                   {"outcome", m.outcome},
                   {"texels", m.texels},
                   {"errorSamples", m.error_samples},
+                  {"textures",
+                   {{"baseColor", texture_outcome_name(m.outputs.base_color)},
+                    {"metallicRoughness", texture_outcome_name(m.outputs.metallic_roughness)}}},
                   {"deltaE2000", {{"readingA", error_json(m.error_a)}, {"readingB", error_json(m.error_b)}}},
                   {"timeMs", times_json(m.times)}};
     if (!m.note.empty()) entry["note"] = m.note;

@@ -126,6 +126,7 @@ class SolveCache {
     std::uint8_t metalness;
     float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
     bool filled = false, queued = false, has_error = false;
+    std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
   };
   enum class Found { Solved, Queued };
   struct Lookup {
@@ -134,9 +135,18 @@ class SolveCache {
     size_t ticket;
   };
 
-  // Sized to the texels it will see (a power of two up to 65536 entries, about 3 MB).
-  SolveCache(const SolverSettings& settings, size_t texels)
-      : settings_(settings), entries_(std::bit_ceil(std::clamp<size_t>(texels, 256, 65536))) {}
+  // The calling thread's cache, emptied for a new bake: each pool thread keeps its cache from bake
+  // to bake, and emptying it starts a new generation instead of allocating and zeroing it again
+  // (up to 3 MB a thread a texture: a tenth of the run time on VC's 21 small textures). Sized to
+  // the texels it will see, a power of two up to 65536 entries; it never shrinks.
+  static SolveCache& for_this_thread(const SolverSettings& settings, size_t texels) {
+    thread_local SolveCache cache;
+    cache.settings_ = &settings;
+    const size_t size = std::bit_ceil(std::clamp<size_t>(texels, 256, 65536));
+    if (cache.entries_.size() < size) cache.entries_.assign(size, Entry{}), cache.ticket_of_slot_.resize(size);
+    ++cache.generation_;
+    return cache;
+  }
 
   // The solved entry of `key` (valid until the next call), or a ticket for it in the next
   // solve_queued(). `legacy()` gives the material, asked for on a miss only. An input already
@@ -145,6 +155,7 @@ class SolveCache {
   template <class Legacy>
   Lookup find_or_queue(const Key& key, std::uint64_t hash, Legacy&& legacy) {
     Entry& entry = entries_[hash & (entries_.size() - 1)];
+    if (entry.generation != generation_) entry.filled = entry.queued = false, entry.generation = generation_;
     const bool same = entry.key == key;
     if (entry.filled && same) return {Found::Solved, &entry, 0};
     const size_t slot = static_cast<size_t>(&entry - entries_.data());
@@ -172,7 +183,7 @@ class SolveCache {
   // Solves every queued input in one batch; tickets then name their entries until the next call.
   void solve_queued() {
     std::vector<MetalRough> solved(queue_.size());
-    solve_batch(queue_, solved, settings_);
+    solve_batch(queue_, solved, *settings_);
     ticket_entries_.assign(queue_.size(), nullptr);
     for (size_t slot : claimed_) {
       Entry& entry = entries_[slot];
@@ -221,9 +232,12 @@ class SolveCache {
     entry.filled = true, entry.queued = false, entry.has_error = false;
   }
 
-  const SolverSettings& settings_;
+  SolveCache() = default;
+
+  const SolverSettings* settings_ = nullptr;
   std::vector<Entry> entries_;
-  std::vector<size_t> ticket_of_slot_ = std::vector<size_t>(entries_.size());
+  std::vector<size_t> ticket_of_slot_;
+  std::uint32_t generation_ = 0;
   std::vector<SpecGloss> queue_;         // inputs to solve, by ticket
   std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose slot was taken
   std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
@@ -295,7 +309,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   std::atomic<std::int64_t> next_band{0};
   run_on_threads(threads, [&] {
     using Cache = SolveCache<typename Texels::Key>;
-    Cache cache(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
+    Cache& cache = Cache::for_this_thread(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
     std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
     for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
       const size_t first = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);

@@ -89,6 +89,13 @@ class Converter {
     MetalRough factor_solution;                 // full precision, for factor-only materials
     bool reuse_diffuse = false;                 // baseColor texels equal the diffuse image's: keep its bytes
     int base_color_image = -1, metal_rough_image = -1;
+    int baked_for = -1;  // the material whose conversion baked it; later ones share its images
+    // What a material using this bake gets in the slot whose image is `image`.
+    TextureOutcome outcome(int image, int material) const {
+      return image < 0               ? TextureOutcome::Factor
+             : baked_for == material ? TextureOutcome::Baked
+                                     : TextureOutcome::Shared;
+    }
   };
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
     if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
@@ -130,13 +137,16 @@ class Converter {
     if (t.base_constant && t.alpha_constant) {
       pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
                              srgb8_to_linear(t.base_color[2]), t.alpha / 255.0};
+      entry.outputs.base_color = TextureOutcome::Factor;
     } else if (baked.reuse_diffuse) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
       pbr.baseColorFactor = {1.0, 1.0, 1.0, static_cast<double>(legacy.diffuse_factor.a)};
       ++report_.textures_reused;
+      entry.outputs.base_color = TextureOutcome::InputReused;
     } else {
       pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
       pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.alpha / 255.0 : 1.0};
+      entry.outputs.base_color = baked.outcome(baked.base_color_image, entry.index);
     }
     if (t.metal_rough_constant) {
       pbr.metallicFactor = t.metalness[0] / 255.0;
@@ -144,6 +154,7 @@ class Converter {
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
     }
+    entry.outputs.metallic_roughness = baked.outcome(baked.metal_rough_image, entry.index);
   }
 
   // Target specular, where the metalness fit misses: base = diffuse, metallic 0, and F0 carried
@@ -155,7 +166,10 @@ class Converter {
     auto& pbr = material.pbrMetallicRoughness;
     pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b,
                            legacy.diffuse_factor.a};
-    if (legacy.diffuse_texture) pbr.baseColorTexture = *legacy.diffuse_texture;
+    if (legacy.diffuse_texture) {
+      pbr.baseColorTexture = *legacy.diffuse_texture;
+      entry.outputs.base_color = TextureOutcome::InputReused;
+    }
     pbr.metallicFactor = 0.0;
     pbr.roughnessFactor = std::clamp(1.0 - legacy.glossiness_factor, 0.0, 1.0);
     tinygltf::Value::Object specular;
@@ -172,13 +186,14 @@ class Converter {
       }
       specular["specularColorTexture"] = tinygltf::Value(std::move(info));
       // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
-      const Bake& rough = bake_roughness(legacy);
+      const Bake& rough = bake_roughness(legacy, entry.index);
       if (rough.texels.metal_rough_constant) {
         pbr.roughnessFactor = rough.texels.first_roughness / 255.0;
       } else {
         pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
       }
+      entry.outputs.metallic_roughness = rough.outcome(rough.metal_rough_image, entry.index);
     }
     material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
     tinygltf::Value::Object ior;
@@ -215,6 +230,7 @@ class Converter {
       return it->second;
     }
     Bake bake;
+    bake.baked_for = entry.index;
     BakeInputs inputs;
     inputs.diffuse_factor = legacy.diffuse_factor;
     inputs.specular_factor = legacy.specular_factor;
@@ -307,8 +323,9 @@ class Converter {
     return bakes_.emplace(key, std::move(bake)).first->second;
   }
 
-  const Bake& bake_roughness(const LegacyMaterial& legacy) {
+  const Bake& bake_roughness(const LegacyMaterial& legacy, int material) {
     MaterialReport scratch;
+    scratch.index = material;
     return bake_for(legacy, scratch, /*roughness_only=*/true);
   }
 
@@ -441,6 +458,22 @@ class Converter {
 };
 
 }  // namespace
+
+const char* texture_outcome_name(TextureOutcome outcome) {
+  switch (outcome) {
+    case TextureOutcome::None:
+      return "none";
+    case TextureOutcome::Baked:
+      return "baked";
+    case TextureOutcome::Shared:
+      return "shared";
+    case TextureOutcome::InputReused:
+      return "inputReused";
+    case TextureOutcome::Factor:
+      return "factor";
+  }
+  return "none";
+}
 
 ConversionReport convert(Asset& asset, const ConvertOptions& options) {
   const auto before_used = asset.model.extensionsUsed;

@@ -34,6 +34,20 @@ struct StageTimes {
   }
 };
 
+// What became of a texture slot a converted material writes.
+enum class TextureOutcome {
+  None,         // no texture in the slot: factors only
+  Baked,        // a new image, baked texel by texel for this material
+  Shared,       // the image baked for an earlier material with the same inputs
+  InputReused,  // an input image as it was (the baked texels equal it within 8-bit rounding)
+  Factor,       // the bake came out constant: a factor instead of a texture
+};
+const char* texture_outcome_name(TextureOutcome outcome);  // "baked", "shared", "inputReused", ...
+
+struct MaterialOutputs {
+  TextureOutcome base_color = TextureOutcome::None, metallic_roughness = TextureOutcome::None;
+};
+
 struct MaterialReport {
   int index = -1;
   std::string name;
@@ -44,6 +58,7 @@ struct MaterialReport {
   // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt
   // where nothing was measured (a material left as spec-gloss), reported as null, never as 0.
   std::optional<ReflectanceError> error_a, error_b;
+  MaterialOutputs outputs;
   StageTimes times;
 };
 

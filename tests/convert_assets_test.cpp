@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "converter/convert.hpp"
@@ -270,6 +271,32 @@ TEST(Report, TexturedMaterialsReportTexelsAndSampledError) {
   EXPECT_GE(report.materials[0].error_samples, 65536u);
   EXPECT_GT(report.materials[0].times.solve_ms, 0.0);
   EXPECT_EQ(report.images_decoded, 2);
+}
+
+TEST(Report, SaysPerMaterialWhichTexturesWereBakedSharedReusedOrMadeFactors) {
+  {  // The truck's diffuse over the core dielectric F0 is its own base colour; metalness 0 everywhere.
+    Asset asset = load_asset(asset_file("CesiumMilkTruck"));
+    const ConversionReport report = convert(asset);
+    std::map<std::string, MaterialOutputs> by_name;
+    for (const MaterialReport& m : report.materials) by_name[m.name] = m.outputs;
+    EXPECT_EQ(by_name.at("truck").base_color, TextureOutcome::InputReused);
+    EXPECT_EQ(by_name.at("truck").metallic_roughness, TextureOutcome::Factor);
+    EXPECT_EQ(by_name.at("glass").base_color, TextureOutcome::None);  // factors only
+    EXPECT_EQ(report.textures_baked, 0);
+  }
+  {  // VC: many materials read one image with the same factors; the first bakes, the rest share.
+    Asset asset = load_asset(asset_file("VC"));
+    const ConversionReport report = convert(asset);
+    int baked = 0, shared = 0;
+    for (const MaterialReport& m : report.materials) {
+      baked += m.outputs.base_color == TextureOutcome::Baked;
+      shared += m.outputs.base_color == TextureOutcome::Shared;
+    }
+    EXPECT_GT(shared, 0);
+    int baked_images = 0;  // every baked base colour is one new image
+    for (const auto& image : asset.model.images) baked_images += image.name.rfind("baseColor", 0) == 0;
+    EXPECT_EQ(baked, baked_images);
+  }
 }
 
 // Which shared objects `gltf-pbr <arguments>` opens, as the dynamic loader logs them (ld.so(8),
