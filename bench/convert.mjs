@@ -1,5 +1,6 @@
 // The body of bench/convert.sh (see there). Node, because the peers need it anyway.
 import { spawnSync } from 'node:child_process';
+import { createRequire } from 'node:module';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -67,7 +68,7 @@ function measure(input, index) {
 // Avocado with its maps resized to N², to see how each tool's cost grows with texels (sharp comes
 // with glTF-Transform).
 async function resizedAvocado(size) {
-  const { default: sharp } = await import(path.join(process.env.GLTF_PBR_NODE_MODULES, 'sharp', 'lib', 'index.js'));
+  const sharp = createRequire(path.join(process.env.GLTF_PBR_NODE_MODULES, 'resolve-from-here.js'))('sharp');
   const source = path.join(assetsDir, 'Avocado', 'specgloss'), dir = path.join(work, `avocado-${size}`);
   fs.mkdirSync(dir, { recursive: true });
   for (const f of fs.readdirSync(source)) {

@@ -79,6 +79,10 @@ Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& na
   return pixels;
 }
 
+Pixels decode_image_with_openimageio(std::span<const std::uint8_t> encoded) {
+  return codec().decode(encoded, ~std::uint64_t{0});
+}
+
 Pixels resize(const Pixels& pixels, int width, int height) {
   if (pixels.width == width && pixels.height == height) return pixels;
   return codec().resample(pixels, width, height);

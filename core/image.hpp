@@ -73,6 +73,10 @@ std::uint64_t max_image_pixels();
 // and the reason: a corrupt or truncated stream, an image above max_image_pixels().
 Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& name_for_errors);
 
+// decode_image through OpenImageIO whatever the format: the reference the lean codecs are tested
+// against (loads the module; no pixel limit, no counting).
+Pixels decode_image_with_openimageio(std::span<const std::uint8_t> encoded);
+
 // Resamples to width x height (OpenImageIO's filtered resize); a no-op when the size matches.
 Pixels resize(const Pixels& pixels, int width, int height);
 

@@ -1,0 +1,235 @@
+// The lean PNG and JPEG codecs (libspng, TurboJPEG) read every image as OpenImageIO, the library
+// they replace on the hot path, reads it: the shared assets' textures, and constructed odd ones
+// (16-bit, grey, grey + alpha, palette with transparency, an ICC profile, progressive and grey
+// JPEG, an Exif orientation that glTF says to ignore).
+#include <gtest/gtest.h>
+#include <turbojpeg.h>
+#include <zlib.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "core/image.hpp"
+#include "test_support.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+// Texel i as RGBA in [0, 1], as glTF samples any layout: grey repeats, a missing alpha is 1.
+std::array<float, 4> rgba(const Pixels& p, size_t i) {
+  const size_t n = static_cast<size_t>(p.channels), at = i * n;
+  const float grey = p.value(at);
+  const bool colour = n >= 3, alpha = n == 2 || n == 4;
+  return {grey, colour ? p.value(at + 1) : grey, colour ? p.value(at + 2) : grey, alpha ? p.value(at + n - 1) : 1.0f};
+}
+
+// Ours against OpenImageIO's decode of the same bytes: the same size, and every channel of every
+// texel within `tolerance` (in units of the stored precision's steps).
+void expect_decoded_as_openimageio_does(std::span<const std::uint8_t> encoded, const std::string& what,
+                                        float tolerance_steps) {
+  const Pixels ours = decode_image(encoded, what);
+  const Pixels reference = decode_image_with_openimageio(encoded);
+  ASSERT_EQ(ours.width, reference.width) << what;
+  ASSERT_EQ(ours.height, reference.height) << what;
+  EXPECT_EQ(ours.bits, reference.bits) << what;
+  const float step = 1.0f / (ours.bits == 16 ? 65535.0f : 255.0f);
+  float worst = 0.0f;
+  const size_t texels = static_cast<size_t>(ours.width) * static_cast<size_t>(ours.height);
+  for (size_t i = 0; i < texels; ++i) {
+    const auto a = rgba(ours, i), b = rgba(reference, i);
+    for (int c = 0; c < 4; ++c)
+      worst = std::max(worst, std::abs(a[static_cast<size_t>(c)] - b[static_cast<size_t>(c)]));
+  }
+  EXPECT_LE(worst, tolerance_steps * step + 1e-7f) << what << ": worst difference " << worst / step << " steps";
+}
+
+// --- Constructed PNGs: chunks written by hand (PNG spec 5.3), so any layout can be made. ---
+void put32(Bytes& out, std::uint32_t v) {
+  for (int k = 3; k >= 0; --k) out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+}
+void add_chunk(Bytes& png, const char* type, const Bytes& data) {
+  put32(png, static_cast<std::uint32_t>(data.size()));
+  const size_t start = png.size();
+  png.insert(png.end(), type, type + 4);
+  png.insert(png.end(), data.begin(), data.end());
+  put32(png, static_cast<std::uint32_t>(crc32(0, &png[start], static_cast<uInt>(png.size() - start))));
+}
+Bytes deflated(const Bytes& raw) {
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  Bytes out(size);
+  EXPECT_EQ(compress(out.data(), &size, raw.data(), static_cast<uLong>(raw.size())), Z_OK);
+  out.resize(size);
+  return out;
+}
+// A PNG of `width` x `height` with IHDR colour type `type` and `depth`, rows given as bytes after
+// their filter byte (0), and optional PLTE, tRNS and iCCP chunks.
+Bytes make_png(int width, int height, int depth, int type, const std::function<Bytes(int y)>& row,
+               const Bytes& palette = {}, const Bytes& transparency = {}, const Bytes& icc = {}) {
+  Bytes png = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  Bytes header;
+  put32(header, static_cast<std::uint32_t>(width));
+  put32(header, static_cast<std::uint32_t>(height));
+  header.insert(header.end(), {static_cast<std::uint8_t>(depth), static_cast<std::uint8_t>(type), 0, 0, 0});
+  add_chunk(png, "IHDR", header);
+  if (!icc.empty()) {  // PNG spec 11.3.3.3: name, 0, compression method 0, zlib stream
+    Bytes data = {'t', 'e', 's', 't', 0, 0};
+    const Bytes profile = deflated(icc);
+    data.insert(data.end(), profile.begin(), profile.end());
+    add_chunk(png, "iCCP", data);
+  }
+  if (!palette.empty()) add_chunk(png, "PLTE", palette);
+  if (!transparency.empty()) add_chunk(png, "tRNS", transparency);
+  Bytes raw;
+  for (int y = 0; y < height; ++y) {
+    raw.push_back(0);
+    const Bytes r = row(y);
+    raw.insert(raw.end(), r.begin(), r.end());
+  }
+  add_chunk(png, "IDAT", deflated(raw));
+  add_chunk(png, "IEND", {});
+  return png;
+}
+// A minimal ICC profile header (ICC.1:2010 7.2): size, device class 'mntr', colour space 'RGB ',
+// PCS 'XYZ ', the 'acsp' signature, and no tags.
+Bytes icc_profile() {
+  Bytes p(132, 0);
+  p[3] = 132;
+  auto put = [&](size_t at, const char* four) {
+    std::copy(four, four + 4, p.begin() + static_cast<std::ptrdiff_t>(at));
+  };
+  p[8] = 4;  // version 4.0
+  put(12, "mntr"), put(16, "RGB "), put(20, "XYZ "), put(36, "acsp");
+  return p;
+}
+
+constexpr int kW = 23, kH = 17;  // odd sizes: row padding and 4:2:0 edges
+
+TEST(LeanCodecs, EveryPngAndJpegOfTheSharedAssetsDecodesAsOpenImageIoDecodesIt) {
+  int images = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(test::assets_dir())) {
+    const std::string extension = entry.path().extension().string();
+    if (extension != ".png" && extension != ".jpg" && extension != ".jpeg") continue;
+    const auto bytes = read_file(entry.path());
+    ASSERT_TRUE(bytes) << entry.path();
+    // PNG is lossless: equal. JPEG: both are libjpeg-turbo's islow IDCT and fancy upsampling.
+    expect_decoded_as_openimageio_does(*bytes, entry.path().string(), extension == ".png" ? 0.0f : 1.0f);
+    ++images;
+  }
+  EXPECT_GE(images, 30);
+}
+
+TEST(LeanCodecs, OddPngLayoutsDecodeAsOpenImageIoDecodesThem) {
+  const auto byte = [](int x, int y, int c) { return static_cast<std::uint8_t>((x * 37 + y * 11 + c * 101) % 256); };
+  // 16-bit RGB, big-endian samples.
+  expect_decoded_as_openimageio_does(make_png(kW, kH, 16, 2,
+                                              [&](int y) {
+                                                Bytes r;
+                                                for (int x = 0; x < kW; ++x)
+                                                  for (int c = 0; c < 3; ++c)
+                                                    r.insert(r.end(), {byte(x, y, c), byte(y, x, c)});
+                                                return r;
+                                              }),
+                                     "16-bit RGB", 0.0f);
+  // 16-bit grey + alpha.
+  expect_decoded_as_openimageio_does(make_png(kW, kH, 16, 4,
+                                              [&](int y) {
+                                                Bytes r;
+                                                for (int x = 0; x < kW; ++x)
+                                                  r.insert(r.end(), {byte(x, y, 0), 7, byte(x, y, 3), 250});
+                                                return r;
+                                              }),
+                                     "16-bit grey + alpha", 0.0f);
+  // 8-bit grey, and grey + alpha.
+  expect_decoded_as_openimageio_does(make_png(kW, kH, 8, 0,
+                                              [&](int y) {
+                                                Bytes r;
+                                                for (int x = 0; x < kW; ++x) r.push_back(byte(x, y, 0));
+                                                return r;
+                                              }),
+                                     "grey", 0.0f);
+  expect_decoded_as_openimageio_does(make_png(kW, kH, 8, 4,
+                                              [&](int y) {
+                                                Bytes r;
+                                                for (int x = 0; x < kW; ++x)
+                                                  r.insert(r.end(), {byte(x, y, 0), byte(x, y, 1)});
+                                                return r;
+                                              }),
+                                     "grey + alpha", 0.0f);
+  // A palette of 5 colours, two of them partly transparent (tRNS), at 8 and 4 bits per index.
+  const Bytes palette = {255, 0, 0, 0, 255, 0, 0, 0, 255, 20, 30, 40, 250, 240, 230};
+  const Bytes transparency = {0, 128};
+  expect_decoded_as_openimageio_does(make_png(
+                                         kW, kH, 8, 3,
+                                         [&](int y) {
+                                           Bytes r;
+                                           for (int x = 0; x < kW; ++x)
+                                             r.push_back(static_cast<std::uint8_t>((x + y) % 5));
+                                           return r;
+                                         },
+                                         palette, transparency),
+                                     "palette + tRNS", 0.0f);
+  expect_decoded_as_openimageio_does(make_png(
+                                         kW, kH, 4, 3,
+                                         [&](int y) {
+                                           Bytes r((kW + 1) / 2, 0);
+                                           for (int x = 0; x < kW; ++x)
+                                             r[static_cast<size_t>(x / 2)] |=
+                                                 static_cast<std::uint8_t>(((x * y) % 5) << (x % 2 ? 0 : 4));
+                                           return r;
+                                         },
+                                         palette),
+                                     "4-bit palette", 0.0f);
+  // An ICC-tagged RGB PNG: the profile is metadata; the texels are read as stored.
+  expect_decoded_as_openimageio_does(make_png(
+                                         kW, kH, 8, 2,
+                                         [&](int y) {
+                                           Bytes r;
+                                           for (int x = 0; x < kW; ++x)
+                                             for (int c = 0; c < 3; ++c) r.push_back(byte(x, y, c));
+                                           return r;
+                                         },
+                                         {}, {}, icc_profile()),
+                                     "ICC-tagged RGB", 0.0f);
+}
+
+// A JPEG from TurboJPEG with the given flags and subsampling.
+Bytes make_jpeg(int channels, int subsampling, int flags) {
+  Bytes texels;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < channels; ++c) texels.push_back(static_cast<std::uint8_t>((x * 29 + y * 13 + c * 80) % 256));
+  std::unique_ptr<void, decltype(&tjDestroy)> handle(tjInitCompress(), &tjDestroy);
+  unsigned char* buffer = nullptr;
+  unsigned long size = 0;
+  EXPECT_EQ(tjCompress2(handle.get(), texels.data(), kW, 0, kH, channels == 1 ? TJPF_GRAY : TJPF_RGB, &buffer, &size,
+                        subsampling, 85, flags),
+            0);
+  Bytes jpeg(buffer, buffer + size);
+  tjFree(buffer);
+  return jpeg;
+}
+
+TEST(LeanCodecs, ProgressiveGreyAndExifOrientedJpegsDecodeAsOpenImageIoDecodesThem) {
+  expect_decoded_as_openimageio_does(make_jpeg(3, TJSAMP_420, TJFLAG_PROGRESSIVE), "progressive 4:2:0", 1.0f);
+  expect_decoded_as_openimageio_does(make_jpeg(3, TJSAMP_444, 0), "baseline 4:4:4", 1.0f);
+  expect_decoded_as_openimageio_does(make_jpeg(1, TJSAMP_GRAY, 0), "grey", 1.0f);
+  // Exif orientation 6 ("rotate 90°") in an APP1 segment after SOI: glTF 2.0 section 3.8.4 says
+  // texels are read as stored, so the size stays 23 x 17 and nothing turns.
+  Bytes exif = {0xFF, 0xE1, 0, 0, 'E', 'x', 'i', 'f', 0, 0, 'M', 'M', 0, 42, 0, 0, 0, 8,  // TIFF header
+                0,    1,                                                                  // one IFD entry
+                0x01, 0x12, 0, 3, 0,   0,   0,   1,   0, 6, 0,   0,                       // Orientation = 6
+                0,    0,    0, 0};                                                        // no next IFD
+  exif[3] = static_cast<std::uint8_t>(exif.size() - 2);
+  Bytes oriented = make_jpeg(3, TJSAMP_420, 0);
+  oriented.insert(oriented.begin() + 2, exif.begin(), exif.end());
+  const Pixels decoded = decode_image(oriented, "Exif");
+  EXPECT_EQ(decoded.width, kW);
+  EXPECT_EQ(decoded.height, kH);
+  expect_decoded_as_openimageio_does(oriented, "Exif orientation 6", 1.0f);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
