@@ -50,3 +50,22 @@ for (const w of workloads) {
   const peer = measure(['node', '--max-old-space-size=16384', peerScript, ...w.files], w.cwd);
   console.log(`| ${w.name} | ${f3(one.seconds)} | ${f3(all.seconds)} | ${f3(peer.seconds)} | ${f1(peer.seconds / one.seconds)}× / ${f1(peer.seconds / all.seconds)}× | ${f1(one.mb)} | ${f1(peer.mb)} | ${f2(one.mb / peer.mb)} |`);
 }
+
+// Every step (structure, materials, textures, meshes) where the peer checks structure only: what a
+// user of `gltf-pbr validate` without --only waits for. Runs alternate between ours and the peer.
+console.log(`\n### gltf-pbr validate (all steps) vs gltf-validator ${process.env.GLTF_VALIDATOR_VERSION} (structure only), median of ${runs} runs\n`);
+console.log('| input | ours s | peer s | ours / peer | ours MB | peer MB |');
+console.log('|---|---|---|---|---|---|');
+for (const [name, file] of [
+  ['Avocado (two 2K maps, 5 images)', path.join(shared, 'assets', 'Avocado', 'specgloss', 'Avocado.gltf')],
+  ['grid 1M vertices / 2M triangles (GLB)', path.join(large, 'grid-1M.glb')],
+]) {
+  const ourRuns = [], peerRuns = [];
+  for (let i = 0; i < runs; i++) {
+    ourRuns.push(timed([ours, 'validate', '-f', 'json', '-o', path.join(work, 'all'), '-q', file]));
+    peerRuns.push(timed(['node', '--max-old-space-size=16384', peerScript, file]));
+  }
+  const a = { seconds: median(ourRuns.map((s) => s.seconds)), mb: median(ourRuns.map((s) => s.mb)) };
+  const b = { seconds: median(peerRuns.map((s) => s.seconds)), mb: median(peerRuns.map((s) => s.mb)) };
+  console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f2(a.seconds / b.seconds)} | ${f1(a.mb)} | ${f1(b.mb)} |`);
+}

@@ -4,7 +4,8 @@
 #   - the whole ../shared/validator-suite in one process,
 #   - every file in ../shared/assets,
 #   - synthetic GLBs of 1M vertices / 2M triangles and 4M / 8M (generated into the cache folder).
-# Prints markdown: median wall time of RUNS runs, peak memory, and our / peer ratios.
+# Prints markdown: median wall time of RUNS runs, peak memory, and our / peer ratios; then every
+# step (ours) against structure only (the peer) on Avocado and the 1M grid.
 #   bench/validate.sh [SHARED_DIR]        (RUNS=3 by default)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

@@ -145,6 +145,7 @@ class SolveCache {
     const size_t size = std::bit_ceil(std::clamp<size_t>(texels, 256, 65536));
     if (cache.entries_.size() < size) cache.entries_.assign(size, Entry{}), cache.ticket_of_slot_.resize(size);
     ++cache.generation_;
+    cache.queue_.clear(), cache.claimed_.clear(), cache.spill_.clear();  // an earlier bake may have thrown
     return cache;
   }
 
@@ -356,6 +357,7 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.base_color.resize(texels * static_cast<size_t>(out.base_channels));
   out.metalness.resize(texels);
   if (in.spec_gloss) out.roughness.resize(texels);
+  if (texels == 0) return out;
   out.alpha = quantize(in.diffuse_factor.a * (alpha_texels ? channel(*in.diffuse, 0, 3, false) : 1.0f));
   out.first_roughness =
       quantize(1.0f - in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));

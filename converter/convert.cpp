@@ -330,7 +330,8 @@ class Converter {
   }
 
   // Whether the baked base colour is the diffuse image itself, up to the 8-bit rounding of the
-  // solve (one code value in RGB; alpha exactly). The bake keeps the diffuse's channels.
+  // solve (one code value in RGB; alpha exactly). The bake keeps the diffuse's channels. The error
+  // reported is the bake's, which the reused image matches to that code value.
   static bool equals_image(const BakedTexels& t, const Pixels& diffuse) {
     if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height ||
         diffuse.channels != t.base_channels || diffuse.bytes.size() != t.base_color.size())

@@ -785,5 +785,54 @@ TEST(Textures, GlbInputKeepsBakedImagesInsideTheBinChunk) {
   expect_baked(converted, diffuse, spec_gloss);
 }
 
+// The bake's solve cache on inputs that overflow it: thousands of distinct colour pairs per band
+// (slots taken by two queued inputs, answers known without a solve landing in claimed slots), and
+// a second bake on the same pool threads (a new cache generation). Every texel must hold its own
+// input's answer, exactly as solve_batch gives it.
+TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
+  constexpr int w = 512, h = 64;
+  std::uint32_t state = 12345;
+  const auto next = [&] { return static_cast<std::uint8_t>((state = state * 1664525u + 1013904223u) >> 24); };
+  Pixels diffuse, spec_gloss;
+  diffuse.width = spec_gloss.width = w, diffuse.height = spec_gloss.height = h;
+  diffuse.channels = 3, spec_gloss.channels = 4;
+  for (int i = 0; i < w * h; ++i) {
+    for (int c = 0; c < 3; ++c) diffuse.bytes.push_back(next());
+    // A quarter of the texels full specular: times the factor 0.04 below, the core dielectric's F0.
+    const bool full = next() < 64;
+    for (int c = 0; c < 3; ++c) spec_gloss.bytes.push_back(full ? 255 : next());
+    spec_gloss.bytes.push_back(next());
+  }
+  for (float specular_factor : {0.04f, 0.7f}) {  // the second bake runs on caches the first one used
+    BakeInputs in;
+    in.diffuse = &diffuse, in.spec_gloss = &spec_gloss;
+    in.width = w, in.height = h;
+    in.specular_factor = glm::vec3(specular_factor);
+    const BakedTexels out = bake(in, SolverSettings{}, 0);
+    std::vector<SpecGloss> legacy;
+    for (int i = 0; i < w * h; ++i) {
+      SpecGloss l;
+      for (int c = 0; c < 3; ++c) {
+        l.diffuse[c] = srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
+        l.specular[c] = specular_factor * srgb8_to_linear(spec_gloss.bytes[static_cast<size_t>(i * 4 + c)]);
+      }
+      legacy.push_back(l);
+    }
+    std::vector<MetalRough> expected(legacy.size());
+    solve_batch(legacy, expected);
+    int shortcuts = 0;
+    for (size_t i = 0; i < legacy.size(); ++i) {
+      const bool shortcut = solves_to_its_diffuse(legacy[i]);
+      shortcuts += shortcut;
+      const MetalRough e = shortcut ? MetalRough{legacy[i].diffuse, 0.0f, 0.0f} : expected[i];
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(out.base_color[i * 3 + static_cast<size_t>(c)], to_byte(linear_to_srgb(e.base[c])))
+            << "texel " << i << " channel " << c << ", specular factor " << specular_factor;
+      ASSERT_EQ(out.metalness[i], to_byte(e.metalness)) << "texel " << i << ", specular factor " << specular_factor;
+    }
+    EXPECT_EQ(shortcuts > 0, specular_factor == 0.04f);
+  }
+}
+
 }  // namespace
 }  // namespace gltf_pbr
