@@ -3,38 +3,18 @@
 // OpenImageIO module for any other format and for filtered resizing, loaded only then.
 #pragma once
 #include <cstdint>
-#include <memory>
 #include <span>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "core/files.hpp"
+#include "core/texel_buffer.hpp"
 
 namespace gltf_pbr {
 
-// An allocator whose resize() leaves new elements uninitialised: for texel buffers that a decoder
-// or a bake fills completely right after. Zeroing them first was a whole extra pass over memory
-// the kernel has just handed out (a fifth of the time on a 2048² map that needs no solve).
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitialisedAllocator<U>;
-  };
-  UninitialisedAllocator() = default;
-  template <class U>
-  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-using TexelBytes = std::vector<std::uint8_t, UninitialisedAllocator<std::uint8_t>>;
+// Texel bytes that a decoder or a bake fills completely right after allocating them
+// (core/texel_buffer.hpp: not zeroed first, huge pages when large).
+using TexelBytes = TexelBuffer<std::uint8_t>;
 
 // Decoded pixels as stored (no colour conversion), channels interleaved, read normalised to
 // [0, 1] through value()/at(). They are kept at the encoded precision: an 8-bit image holds one

@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "preview/texel_buffer.hpp"
+#include "core/texel_buffer.hpp"
 
 namespace gltf_pbr::preview {
 

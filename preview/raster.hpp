@@ -10,7 +10,7 @@
 
 #include "core/parallel.hpp"  // parallel_dynamic, which the passes use
 #include "preview/scene.hpp"
-#include "preview/texel_buffer.hpp"
+#include "core/texel_buffer.hpp"
 
 namespace gltf_pbr::preview {
 

@@ -1,5 +1,5 @@
 // Huge-page backed per-pixel buffers (see texel_buffer.hpp).
-#include "preview/texel_buffer.hpp"
+#include "core/texel_buffer.hpp"
 
 #include <cstdlib>
 
@@ -7,7 +7,7 @@
 #include <sys/mman.h>
 #endif
 
-namespace gltf_pbr::preview {
+namespace gltf_pbr {
 
 namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
@@ -29,4 +29,4 @@ void* allocate_texels(std::size_t bytes) {
 
 void free_texels(void* pointer, std::size_t) noexcept { std::free(pointer); }
 
-}  // namespace gltf_pbr::preview
+}  // namespace gltf_pbr
