@@ -262,10 +262,11 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
   const bool alpha_texels = out.base_channels == 4;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
+  // Every stride-th texel is a sample, in texel order.
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
-  std::vector<ErrorAccumulator> rows_a(static_cast<size_t>(in.height)), rows_b(static_cast<size_t>(in.height));
-  std::vector<ErrorAccumulator> rows_extension_a(in.measure_extension_route ? rows_a.size() : 0);
-  std::vector<ErrorAccumulator> rows_extension_b(rows_extension_a.size());
+  const size_t samples = (texels + stride - 1) / stride;
+  out.error_a = out.error_b = ErrorAccumulator(samples);
+  if (in.measure_extension_route) out.extension_a = out.extension_b = ErrorAccumulator(samples);
 
   // Alpha (linear, times the factor) and roughness (1 - glossiness, glossiness linear in the
   // specularGlossiness alpha) of 8-bit texels by table; other precisions channel by channel.
@@ -289,15 +290,15 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
     std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
     out.metalness[i] = solved.metalness;
     if (i % stride != 0) return;
-    const size_t y = i / static_cast<size_t>(in.width);
+    const size_t sample = i / stride;
     const SpecGloss legacy = texels_of.legacy(i);
     const float* delta_e = cache.error(solved, legacy);
-    rows_a[y].add(delta_e[0], delta_e[1]);
-    rows_b[y].add(delta_e[2], delta_e[3]);
+    out.error_a.set(sample, delta_e[0], delta_e[1]);
+    out.error_b.set(sample, delta_e[2], delta_e[3]);
     if (in.measure_extension_route) {
       const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
-      rows_extension_a[y].add(legacy_reflectance(legacy, LegacyReading::A), route);
-      rows_extension_b[y].add(legacy_reflectance(legacy, LegacyReading::B), route);
+      out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
+      out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
     }
   };
 
@@ -334,14 +335,6 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
       waiting.clear();
     }
   });
-  for (size_t y = 0; y < rows_a.size(); ++y) {
-    out.error_a.merge(rows_a[y]);
-    out.error_b.merge(rows_b[y]);
-  }
-  for (size_t y = 0; y < rows_extension_a.size(); ++y) {
-    out.extension_a.merge(rows_extension_a[y]);
-    out.extension_b.merge(rows_extension_b[y]);
-  }
 }
 
 }  // namespace

@@ -287,7 +287,7 @@ class Converter {
       const BakedTexels& t = bake.texels;
       // The two textures encode concurrently; images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
-      const bool jpeg_base = t.alpha_constant && has_diffuse && is_jpeg(encoded_image_bytes(model_, diffuse_image));
+      const bool jpeg_base = t.alpha_constant && has_diffuse && is_jpeg(encoded_image_bytes(asset_, diffuse_image));
       const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
       parallel_invoke(
           [&] {
@@ -383,7 +383,7 @@ class Converter {
   }
 
   Pixels decode_now(int image) {
-    const auto bytes = encoded_image_bytes(model_, image);
+    const auto bytes = encoded_image_bytes(asset_, image);
     const std::string name =
         pointer("images", image) + (model_.images[static_cast<size_t>(image)].uri.empty()
                                         ? ""

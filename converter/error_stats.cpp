@@ -11,7 +11,7 @@ double delta_e(glm::vec3 a, glm::vec3 b) {
   return delta_e_2000(linear_srgb_to_lab(glm::dvec3(a)), linear_srgb_to_lab(glm::dvec3(b)));
 }
 
-ErrorStats summarise(std::vector<float> values) {
+ErrorStats summarise(std::vector<float>& values) {
   ErrorStats stats;
   if (values.empty()) return stats;
   double sum = 0.0;
@@ -32,16 +32,16 @@ void ErrorAccumulator::add(const Reflectance& expected, const Reflectance& actua
   f0_.push_back(static_cast<float>(delta_e(expected.f0, actual.f0)));
 }
 
-void ErrorAccumulator::add(float diffuse_delta_e, float f0_delta_e) {
-  diffuse_.push_back(diffuse_delta_e);
-  f0_.push_back(f0_delta_e);
+void ErrorAccumulator::set(size_t sample, const Reflectance& expected, const Reflectance& actual) {
+  set(sample, static_cast<float>(delta_e(expected.diffuse, actual.diffuse)),
+      static_cast<float>(delta_e(expected.f0, actual.f0)));
 }
 
-void ErrorAccumulator::merge(const ErrorAccumulator& other) {
-  diffuse_.insert(diffuse_.end(), other.diffuse_.begin(), other.diffuse_.end());
-  f0_.insert(f0_.end(), other.f0_.begin(), other.f0_.end());
+void ErrorAccumulator::set(size_t sample, float diffuse_delta_e, float f0_delta_e) {
+  diffuse_[sample] = diffuse_delta_e;
+  f0_[sample] = f0_delta_e;
 }
 
-ReflectanceError ErrorAccumulator::finish() const { return {summarise(diffuse_), summarise(f0_)}; }
+ReflectanceError ErrorAccumulator::finish() { return {summarise(diffuse_), summarise(f0_)}; }
 
 }  // namespace gltf_pbr

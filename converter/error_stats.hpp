@@ -18,10 +18,14 @@ struct ReflectanceError {
 
 class ErrorAccumulator {
  public:
+  ErrorAccumulator() = default;
+  // Room for `samples` samples, each then written once by set(), from any thread: a bake knows
+  // its sample count up front and needs no per-thread parts to merge.
+  explicit ErrorAccumulator(size_t samples) : diffuse_(samples), f0_(samples) {}
   void add(const Reflectance& expected, const Reflectance& actual);
-  void add(float diffuse_delta_e, float f0_delta_e);  // already computed ΔE2000 values
-  void merge(const ErrorAccumulator& other);
-  ReflectanceError finish() const;
+  void set(size_t sample, const Reflectance& expected, const Reflectance& actual);
+  void set(size_t sample, float diffuse_delta_e, float f0_delta_e);  // already computed ΔE2000 values
+  ReflectanceError finish();  // reorders the samples (a partial sort for the percentile)
   size_t samples() const { return diffuse_.size(); }
 
  private:

@@ -25,7 +25,7 @@ Reflectance reflectance_at(const MaterialInputs& material, DecodedImages& images
 
 std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
                                                    int grid) {
-  DecodedImages legacy_images(legacy.model), converted_images(converted.model);
+  DecodedImages legacy_images(legacy), converted_images(converted);
   std::vector<MaterialComparison> out;
   for (size_t i = 0; i < legacy.model.materials.size(); ++i) {
     const auto extension = legacy.model.materials[i].extensions.find(kSpecGloss);

@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -22,9 +24,13 @@ struct LoadOptions {
 struct Asset {
   fs::path path;                      // the file it was loaded from
   bool binary = false;                // GLB container
-  tinygltf::Model model;              // images keep their encoded bytes in Image::image (as_is)
+  tinygltf::Model model;              // data-URI and new images keep their encoded bytes in Image::image
   std::vector<std::string> warnings;  // problems that did not stop loading
   std::string original_json;          // the JSON text as read, for the byte-for-byte copy path
+  // Image files named by a URI, mapped, not read: a page is read when a step first touches it, so
+  // an image that is only passed through or replaced costs no copy (issue 11). Keyed by the URI
+  // as written; copies of the asset share the mappings.
+  std::map<std::string, std::shared_ptr<const MappedFile>> image_files;
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references
@@ -55,8 +61,9 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output);
 // A GLB container (glTF 2.0 section 4.4) holding the JSON text and the BIN chunk.
 Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin);
 
-// The encoded bytes of image `index`, from its URI data or its bufferView.
-std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index);
+// The encoded bytes of image `index`: Image::image when it holds them (a data URI, or an image a
+// step made), else its bufferView, else its mapped file. Empty when there are none.
+std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index);
 
 // Counters that prove lazy work in tests: how often pixels or meshes were decoded.
 struct WorkCounters {

@@ -37,7 +37,7 @@ std::optional<Bytes> read_file(const fs::path& path) {
   return bytes;
 }
 
-std::optional<MappedFile> MappedFile::open(const fs::path& path) {
+std::optional<MappedFile> MappedFile::open(const fs::path& path, ReadAhead read_ahead) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return std::nullopt;
   struct stat status {};
@@ -49,7 +49,11 @@ std::optional<MappedFile> MappedFile::open(const fs::path& path) {
   void* data = size == 0 ? nullptr : ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
   ::close(fd);  // the mapping keeps the file
   if (data == MAP_FAILED) return std::nullopt;
-  if (data) ::madvise(data, size, MADV_SEQUENTIAL | MADV_WILLNEED);
+  // Advice values are not flags (MADV_SEQUENTIAL | MADV_WILLNEED is MADV_WILLNEED): one call each.
+  if (data && read_ahead == ReadAhead::Whole) {
+    ::madvise(data, size, MADV_SEQUENTIAL);
+    ::madvise(data, size, MADV_WILLNEED);
+  }
   return MappedFile(static_cast<const std::uint8_t*>(data), size);
 }
 

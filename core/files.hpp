@@ -20,8 +20,11 @@ std::optional<Bytes> read_file(const fs::path& path);
 // must not shrink while mapped (as with any mmap reader).
 class MappedFile {
  public:
+  // Whether the kernel should start reading the whole file now (a reader about to go through it)
+  // or only the pages that are touched (an image that a step may never decode).
+  enum class ReadAhead { Whole, OnTouch };
   // std::nullopt when the file cannot be opened or mapped.
-  static std::optional<MappedFile> open(const fs::path& path);
+  static std::optional<MappedFile> open(const fs::path& path, ReadAhead read_ahead = ReadAhead::Whole);
   MappedFile(MappedFile&& other) noexcept;
   MappedFile& operator=(MappedFile&&) = delete;
   MappedFile(const MappedFile&) = delete;

@@ -15,13 +15,18 @@ WorkCounters& work_counters() {
   return counters;
 }
 
-std::span<const std::uint8_t> encoded_image_bytes(const tinygltf::Model& model, int index) {
+std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index) {
+  const tinygltf::Model& model = asset.model;
   const tinygltf::Image& image = model.images.at(static_cast<size_t>(index));
-  if (image.bufferView < 0) return image.image;
-  const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(image.bufferView));
-  const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
-  if (view.byteOffset + view.byteLength > buffer.data.size()) return {};
-  return {buffer.data.data() + view.byteOffset, view.byteLength};
+  if (!image.image.empty()) return image.image;
+  if (image.bufferView >= 0) {
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(image.bufferView));
+    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
+    if (view.byteOffset + view.byteLength > buffer.data.size()) return {};
+    return {buffer.data.data() + view.byteOffset, view.byteLength};
+  }
+  const auto file = asset.image_files.find(image.uri);
+  return file == asset.image_files.end() ? std::span<const std::uint8_t>{} : file->second->bytes();
 }
 
 namespace {
@@ -145,8 +150,8 @@ std::optional<size_t> too_deep_at(const std::string& json_text) {
 }
 
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
-// of buffers and images, and that the JSON parses at all.
-nlohmann::json check_resources(const Asset& asset, const std::string& json_text, bool glb_has_bin,
+// of buffers and images, and that the JSON parses at all. Maps the image files it checked.
+nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool glb_has_bin,
                                const LoadOptions& options) {
   const std::string file = asset.path.string();
   if (const auto offset = too_deep_at(json_text))
@@ -203,6 +208,11 @@ nlohmann::json check_resources(const Asset& asset, const std::string& json_text,
         std::error_code error;
         size = fs::file_size(resolved.path, error);
         if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
+        if (std::strcmp(collection, "images") == 0 && !asset.image_files.count(text)) {
+          auto mapped = MappedFile::open(resolved.path, MappedFile::ReadAhead::OnTouch);
+          if (!mapped) throw InputError(file, where + "/uri", "cannot read " + text);
+          asset.image_files.emplace(text, std::make_shared<const MappedFile>(std::move(*mapped)));
+        }
       }
       // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf 2.7
       // reads a buffer only when it holds exactly byteLength, and says so without a pointer ("File
@@ -291,8 +301,9 @@ struct LoaderContext {
   bool allow_outside;
 };
 
-// tinygltf image callback: keep the encoded bytes of URI images; bufferView images already live
-// in their buffer. Decoding waits until a step needs texels (core/image.cpp).
+// tinygltf image callback: keep the encoded bytes of data-URI images; bufferView images already
+// live in their buffer, and image files are mapped by check_resources (tinygltf is built with
+// TINYGLTF_NO_EXTERNAL_IMAGE). Decoding waits until a step needs texels (core/image.cpp).
 bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
                   int size, void*) {
   if (image->bufferView < 0) image->image.assign(bytes, bytes + size);

@@ -234,7 +234,7 @@ SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texel
 const Pixels& DecodedImages::get(int image) {
   auto it = images_.find(image);
   if (it == images_.end())
-    it = images_.emplace(image, decode_image(encoded_image_bytes(model_, image), pointer("images", image))).first;
+    it = images_.emplace(image, decode_image(encoded_image_bytes(asset_, image), pointer("images", image))).first;
   return it->second;
 }
 

@@ -113,12 +113,12 @@ float srgb_texel_to_linear(float encoded);
 // Decoded images of one asset, each decoded at most once, only when asked for.
 class DecodedImages {
  public:
-  explicit DecodedImages(const tinygltf::Model& model) : model_(model) {}
+  explicit DecodedImages(const Asset& asset) : asset_(asset) {}
   // Throws std::runtime_error (OpenImageIO's reason) when the image cannot be decoded.
   const Pixels& get(int image);
 
  private:
-  const tinygltf::Model& model_;
+  const Asset& asset_;
   std::map<int, Pixels> images_;
 };
 

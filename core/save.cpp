@@ -29,7 +29,8 @@ void pad_to_4(Bytes& bytes) { bytes.resize((bytes.size() + 3) & ~size_t{3}, 0); 
 
 // GLB holds one BIN chunk: every buffer is merged into buffer 0 (bufferViews shifted), and every
 // image moves into a bufferView, so the .glb stands alone.
-void gather_into_bin(tinygltf::Model& model) {
+void gather_into_bin(Asset& asset) {
+  tinygltf::Model& model = asset.model;
   if (model.buffers.empty()) model.buffers.emplace_back();
   std::vector<size_t> base(model.buffers.size(), 0);
   Bytes& bin = model.buffers[0].data;
@@ -54,7 +55,8 @@ void gather_into_bin(tinygltf::Model& model) {
     auto& image = model.images[i];
     if (image.bufferView >= 0) continue;
     if (image.mimeType.empty()) image.mimeType = has_extension(image.uri, ".png") ? "image/png" : "image/jpeg";
-    image.bufferView = append_buffer_view(model, image.image);
+    image.bufferView = append_buffer_view(model, encoded_image_bytes(asset, static_cast<int>(i)));
+    image.image.clear();
     image.uri.clear();
   }
 }
@@ -144,7 +146,7 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
 
   std::vector<std::string> buffer_uris(model.buffers.size());
   if (to_glb) {
-    gather_into_bin(model);
+    gather_into_bin(asset);
     buffer_uris.assign(1, "");
   } else {
     FileNamer names(folder, inputs);
@@ -173,7 +175,8 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
       auto& image = model.images[i];
       if (image.bufferView >= 0) continue;
       const std::string name = image.name.empty() ? std::to_string(i) : image.name;
-      image.uri = place(image.uri, image.image, stem + "_" + name + mime_extension(image.mimeType));
+      image.uri = place(image.uri, encoded_image_bytes(asset, static_cast<int>(i)),
+                        stem + "_" + name + mime_extension(image.mimeType));
     }
   }
 

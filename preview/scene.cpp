@@ -150,7 +150,7 @@ class TextureLoader {
       if (t.Has("texCoord")) slot.tex_coord = t.Get("texCoord").GetNumberAsInt();
     }
     slot.tex_coord = std::clamp(slot.tex_coord, 0, 1);
-    const auto bytes = encoded_image_bytes(model, texture.source);
+    const auto bytes = encoded_image_bytes(asset, texture.source);
     const std::uint64_t key = fnv1a(bytes) ^ (bytes.size() * 0x9E3779B97F4A7C15ull);
     auto [it, inserted] = job_of_key_.try_emplace(key, jobs_.size());
     if (inserted) jobs_.push_back({bytes, asset.path.string() + pointer("images", texture.source)});

@@ -347,7 +347,7 @@ TEST(OutsideUris, AllowedRelativeAndAbsoluteUrisReadAFileOutsideTheAssetFolder) 
 
   const fs::path image = duck_with_image_uri(scratch / "image", "../elsewhere/DuckCM.png");
   const Asset duck = load_asset(image, allow);
-  const auto bytes = encoded_image_bytes(duck.model, 0);
+  const auto bytes = encoded_image_bytes(duck, 0);
   EXPECT_EQ(Bytes(bytes.begin(), bytes.end()), *png);
 
   // Allowed, but the target does not exist: still an InputError, not a crash.

@@ -31,7 +31,7 @@ void expect_same_content(const Asset& a, const Asset& b) {
     EXPECT_EQ(accessor_bytes(a.model, i), accessor_bytes(b.model, i)) << "accessor " << i;
   ASSERT_EQ(a.model.images.size(), b.model.images.size());
   for (size_t i = 0; i < a.model.images.size(); ++i) {
-    const auto x = encoded_image_bytes(a.model, static_cast<int>(i)), y = encoded_image_bytes(b.model, static_cast<int>(i));
+    const auto x = encoded_image_bytes(a, static_cast<int>(i)), y = encoded_image_bytes(b, static_cast<int>(i));
     EXPECT_TRUE(std::equal(x.begin(), x.end(), y.begin(), y.end())) << "image " << i;
   }
   EXPECT_EQ(materials(a.model), materials(b.model));

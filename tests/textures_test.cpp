@@ -6,6 +6,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <functional>
 #include <set>
 
@@ -140,7 +142,7 @@ Asset convert_save_reload(Asset& asset, const fs::path& output, ConversionReport
 
 Pixels texture_pixels(const Asset& asset, int texture) {
   const int image = asset.model.textures.at(static_cast<size_t>(texture)).source;
-  return decode_image(encoded_image_bytes(asset.model, image), pointer("images", image));
+  return decode_image(encoded_image_bytes(asset, image), pointer("images", image));
 }
 
 std::uint8_t to_byte(float unit) {
@@ -330,7 +332,7 @@ TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
   ASSERT_GE(pbr.baseColorTexture.index, 0);
   const int image = converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source;
   // A lossy source stays lossy (converter/convert.cpp): an opaque JPEG diffuse bakes to JPEG.
-  EXPECT_TRUE(is_jpeg(encoded_image_bytes(converted.model, image)));
+  EXPECT_TRUE(is_jpeg(encoded_image_bytes(converted, image)));
   const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
   EXPECT_EQ(base.width, source.width);
   EXPECT_EQ(base.height, source.height);
@@ -557,7 +559,7 @@ TEST(Textures, DielectricDiffuseAtF0004ReusesTheDiffuseImageByteForByte) {
       .factor("specularFactor", numbers({0.04, 0.04, 0.04}))
       .factor("glossinessFactor", tinygltf::Value(0.7));
   Asset asset = built.save_and_load(scratch / "dielectric.gltf");
-  const auto original = encoded_image_bytes(asset.model, 0);
+  const auto original = encoded_image_bytes(asset, 0);
   const Bytes original_bytes(original.begin(), original.end());
   const auto original_file = read_file(scratch / asset.model.images.at(0).uri);
 
@@ -569,7 +571,7 @@ TEST(Textures, DielectricDiffuseAtF0004ReusesTheDiffuseImageByteForByte) {
   const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
   ASSERT_GE(pbr.baseColorTexture.index, 0);
   const auto reused = encoded_image_bytes(
-      converted.model, converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source);
+      converted, converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source);
   EXPECT_EQ(Bytes(reused.begin(), reused.end()), original_bytes);
   EXPECT_EQ(read_file(scratch / "converted" / converted.model.images.at(0).uri), original_file);
   EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1);
@@ -642,7 +644,7 @@ TEST(Textures, SixteenBitPngDiffuseIsReadAtFullPrecision) {
   built.diffuse_texture(built.add_encoded(sixteen_bit_png(w, h, texel), "image/png", "diffuse16"))
       .factor("specularFactor", numbers({0.3, 0.3, 0.3}));
   Asset asset = built.save_and_load(scratch / "sixteen.gltf");
-  const Pixels decoded = decode_image(encoded_image_bytes(asset.model, 0), "diffuse16");
+  const Pixels decoded = decode_image(encoded_image_bytes(asset, 0), "diffuse16");
   ASSERT_EQ(decoded.bits, 16);
   EXPECT_NEAR(decoded.at(3, 2, 0), texel(3, 2)[0] / 65535.0f, 1e-6f);
 
@@ -783,6 +785,46 @@ TEST(Textures, GlbInputKeepsBakedImagesInsideTheBinChunk) {
     EXPECT_TRUE(image.uri.empty());
   }
   expect_baked(converted, diffuse, spec_gloss);
+}
+
+// Pages of the mapping that starts at `start` which this process has touched (Rss in
+// /proc/self/smaps, kB): a page the process never read is not counted, whatever the page cache holds.
+long resident_kb_of_mapping(const void* start) {
+  std::ifstream smaps("/proc/self/smaps");
+  const auto wanted = reinterpret_cast<std::uintptr_t>(start);
+  bool in_mapping = false;
+  for (std::string line; std::getline(smaps, line);) {
+    std::uintptr_t from = 0, to = 0;
+    if (std::sscanf(line.c_str(), "%lx-%lx ", &from, &to) == 2) {  // a mapping's first line
+      in_mapping = from == wanted;
+    } else if (in_mapping && line.rfind("Rss:", 0) == 0) {
+      return std::stol(line.substr(4));
+    }
+  }
+  return -1;
+}
+
+// Image files are mapped, not read and copied on load: converting Avocado reads the two maps it
+// bakes from, and not one page of the fallback maps it replaces or the normal map it passes on.
+TEST(Textures, ConversionReadsOnlyTheImagesItBakesFrom) {
+  const fs::path gltf = assets_dir() / "Avocado/specgloss/Avocado.gltf";
+  Asset asset = load_asset(gltf);
+  for (const auto& image : asset.model.images) EXPECT_TRUE(image.image.empty()) << image.uri;
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.images_decoded, 2);
+  auto resident_kb = [&](const char* uri) {
+    return resident_kb_of_mapping(asset.image_files.at(uri)->bytes().data());
+  };
+  EXPECT_GT(resident_kb("Avocado_diffuse.png"), 0);  // the measure sees a read when there is one
+  EXPECT_GT(resident_kb("Avocado_specularGlossiness.png"), 0);
+  EXPECT_EQ(resident_kb("Avocado_baseColor.png"), 0);
+  EXPECT_EQ(resident_kb("Avocado_roughnessMetallic.png"), 0);
+  EXPECT_EQ(resident_kb("Avocado_normal.png"), 0);
+  // What the mapping holds is the file, byte for byte.
+  for (const auto& [uri, file] : asset.image_files) {
+    const auto bytes = file->bytes();
+    EXPECT_EQ(Bytes(bytes.begin(), bytes.end()), read_file(gltf.parent_path() / uri)) << uri;
+  }
 }
 
 // The bake's solve cache on inputs that overflow it: thousands of distinct colour pairs per band

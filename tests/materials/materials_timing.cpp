@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
       for (const MaterialTexture& texture : read_material_inputs(asset.model, index).textures)
         if (texture.present()) images.insert(texture.image);
     const auto start = std::chrono::steady_clock::now();
-    for (int image : images) (void)decode_image(encoded_image_bytes(asset.model, image), "image");
+    for (int image : images) (void)decode_image(encoded_image_bytes(asset, image), "image");
     decode_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   // Texel count of the largest evaluated grid (all materials of Avocado share one).

@@ -127,7 +127,7 @@ TEST(TextureChecks, NonPowerOfTwoSizeIsReadFromTheHeaderWithoutDecoding) {
 TEST(TextureChecks, JpegSizeIsReadFromItsFrameHeader) {
   const Asset asset = load_asset(test::assets_dir() / "CesiumMan/specgloss/CesiumMan.gltf");
   ASSERT_FALSE(asset.model.images.empty());
-  const auto bytes = encoded_image_bytes(asset.model, 0);
+  const auto bytes = encoded_image_bytes(asset, 0);
   ASSERT_TRUE(is_jpeg(bytes));
   const auto size = encoded_image_size(bytes);
   const Pixels pixels = decode_image(bytes, "CesiumMan image 0");

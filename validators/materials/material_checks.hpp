@@ -21,7 +21,7 @@ void add_issue(const RuleSet& rules, const std::string& code, const std::vector<
 // reported once (IMAGE_UNDECODABLE, when enabled) and then reads as nullptr.
 class TexelSource {
  public:
-  explicit TexelSource(const tinygltf::Model& model) : decoded_(model) {}
+  explicit TexelSource(const Asset& asset) : decoded_(asset) {}
   const Pixels* get(int image, const RuleSet& rules, Report& report);
 
  private:

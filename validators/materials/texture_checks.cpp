@@ -229,7 +229,7 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
   // Sizes come from the PNG/JPEG header: this check decodes nothing.
   if (options.power_of_two && rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
     for (const auto& [image, where] : used_images) {
-      const auto size = encoded_image_size(encoded_image_bytes(model, image));
+      const auto size = encoded_image_size(encoded_image_bytes(asset, image));
       if (size[0] > 0 && size[1] > 0 && (!power_of_two(size[0]) || !power_of_two(size[1])))
         add_issue(rules, "IMAGE_NOT_POWER_OF_TWO",
                   {std::to_string(size[0]) + "x" + std::to_string(size[1]) + " (used by " + where + ")"},
