@@ -256,12 +256,26 @@ std::array<std::uint8_t, 256> byte_table(F f) {
   return table;
 }
 
+// Whether a diffuse can be compared with (and overwritten by) the base colour byte for byte.
+bool same_layout_as_base(const Pixels* diffuse, const BakedTexels& out) {
+  return diffuse && diffuse->bits == 8 && diffuse->channels == out.base_channels && diffuse->width == out.width &&
+         diffuse->height == out.height &&
+         diffuse->bytes.size() == static_cast<size_t>(out.width) * static_cast<size_t>(out.height) *
+                                      static_cast<size_t>(out.base_channels);
+}
+
 template <class Texels>
 void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples, BakedTexels& out) {
   const Texels texels_of{in};
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
   const bool alpha_texels = out.base_channels == 4;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
+  // The base colour's bytes: the diffuse's own when handed over (see bake()). Either way texel i's
+  // diffuse bytes are read (key, legacy material, comparison) before texel i's base is written.
+  std::uint8_t* const base = in.overwrite_diffuse ? in.overwrite_diffuse->data() : out.base_color.data();
+  const std::uint8_t* const diffuse_bytes =
+      in.overwrite_diffuse || same_layout_as_base(in.diffuse, out) ? in.diffuse->bytes.data() : nullptr;
+  std::atomic<bool> equals_diffuse{diffuse_bytes != nullptr};
   // Every stride-th texel is a sample, in texel order.
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   const size_t samples = (texels + stride - 1) / stride;
@@ -285,21 +299,27 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
     return quantize(1.0f - in.glossiness_factor * channel(s, i, 3, false));
   };
 
-  // Texel i's solve, written out, and its error when the texel is a sample.
-  const auto write = [&](size_t i, auto& solved, auto& cache) {
-    std::memcpy(&out.base_color[i * base_channels], solved.base_srgb, 3);
-    out.metalness[i] = solved.metalness;
-    if (i % stride != 0) return;
-    const size_t sample = i / stride;
-    const SpecGloss legacy = texels_of.legacy(i);
-    const float* delta_e = cache.error(solved, legacy);
-    out.error_a.set(sample, delta_e[0], delta_e[1]);
-    out.error_b.set(sample, delta_e[2], delta_e[3]);
-    if (in.measure_extension_route) {
-      const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
-      out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
-      out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
+  // Texel i's solve, its error when the texel is a sample, and its comparison with the diffuse,
+  // all before its base bytes are written (they may be the diffuse's).
+  const auto write = [&](size_t i, auto& solved, auto& cache, bool& equal) {
+    if (i % stride == 0) {
+      const size_t sample = i / stride;
+      const SpecGloss legacy = texels_of.legacy(i);
+      const float* delta_e = cache.error(solved, legacy);
+      out.error_a.set(sample, delta_e[0], delta_e[1]);
+      out.error_b.set(sample, delta_e[2], delta_e[3]);
+      if (in.measure_extension_route) {
+        const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
+        out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
+        out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
+      }
     }
+    if (equal && diffuse_bytes) {
+      const std::uint8_t* diffuse = diffuse_bytes + i * base_channels;
+      for (int c = 0; c < 3; ++c) equal = equal && std::abs(int{diffuse[c]} - int{solved.base_srgb[c]}) <= 1;
+    }
+    std::memcpy(base + i * base_channels, solved.base_srgb, 3);
+    out.metalness[i] = solved.metalness;
   };
 
   // Bands of rows handed out one at a time: the distinct colours, and so the solves, gather in
@@ -313,28 +333,35 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
     using Cache = SolveCache<typename Texels::Key>;
     Cache& cache = Cache::for_this_thread(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
     std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
+    bool equal = equals_diffuse.load();             // this thread's texels so far
     for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
       const size_t first = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
       const size_t end = static_cast<size_t>(std::min<std::int64_t>(in.height, (band + 1) * kBandRows)) *
                          static_cast<size_t>(in.width);
       // Hits are written at once; misses wait for the band's batch.
       for (size_t i = first; i < end; ++i) {
-        if (alpha_texels) out.base_color[i * 4 + 3] = alpha_of(i);
+        if (alpha_texels) {  // the key and the legacy material do not read alpha
+          const std::uint8_t alpha = alpha_of(i);
+          equal = equal && (!diffuse_bytes || diffuse_bytes[i * 4 + 3] == alpha);
+          base[i * 4 + 3] = alpha;
+        }
         if (in.spec_gloss) out.roughness[i] = roughness_of(i);
         const typename Texels::Key key = texels_of.key(i);
         const typename Cache::Lookup found =
             cache.find_or_queue(key, Texels::hash(key), [&] { return texels_of.legacy(i); });
         if (found.found == Cache::Found::Solved)
-          write(i, *found.entry, cache);
+          write(i, *found.entry, cache, equal);
         else
           waiting.emplace_back(i, found.ticket);
       }
       if (waiting.empty()) continue;
       cache.solve_queued();
-      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), cache);
+      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), cache, equal);
       waiting.clear();
     }
+    if (!equal) equals_diffuse = false;
   });
+  out.equals_diffuse = equals_diffuse;
 }
 
 }  // namespace
@@ -347,7 +374,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // Without an alpha channel in the diffuse, alpha is the factor's: the texels need RGB only.
   const bool alpha_texels = in.diffuse && (in.diffuse->channels == 2 || in.diffuse->channels == 4);
   out.base_channels = alpha_texels ? 4 : 3;
-  out.base_color.resize(texels * static_cast<size_t>(out.base_channels));
+  BakeInputs inputs = in;
+  if (inputs.overwrite_diffuse && !(same_layout_as_base(in.diffuse, out) && &in.diffuse->bytes == in.overwrite_diffuse &&
+                                    in.spec_gloss != in.diffuse && ByteTexels::serves(in)))
+    inputs.overwrite_diffuse = nullptr;  // not a buffer the bake can write over: a new one
+  out.base_color.resize(inputs.overwrite_diffuse ? 0 : texels * static_cast<size_t>(out.base_channels));
   out.metalness.resize(texels);
   if (in.spec_gloss) out.roughness.resize(texels);
   if (texels == 0) return out;
@@ -355,10 +386,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.first_roughness =
       quantize(1.0f - in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));
 
-  if (ByteTexels::serves(in))
-    bake_texels<ByteTexels>(in, settings, max_error_samples, out);
+  if (ByteTexels::serves(inputs))
+    bake_texels<ByteTexels>(inputs, settings, max_error_samples, out);
   else
-    bake_texels<FloatTexels>(in, settings, max_error_samples, out);
+    bake_texels<FloatTexels>(inputs, settings, max_error_samples, out);
+  if (inputs.overwrite_diffuse) out.base_color = std::move(*inputs.overwrite_diffuse);
 
   const size_t base_channels = static_cast<size_t>(out.base_channels);
   for (size_t i = 1; i < texels; ++i) {

@@ -19,6 +19,11 @@ struct BakeInputs {
   // Also sample the error of the KHR_materials_specular route (base = diffuse, F0 = specular),
   // which --target specular may pick instead of the solve.
   bool measure_extension_route = false;
+  // The diffuse's own texel buffer (&diffuse->bytes), handed over by a caller that holds the only
+  // reference: when the diffuse is 8-bit with the base colour's channels, the bake writes base
+  // colour over it (each texel is read before its own bytes are written) and moves it into the
+  // result, so a full-size RGB(A) buffer fewer is alive at once (48 MB at 4096²). Empty afterwards.
+  TexelBytes* overwrite_diffuse = nullptr;
 };
 
 struct BakedTexels {
@@ -33,6 +38,10 @@ struct BakedTexels {
   TexelBytes metalness, roughness;
   std::uint8_t first_roughness = 0;
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
+  // The base colour equals the 8-bit diffuse within the solve's rounding (1 code in RGB; alpha
+  // exactly), so the diffuse image can stand for it (the caller also checks the factor); the
+  // error reported stays the bake's, which the diffuse matches to that code value.
+  bool equals_diffuse = false;
   ErrorAccumulator error_a, error_b;          // against legacy readings A and B
   ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
 

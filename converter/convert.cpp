@@ -250,6 +250,8 @@ class Converter {
       entry.times.solve_ms += ms_since(start);
     } else {
       auto start = Clock::now();
+      // Asked before the decode, which gives the encoded pages back.
+      const bool jpeg_diffuse = diffuse_image >= 0 && is_jpeg(encoded_image_bytes(asset_, diffuse_image));
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
       parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },
@@ -265,19 +267,23 @@ class Converter {
                              std::to_string(max_image_pixels()) + " pixels (--max-image-pixels)");
       auto fit = [&](SharedPixels& pixels) {  // resampled only when the sizes differ
         if (pixels && (pixels->width != inputs.width || pixels->height != inputs.height))
-          pixels = std::make_shared<const Pixels>(resize(*pixels, inputs.width, inputs.height));
+          pixels = std::make_shared<Pixels>(resize(*pixels, inputs.width, inputs.height));
       };
       fit(diffuse);
       fit(spec_gloss);
       inputs.diffuse = diffuse.get();
       inputs.spec_gloss = spec_gloss.get();
+      // A diffuse that no other reader holds gives its texels to the bake to write base colour over
+      // (every Pixels here is made non-const, so the cast is sound).
+      if (diffuse && diffuse.use_count() == 1)
+        inputs.overwrite_diffuse = &std::const_pointer_cast<Pixels>(diffuse)->bytes;
       entry.times.decode_ms += ms_since(start);
 
       start = Clock::now();
       bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
       bake.reuse_diffuse = !roughness_only && diffuse &&
                            legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
-                           equals_image(bake.texels, *diffuse);
+                           bake.texels.equals_diffuse;
       entry.times.solve_ms += ms_since(start);
       // The decoded inputs go before encoding (a later reader of the same image keeps its copy).
       const bool has_diffuse = diffuse != nullptr;
@@ -287,7 +293,7 @@ class Converter {
       const BakedTexels& t = bake.texels;
       // The two textures encode concurrently; images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
-      const bool jpeg_base = t.alpha_constant && has_diffuse && is_jpeg(encoded_image_bytes(asset_, diffuse_image));
+      const bool jpeg_base = t.alpha_constant && has_diffuse && jpeg_diffuse;
       const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
       parallel_invoke(
           [&] {
@@ -329,21 +335,6 @@ class Converter {
     return bake_for(legacy, scratch, /*roughness_only=*/true);
   }
 
-  // Whether the baked base colour is the diffuse image itself, up to the 8-bit rounding of the
-  // solve (one code value in RGB; alpha exactly). The bake keeps the diffuse's channels. The error
-  // reported is the bake's, which the reused image matches to that code value.
-  static bool equals_image(const BakedTexels& t, const Pixels& diffuse) {
-    if (diffuse.bits != 8 || diffuse.width != t.width || diffuse.height != t.height ||
-        diffuse.channels != t.base_channels || diffuse.bytes.size() != t.base_color.size())
-      return false;
-    const size_t n = static_cast<size_t>(t.base_channels);
-    for (size_t i = 0; i < t.base_color.size(); ++i) {
-      const int difference = std::abs(int{t.base_color[i]} - int{diffuse.bytes[i]});
-      if (difference > (i % n == 3 ? 0 : 1)) return false;
-    }
-    return true;
-  }
-
   using SharedPixels = std::shared_ptr<const Pixels>;
 
   // The images a legacy material's bake decodes, once per texture slot (one image in both slots is
@@ -371,10 +362,10 @@ class Converter {
         shared = decoded_.emplace(image, promise.get_future().share()).first->second;
       }
     }
-    if (!shared.valid()) return std::make_shared<const Pixels>(decode_now(image));
+    if (!shared.valid()) return std::make_shared<Pixels>(decode_now(image));
     if (decode_here) {
       try {
-        promise.set_value(std::make_shared<const Pixels>(decode_now(image)));
+        promise.set_value(std::make_shared<Pixels>(decode_now(image)));
       } catch (...) {
         promise.set_exception(std::current_exception());
       }
@@ -390,6 +381,7 @@ class Converter {
                                         : " (" + model_.images[static_cast<size_t>(image)].uri + ")");
     try {
       Pixels pixels = decode_image(bytes, name);
+      release_encoded_image_pages(asset_, image);
       ++images_decoded_;  // this file's own count: the process-wide counter also sees other files' threads
       return pixels;
     } catch (const std::runtime_error& e) {

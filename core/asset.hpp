@@ -65,6 +65,10 @@ Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin)
 // step made), else its bufferView, else its mapped file. Empty when there are none.
 std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index);
 
+// Gives back the pages of image `index`'s mapped file once a step has decoded it: the texels are
+// what it keeps (a 4096² PNG holds ~13 MB). Nothing happens for images held in memory.
+void release_encoded_image_pages(const Asset& asset, int index);
+
 // Counters that prove lazy work in tests: how often pixels or meshes were decoded.
 struct WorkCounters {
   std::atomic<long> images_decoded{0};

@@ -57,6 +57,10 @@ std::optional<MappedFile> MappedFile::open(const fs::path& path, ReadAhead read_
   return MappedFile(static_cast<const std::uint8_t*>(data), size);
 }
 
+void MappedFile::release_pages() const {
+  if (data_) ::madvise(const_cast<std::uint8_t*>(data_), size_, MADV_DONTNEED);
+}
+
 MappedFile::MappedFile(MappedFile&& other) noexcept : data_(other.data_), size_(other.size_) {
   other.data_ = nullptr;
   other.size_ = 0;

@@ -30,6 +30,9 @@ class MappedFile {
   MappedFile(const MappedFile&) = delete;
   ~MappedFile();
   std::span<const std::uint8_t> bytes() const { return {data_, size_}; }
+  // Drops this process's copies of the pages read so far (they stay in the page cache, and a later
+  // read maps them again): a reader done with the file gives its memory back.
+  void release_pages() const;
 
  private:
   MappedFile(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}

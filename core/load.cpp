@@ -29,6 +29,13 @@ std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index)
   return file == asset.image_files.end() ? std::span<const std::uint8_t>{} : file->second->bytes();
 }
 
+void release_encoded_image_pages(const Asset& asset, int index) {
+  const tinygltf::Image& image = asset.model.images.at(static_cast<size_t>(index));
+  if (!image.image.empty() || image.bufferView >= 0) return;
+  if (const auto file = asset.image_files.find(image.uri); file != asset.image_files.end())
+    file->second->release_pages();
+}
+
 namespace {
 
 struct GlbChunks {

@@ -233,8 +233,10 @@ SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texel
 
 const Pixels& DecodedImages::get(int image) {
   auto it = images_.find(image);
-  if (it == images_.end())
+  if (it == images_.end()) {
     it = images_.emplace(image, decode_image(encoded_image_bytes(asset_, image), pointer("images", image))).first;
+    release_encoded_image_pages(asset_, image);
+  }
   return it->second;
 }
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <numeric>
 #include <set>
 
 #include "converter/bake.hpp"
@@ -804,22 +805,27 @@ long resident_kb_of_mapping(const void* start) {
   return -1;
 }
 
-// Image files are mapped, not read and copied on load: converting Avocado reads the two maps it
-// bakes from, and not one page of the fallback maps it replaces or the normal map it passes on.
-TEST(Textures, ConversionReadsOnlyTheImagesItBakesFrom) {
+// Image files are mapped, not read and copied on load: converting Avocado holds no page of the
+// fallback maps it replaces or of the normal map it passes on, and gives back the pages of the two
+// maps it decoded once it has their texels.
+TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
   const fs::path gltf = assets_dir() / "Avocado/specgloss/Avocado.gltf";
   Asset asset = load_asset(gltf);
   for (const auto& image : asset.model.images) EXPECT_TRUE(image.image.empty()) << image.uri;
-  const ConversionReport report = convert(asset);
-  ASSERT_EQ(report.images_decoded, 2);
   auto resident_kb = [&](const char* uri) {
     return resident_kb_of_mapping(asset.image_files.at(uri)->bytes().data());
   };
-  EXPECT_GT(resident_kb("Avocado_diffuse.png"), 0);  // the measure sees a read when there is one
-  EXPECT_GT(resident_kb("Avocado_specularGlossiness.png"), 0);
-  EXPECT_EQ(resident_kb("Avocado_baseColor.png"), 0);
-  EXPECT_EQ(resident_kb("Avocado_roughnessMetallic.png"), 0);
-  EXPECT_EQ(resident_kb("Avocado_normal.png"), 0);
+  {  // the measure sees a read when there is one
+    const auto probe = asset.image_files.at("Avocado_normal.png")->bytes();
+    EXPECT_NE(std::accumulate(probe.begin(), probe.end(), 0ull), 0ull);
+    EXPECT_GT(resident_kb("Avocado_normal.png"), 0);
+    asset.image_files.at("Avocado_normal.png")->release_pages();
+  }
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.images_decoded, 2);
+  for (const char* uri : {"Avocado_diffuse.png", "Avocado_specularGlossiness.png", "Avocado_baseColor.png",
+                          "Avocado_roughnessMetallic.png", "Avocado_normal.png"})
+    EXPECT_EQ(resident_kb(uri), 0) << uri;
   // What the mapping holds is the file, byte for byte.
   for (const auto& [uri, file] : asset.image_files) {
     const auto bytes = file->bytes();
@@ -873,6 +879,78 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
       ASSERT_EQ(out.metalness[i], to_byte(e.metalness)) << "texel " << i << ", specular factor " << specular_factor;
     }
     EXPECT_EQ(shortcuts > 0, specular_factor == 0.04f);
+  }
+}
+
+// The bake may write base colour over a diffuse its caller hands over (BakeInputs::
+// overwrite_diffuse): every texel, plane, flag and error figure must equal a bake into a new
+// buffer, on a real asset and on constructed inputs (alpha with a factor; a diffuse that the base
+// colour equals; a grey diffuse, whose layout differs from the base colour's and stays untouched).
+TEST(BakeOverDiffuse, GivesTheSameBakeAsANewBuffer) {
+  const fs::path avocado = assets_dir() / "Avocado/specgloss";
+  auto decode_file = [](const fs::path& file) {
+    const Bytes bytes = *read_file(file);
+    return decode_image(bytes, file.string());
+  };
+  struct Case {
+    std::string name;
+    Pixels diffuse, spec_gloss;
+    glm::vec4 diffuse_factor{1.0f};
+    glm::vec3 specular_factor{1.0f};
+    bool overwritten;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"Avocado", decode_file(avocado / "Avocado_diffuse.png"),
+                   decode_file(avocado / "Avocado_specularGlossiness.png"), glm::vec4(1.0f), glm::vec3(1.0f), true});
+  std::uint32_t state = 7;
+  const auto next = [&] { return static_cast<std::uint8_t>((state = state * 1664525u + 1013904223u) >> 24); };
+  auto random_pixels = [&](int channels, bool full_specular) {
+    Pixels p;
+    p.width = 97, p.height = 41, p.channels = channels;
+    for (int i = 0; i < p.width * p.height * channels; ++i) p.bytes.push_back(full_specular && i % 4 != 3 ? 255 : next());
+    return p;
+  };
+  cases.push_back({"RGBA diffuse, alpha factor 0.5", random_pixels(4, false), random_pixels(4, false),
+                   glm::vec4(1.0f, 1.0f, 1.0f, 0.5f), glm::vec3(0.3f), true});
+  cases.push_back({"diffuse over the core dielectric F0", random_pixels(3, false), random_pixels(4, true),
+                   glm::vec4(1.0f), glm::vec3(0.04f), true});
+  cases.push_back({"grey diffuse", random_pixels(1, false), random_pixels(4, false), glm::vec4(1.0f),
+                   glm::vec3(0.5f), false});
+
+  for (Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    BakeInputs in;
+    in.spec_gloss = &c.spec_gloss;
+    in.width = c.diffuse.width, in.height = c.diffuse.height;
+    in.diffuse_factor = c.diffuse_factor, in.specular_factor = c.specular_factor;
+    in.diffuse = &c.diffuse;
+    BakedTexels fresh = bake(in, SolverSettings{}, 4096);
+    const TexelBytes diffuse_before = c.diffuse.bytes;
+    in.overwrite_diffuse = &c.diffuse.bytes;
+    BakedTexels over = bake(in, SolverSettings{}, 4096);
+
+    EXPECT_EQ(c.diffuse.bytes.empty(), c.overwritten);  // handed over, or left as it was
+    if (!c.overwritten) {
+      EXPECT_TRUE(c.diffuse.bytes == diffuse_before);
+    }
+    EXPECT_TRUE(over.base_color == fresh.base_color);
+    EXPECT_TRUE(over.metalness == fresh.metalness);
+    EXPECT_TRUE(over.roughness == fresh.roughness);
+    EXPECT_EQ(over.base_channels, fresh.base_channels);
+    EXPECT_EQ(over.alpha, fresh.alpha);
+    EXPECT_EQ(over.base_constant, fresh.base_constant);
+    EXPECT_EQ(over.alpha_constant, fresh.alpha_constant);
+    EXPECT_EQ(over.metal_rough_constant, fresh.metal_rough_constant);
+    EXPECT_EQ(over.equals_diffuse, fresh.equals_diffuse);
+    EXPECT_EQ(fresh.equals_diffuse, c.name == "diffuse over the core dielectric F0");
+    const ReflectanceError a_over = over.error_a.finish(), a_fresh = fresh.error_a.finish();
+    const ReflectanceError b_over = over.error_b.finish(), b_fresh = fresh.error_b.finish();
+    for (const auto& [x, y] : {std::pair{a_over.diffuse, a_fresh.diffuse}, {a_over.f0, a_fresh.f0},
+                               {b_over.diffuse, b_fresh.diffuse}, {b_over.f0, b_fresh.f0}}) {
+      EXPECT_EQ(x.mean, y.mean);
+      EXPECT_EQ(x.p95, y.p95);
+      EXPECT_EQ(x.max, y.max);
+    }
   }
 }
 
