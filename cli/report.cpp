@@ -41,7 +41,7 @@ json file_json(const FileResult& r) {
     json entry = {{"index", m.index},
                   {"pointer", "/materials/" + std::to_string(m.index)},
                   {"name", m.name},
-                  {"outcome", m.outcome},
+                  {"outcome", material_outcome_name(m.outcome)},
                   {"texels", m.texels},
                   {"errorSamples", m.error_samples},
                   {"textures",
@@ -113,13 +113,13 @@ std::string file_summary(const FileResult& r, bool verbose) {
   double worst = 0;
   for (const MaterialReport& m : c.materials) {
     if (m.error_a) worst = std::max(worst, m.error_a->worst());
-    if (!verbose && m.outcome == "metalness") continue;
+    if (!verbose && m.outcome == MaterialOutcome::Metalness) continue;
     const std::string error =
         m.error_a ? format(", ΔE2000 diffuse mean %.2f max %.2f", m.error_a->diffuse.mean, m.error_a->diffuse.max, 0) +
                         format(", F0 mean %.2f max %.2f", m.error_a->f0.mean, m.error_a->f0.max, 0)
                   : ", ΔE2000 not measured";
     out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") +
-           m.outcome + format(": texels %.0f", static_cast<double>(m.texels), 0, 0) + error +
+           material_outcome_name(m.outcome) + format(": texels %.0f", static_cast<double>(m.texels), 0, 0) + error +
            format(", %.1f ms", m.times.total(), 0, 0) + (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
   }
   if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);

@@ -260,8 +260,8 @@ std::array<std::uint8_t, 256> byte_table(F f) {
 bool same_layout_as_base(const Pixels* diffuse, const BakedTexels& out) {
   return diffuse && diffuse->bits == 8 && diffuse->channels == out.base_channels && diffuse->width == out.width &&
          diffuse->height == out.height &&
-         diffuse->bytes.size() == static_cast<size_t>(out.width) * static_cast<size_t>(out.height) *
-                                      static_cast<size_t>(out.base_channels);
+         diffuse->bytes.size() ==
+             static_cast<size_t>(out.width) * static_cast<size_t>(out.height) * static_cast<size_t>(out.base_channels);
 }
 
 template <class Texels>
@@ -333,7 +333,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
     using Cache = SolveCache<typename Texels::Key>;
     Cache& cache = Cache::for_this_thread(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)));
     std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
-    bool equal = equals_diffuse.load();             // this thread's texels so far
+    bool equal = equals_diffuse.load();              // this thread's texels so far
     for (std::int64_t band; (band = next_band.fetch_add(1)) < bands;) {
       const size_t first = static_cast<size_t>(band * kBandRows) * static_cast<size_t>(in.width);
       const size_t end = static_cast<size_t>(std::min<std::int64_t>(in.height, (band + 1) * kBandRows)) *
@@ -375,8 +375,9 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const bool alpha_texels = in.diffuse && (in.diffuse->channels == 2 || in.diffuse->channels == 4);
   out.base_channels = alpha_texels ? 4 : 3;
   BakeInputs inputs = in;
-  if (inputs.overwrite_diffuse && !(same_layout_as_base(in.diffuse, out) && &in.diffuse->bytes == in.overwrite_diffuse &&
-                                    in.spec_gloss != in.diffuse && ByteTexels::serves(in)))
+  if (inputs.overwrite_diffuse &&
+      !(same_layout_as_base(in.diffuse, out) && &in.diffuse->bytes == in.overwrite_diffuse &&
+        in.spec_gloss != in.diffuse && ByteTexels::serves(in)))
     inputs.overwrite_diffuse = nullptr;  // not a buffer the bake can write over: a new one
   out.base_color.resize(inputs.overwrite_diffuse ? 0 : texels * static_cast<size_t>(out.base_channels));
   out.metalness.resize(texels);

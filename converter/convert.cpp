@@ -66,7 +66,7 @@ class Converter {
       convert_material(material, legacy, entry);
       for (int image : images_of(legacy))
         if (--pending_uses_[image] == 0) decoded_.erase(image);  // its last reader is done
-      if (entry.outcome != "legacy") material.extensions.erase(kSpecGloss);
+      if (entry.outcome != MaterialOutcome::Legacy) material.extensions.erase(kSpecGloss);
       report_.times += entry.times;
       report_.materials.push_back(std::move(entry));
     }
@@ -100,7 +100,7 @@ class Converter {
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
     if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
         !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
-      entry.outcome = "legacy";
+      entry.outcome = MaterialOutcome::Legacy;
       entry.note =
           "diffuseTexture and specularGlossinessTexture use different texCoord sets or texture transforms; "
           "left as spec-gloss rather than baked wrongly";
@@ -120,7 +120,7 @@ class Converter {
       write_specular_route(material, legacy, baked, entry);
       return;
     }
-    entry.outcome = "metalness";
+    entry.outcome = MaterialOutcome::Metalness;
     const BakedTexels& t = baked.texels;
     const tinygltf::TextureInfo* mapping = legacy.diffuse_texture      ? &*legacy.diffuse_texture
                                            : legacy.spec_gloss_texture ? &*legacy.spec_gloss_texture
@@ -161,7 +161,7 @@ class Converter {
   // by KHR_materials_specular (exact under reading A in viewers that support it).
   void write_specular_route(tinygltf::Material& material, const LegacyMaterial& legacy, const Bake& baked,
                             MaterialReport& entry) {
-    entry.outcome = "specular";
+    entry.outcome = MaterialOutcome::Specular;
     entry.note = "metalness fit p95 above " + std::to_string(options_.specular_tolerance) + " ΔE2000";
     auto& pbr = material.pbrMetallicRoughness;
     pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b,
@@ -451,6 +451,18 @@ class Converter {
 };
 
 }  // namespace
+
+const char* material_outcome_name(MaterialOutcome outcome) {
+  switch (outcome) {
+    case MaterialOutcome::Legacy:
+      return "legacy";
+    case MaterialOutcome::Metalness:
+      return "metalness";
+    case MaterialOutcome::Specular:
+      return "specular";
+  }
+  return "legacy";
+}
 
 const char* texture_outcome_name(TextureOutcome outcome) {
   switch (outcome) {

@@ -44,6 +44,14 @@ enum class TextureOutcome {
 };
 const char* texture_outcome_name(TextureOutcome outcome);  // "baked", "shared", "inputReused", ...
 
+// What became of a spec-gloss material.
+enum class MaterialOutcome {
+  Legacy,     // left as spec-gloss (see the note), or not converted yet
+  Metalness,  // core metal-rough
+  Specular,   // metal-rough with KHR_materials_specular and _ior (--target specular)
+};
+const char* material_outcome_name(MaterialOutcome outcome);  // "legacy", "metalness", "specular"
+
 struct MaterialOutputs {
   TextureOutcome base_color = TextureOutcome::None, metallic_roughness = TextureOutcome::None;
 };
@@ -51,8 +59,8 @@ struct MaterialOutputs {
 struct MaterialReport {
   int index = -1;
   std::string name;
-  std::string outcome;   // "metalness", "specular" (extensions added), "legacy" (left as is), "unchanged"
-  std::string note;      // why, for "legacy" and "specular"
+  MaterialOutcome outcome = MaterialOutcome::Legacy;
+  std::string note;      // why, for Legacy and Specular
   long long texels = 0;  // texels solved (1 for a factor-only material)
   size_t error_samples = 0;
   // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt

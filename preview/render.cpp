@@ -252,7 +252,7 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
     for (const auto& m : r.conversion->materials)
       materials.push_back({{"index", m.index},
                            {"name", m.name},
-                           {"outcome", m.outcome},
+                           {"outcome", material_outcome_name(m.outcome)},
                            {"texel_delta_e_2000_a", m.error_a ? nlohmann::json{{"diffuse_p95", m.error_a->diffuse.p95},
                                                                                {"f0_p95", m.error_a->f0.p95}}
                                                               : nlohmann::json(nullptr)}});

@@ -72,12 +72,13 @@ TEST(ConvertSharedAssets, EverySpecGlossAssetConvertsInBothTargetsAndReloadsWith
       const ConversionReport report = convert(asset, options);
       EXPECT_EQ(static_cast<int>(report.materials.size()), legacy_materials);
       for (const MaterialReport& m : report.materials) {
-        EXPECT_TRUE(m.outcome == "metalness" || m.outcome == "specular") << m.index << " " << m.outcome;
+        EXPECT_TRUE(m.outcome == MaterialOutcome::Metalness || m.outcome == MaterialOutcome::Specular)
+            << m.index << " " << material_outcome_name(m.outcome);
         ASSERT_TRUE(m.error_a && m.error_b) << m.index << ": converted but not measured";
         for (double v : {m.error_a->diffuse.mean, m.error_a->diffuse.max, m.error_a->f0.max, m.error_b->f0.max})
           EXPECT_TRUE(std::isfinite(v));
         if (target == Target::Metalness) {
-          EXPECT_EQ(m.outcome, "metalness");
+          EXPECT_EQ(m.outcome, MaterialOutcome::Metalness);
         }
       }
       const fs::path output =
@@ -227,7 +228,7 @@ TEST(SpecularTarget, AddsExtensionsOnlyToMaterialsThatNeedThem) {
   for (const MaterialReport& m : report.materials) {
     const auto& material = asset.model.materials[static_cast<size_t>(m.index)];
     const bool has = material.extensions.count("KHR_materials_specular") > 0;
-    EXPECT_EQ(has, m.outcome == "specular") << m.index;
+    EXPECT_EQ(has, m.outcome == MaterialOutcome::Specular) << m.index;
     EXPECT_EQ(material.extensions.count("KHR_materials_ior") > 0, has) << m.index;
     (has ? specular : metalness)++;
   }
@@ -246,7 +247,7 @@ TEST(TextureMapping, DifferentTexCoordSetsLeaveTheMaterialLegacyWithAWarning) {
   const long before = work_counters().images_decoded;
   const ConversionReport report = convert(asset);
   ASSERT_EQ(report.materials.size(), 1u);
-  EXPECT_EQ(report.materials[0].outcome, "legacy");
+  EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Legacy);
   EXPECT_FALSE(report.warnings.empty());
   EXPECT_TRUE(asset.model.materials[0].extensions.count(kSpecGloss));
   EXPECT_TRUE(lists(asset.model.extensionsUsed, kSpecGloss));

@@ -683,7 +683,7 @@ TEST(MeasuredFigures, TheExtensionRouteReportsTheErrorItMeasuredUnderBothReading
   const ConversionReport report = convert(asset, options);
   ASSERT_FALSE(report.materials.empty());
   for (const MaterialReport& m : report.materials) {
-    ASSERT_EQ(m.outcome, "specular");
+    ASSERT_EQ(m.outcome, MaterialOutcome::Specular);
     EXPECT_GT(m.error_samples, 0u) << "texels were sampled";
     ASSERT_TRUE(m.error_a && m.error_b);
     EXPECT_LT(m.error_a->diffuse.max, 0.5) << "the route reproduces reading A";

@@ -227,7 +227,7 @@ TEST(Textures, OneByOneDiffuseTextureBecomesFactors) {
   ConversionReport report;
   const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
   ASSERT_EQ(report.materials.size(), 1u);
-  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Metalness);
   EXPECT_EQ(report.materials[0].texels, 1);
   EXPECT_EQ(report.textures_baked, 0);
   EXPECT_TRUE(no_spec_gloss(converted));
@@ -325,7 +325,7 @@ TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
   ConversionReport report;
   const Asset converted = convert_save_reload(asset, scratch / "converted" / "CesiumMan.gltf", &report);
   ASSERT_EQ(report.materials.size(), 1u);
-  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Metalness);
   EXPECT_EQ(report.images_decoded, 1);
   EXPECT_EQ(report.materials[0].texels, static_cast<long long>(source.width) * source.height);
 
@@ -427,7 +427,7 @@ TEST(Textures, PalettePngsDecodeToPaletteColoursAndConvert) {
 
     ConversionReport report;
     const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
-    EXPECT_EQ(report.materials.at(0).outcome, "metalness");
+    EXPECT_EQ(report.materials.at(0).outcome, MaterialOutcome::Metalness);
     EXPECT_TRUE(no_spec_gloss(converted));
     const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
     ASSERT_GE(pbr.baseColorTexture.index, 0);
@@ -733,7 +733,7 @@ TEST(Textures, SharedTextureTransformIsCopiedOntoBothBakedTextures) {
   ConversionReport report;
   const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
   ASSERT_EQ(report.materials.size(), 1u);
-  EXPECT_EQ(report.materials[0].outcome, "metalness");
+  EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Metalness);
   EXPECT_TRUE(no_spec_gloss(converted));
   const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
   ASSERT_GE(pbr.baseColorTexture.index, 0);
@@ -760,7 +760,7 @@ TEST(Textures, DifferentTextureTransformsLeaveTheMaterialLegacyUndecoded) {
 
   const ConversionReport report = convert(asset);
   ASSERT_EQ(report.materials.size(), 1u);
-  EXPECT_EQ(report.materials[0].outcome, "legacy");
+  EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Legacy);
   EXPECT_EQ(report.images_decoded, 0);
   EXPECT_FALSE(report.warnings.empty());
   EXPECT_TRUE(asset.model.materials.at(0).extensions.count(kSpecGloss));
@@ -812,9 +812,7 @@ TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
   const fs::path gltf = assets_dir() / "Avocado/specgloss/Avocado.gltf";
   Asset asset = load_asset(gltf);
   for (const auto& image : asset.model.images) EXPECT_TRUE(image.image.empty()) << image.uri;
-  auto resident_kb = [&](const char* uri) {
-    return resident_kb_of_mapping(asset.image_files.at(uri)->bytes().data());
-  };
+  auto resident_kb = [&](const char* uri) { return resident_kb_of_mapping(asset.image_files.at(uri)->bytes().data()); };
   {  // the measure sees a read when there is one
     const auto probe = asset.image_files.at("Avocado_normal.png")->bytes();
     EXPECT_NE(std::accumulate(probe.begin(), probe.end(), 0ull), 0ull);
@@ -907,15 +905,16 @@ TEST(BakeOverDiffuse, GivesTheSameBakeAsANewBuffer) {
   auto random_pixels = [&](int channels, bool full_specular) {
     Pixels p;
     p.width = 97, p.height = 41, p.channels = channels;
-    for (int i = 0; i < p.width * p.height * channels; ++i) p.bytes.push_back(full_specular && i % 4 != 3 ? 255 : next());
+    for (int i = 0; i < p.width * p.height * channels; ++i)
+      p.bytes.push_back(full_specular && i % 4 != 3 ? 255 : next());
     return p;
   };
   cases.push_back({"RGBA diffuse, alpha factor 0.5", random_pixels(4, false), random_pixels(4, false),
                    glm::vec4(1.0f, 1.0f, 1.0f, 0.5f), glm::vec3(0.3f), true});
   cases.push_back({"diffuse over the core dielectric F0", random_pixels(3, false), random_pixels(4, true),
                    glm::vec4(1.0f), glm::vec3(0.04f), true});
-  cases.push_back({"grey diffuse", random_pixels(1, false), random_pixels(4, false), glm::vec4(1.0f),
-                   glm::vec3(0.5f), false});
+  cases.push_back(
+      {"grey diffuse", random_pixels(1, false), random_pixels(4, false), glm::vec4(1.0f), glm::vec3(0.5f), false});
 
   for (Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -945,8 +944,10 @@ TEST(BakeOverDiffuse, GivesTheSameBakeAsANewBuffer) {
     EXPECT_EQ(fresh.equals_diffuse, c.name == "diffuse over the core dielectric F0");
     const ReflectanceError a_over = over.error_a.finish(), a_fresh = fresh.error_a.finish();
     const ReflectanceError b_over = over.error_b.finish(), b_fresh = fresh.error_b.finish();
-    for (const auto& [x, y] : {std::pair{a_over.diffuse, a_fresh.diffuse}, {a_over.f0, a_fresh.f0},
-                               {b_over.diffuse, b_fresh.diffuse}, {b_over.f0, b_fresh.f0}}) {
+    for (const auto& [x, y] : {std::pair{a_over.diffuse, a_fresh.diffuse},
+                               {a_over.f0, a_fresh.f0},
+                               {b_over.diffuse, b_fresh.diffuse},
+                               {b_over.f0, b_fresh.f0}}) {
       EXPECT_EQ(x.mean, y.mean);
       EXPECT_EQ(x.p95, y.p95);
       EXPECT_EQ(x.max, y.max);
