@@ -383,15 +383,16 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.metalness.resize(texels);
   if (in.spec_gloss) out.roughness.resize(texels);
   if (texels == 0) return out;
-  out.alpha = quantize(in.diffuse_factor.a * (alpha_texels ? channel(*in.diffuse, 0, 3, false) : 1.0f));
-  out.first_roughness =
-      quantize(1.0f - in.glossiness_factor * (in.spec_gloss ? channel(*in.spec_gloss, 0, 3, false) : 1.0f));
 
   if (ByteTexels::serves(inputs))
     bake_texels<ByteTexels>(inputs, settings, max_error_samples, out);
   else
     bake_texels<FloatTexels>(inputs, settings, max_error_samples, out);
   if (inputs.overwrite_diffuse) out.base_color = std::move(*inputs.overwrite_diffuse);
+  // The first texel's alpha and roughness, as the bake wrote them (or the factors' when the
+  // texels do not carry them).
+  out.alpha = alpha_texels ? out.base_color[3] : quantize(in.diffuse_factor.a);
+  out.first_roughness = in.spec_gloss ? out.roughness[0] : quantize(1.0f - in.glossiness_factor);
 
   const size_t base_channels = static_cast<size_t>(out.base_channels);
   for (size_t i = 1; i < texels; ++i) {
