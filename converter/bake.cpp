@@ -382,6 +382,9 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.base_color.resize(inputs.overwrite_diffuse ? 0 : texels * static_cast<size_t>(out.base_channels));
   out.metalness.resize(texels);
   if (in.spec_gloss) out.roughness.resize(texels);
+  // The first texel's alpha and roughness: the factors', unless the texels carry them (below).
+  out.alpha = quantize(in.diffuse_factor.a);
+  out.first_roughness = quantize(1.0f - in.glossiness_factor);
   if (texels == 0) return out;
 
   if (ByteTexels::serves(inputs))
@@ -389,10 +392,8 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   else
     bake_texels<FloatTexels>(inputs, settings, max_error_samples, out);
   if (inputs.overwrite_diffuse) out.base_color = std::move(*inputs.overwrite_diffuse);
-  // The first texel's alpha and roughness, as the bake wrote them (or the factors' when the
-  // texels do not carry them).
-  out.alpha = alpha_texels ? out.base_color[3] : quantize(in.diffuse_factor.a);
-  out.first_roughness = in.spec_gloss ? out.roughness[0] : quantize(1.0f - in.glossiness_factor);
+  if (alpha_texels) out.alpha = out.base_color[3];
+  if (in.spec_gloss) out.first_roughness = out.roughness[0];
 
   const size_t base_channels = static_cast<size_t>(out.base_channels);
   for (size_t i = 1; i < texels; ++i) {

@@ -22,7 +22,8 @@ struct BakeInputs {
   // The diffuse's own texel buffer (&diffuse->bytes), handed over by a caller that holds the only
   // reference: when the diffuse is 8-bit with the base colour's channels, the bake writes base
   // colour over it (each texel is read before its own bytes are written) and moves it into the
-  // result, so a full-size RGB(A) buffer fewer is alive at once (48 MB at 4096²). Empty afterwards.
+  // result, so a full-size RGB(A) buffer fewer is alive at once (48 MB at 4096²). The buffer is
+  // empty afterwards when taken; a diffuse the bake cannot write over is left as it was.
   TexelBytes* overwrite_diffuse = nullptr;
 };
 

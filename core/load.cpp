@@ -215,6 +215,8 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
         std::error_code error;
         size = fs::file_size(resolved.path, error);
         if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
+        if (std::strcmp(collection, "images") == 0 && size == 0)
+          throw InputError(file, where + "/uri", "the image file " + text + " is empty");
         if (std::strcmp(collection, "images") == 0 && !asset.image_files.count(text)) {
           auto mapped = MappedFile::open(resolved.path, MappedFile::ReadAhead::OnTouch);
           if (!mapped) throw InputError(file, where + "/uri", "cannot read " + text);
@@ -400,9 +402,6 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
     throw InputError(file, "", std::string("cannot load glTF: ") + error.what());
   }
   if (!ok) throw InputError(file, "", "cannot load glTF: " + tidy(err.empty() ? warn : err, base_dir));
-  // tinygltf reports an unreadable image only as a warning; after check_resources any such
-  // warning is unexpected, so it is an error too.
-  if (warn.find("Failed to load external") != std::string::npos) throw InputError(file, "", tidy(warn, base_dir));
   if (!warn.empty()) asset.warnings.push_back(tidy(warn, base_dir));
   for (const auto& [image, uri] : relabelled) asset.model.images.at(image).uri = uri;
   for (const auto& [where, indices] : hidden.entries)

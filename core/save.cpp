@@ -1,6 +1,8 @@
 // Saving: tinygltf serialises the document; buffers and images are laid out here so that
 // untouched bytes are written back as they were and every file lands atomically.
 #include <algorithm>
+#include <map>
+#include <memory>
 #include <cctype>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -171,13 +173,19 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
     for (size_t b = 0; b < model.buffers.size(); ++b)
       buffer_uris[b] =
           place(model.buffers[b].uri, model.buffers[b].data, stem + (b ? "_" + std::to_string(b) : "") + ".bin");
+    // An image file keeps its mapping under the URI it is saved with (place() renames one read
+    // from outside the folder or whose name is taken), so the saved asset still reads its bytes.
+    std::map<std::string, std::shared_ptr<const MappedFile>> saved_files;
     for (size_t i = 0; i < model.images.size(); ++i) {
       auto& image = model.images[i];
       if (image.bufferView >= 0) continue;
+      const auto file = asset.image_files.find(image.uri);
       const std::string name = image.name.empty() ? std::to_string(i) : image.name;
       image.uri = place(image.uri, encoded_image_bytes(asset, static_cast<int>(i)),
                         stem + "_" + name + mime_extension(image.mimeType));
+      if (image.image.empty() && file != asset.image_files.end()) saved_files.emplace(image.uri, file->second);
     }
+    asset.image_files = std::move(saved_files);
   }
 
   // tinygltf serialises everything but buffer payloads, which are swapped out meanwhile and

@@ -343,6 +343,45 @@ TEST(ValidateOutsideUris, APercentEncodedImageNameInsideTheFolderIsFound) {
   for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "IO_ERROR") << issue.message;
 }
 
+// An image read from outside the folder (allowed) is saved beside the output under its file
+// name, and one whose name is taken gets another: the saved asset (which convert --preview draws)
+// still reads each image's own bytes under its new URI.
+TEST(SaveOutsideUris, RenamedImagesKeepTheirBytesInTheSavedAsset) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  fs::create_directories(scratch / "tex");
+  fs::rename(scratch / "box" / "CesiumLogoFlat.png", scratch / "tex" / "CesiumLogoFlat.png");
+  test::write_text(scratch / "box" / "CesiumLogoFlat.png", "not the logo");  // takes the name beside the output
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  document["images"][0]["uri"] = "../tex/CesiumLogoFlat.png";
+  document["images"][1] = {{"uri", "CesiumLogoFlat.png"}};
+  test::write_text(gltf, document.dump());
+  Asset asset = load_asset(gltf, {/*allow_outside_uris=*/true});
+  save_asset(asset, scratch / "out" / "saved.gltf");
+  const auto& images = asset.model.images;
+  ASSERT_EQ(images.size(), 2u);
+  EXPECT_NE(images[0].uri, images[1].uri);  // both wanted CesiumLogoFlat.png
+  const Bytes logo_file = *read_file(scratch / "tex" / "CesiumLogoFlat.png");
+  const auto logo = encoded_image_bytes(asset, 0), other = encoded_image_bytes(asset, 1);
+  EXPECT_EQ(Bytes(logo.begin(), logo.end()), logo_file);
+  EXPECT_EQ(Bytes(other.begin(), other.end()), bytes_of("not the logo"));
+  EXPECT_EQ(read_file(scratch / "out" / images[0].uri), logo_file) << images[0].uri;  // beside the output
+  EXPECT_EQ(read_file(scratch / "out" / images[1].uri), bytes_of("not the logo")) << images[1].uri;
+}
+
+TEST(BadImages, AnEmptyImageFileIsRefusedAtLoadNamingItsUri) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "box");
+  test::write_text(scratch / "box" / "CesiumLogoFlat.png", "");
+  try {
+    (void)load_asset(gltf);
+    FAIL() << "an empty image file loaded";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("/images/0/uri"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("empty"), std::string::npos) << error.what();
+  }
+}
+
 TEST(Reports, MessagesStayValidUtf8WhateverBytesALibraryQuotes) {
   // nlohmann's parse error quotes the bytes it read ("last read: '\xFF'"); the report keeps them as
   // U+FFFD, so every format serialises (the fuzzer found report_to_json throwing type_error 316).
