@@ -1,9 +1,9 @@
 // Saving: tinygltf serialises the document; buffers and images are laid out here so that
 // untouched bytes are written back as they were and every file lands atomically.
 #include <algorithm>
+#include <cctype>
 #include <map>
 #include <memory>
-#include <cctype>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -143,8 +143,8 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
     throw std::runtime_error("refusing to overwrite the input " + output.string());
   // Replacing a file its owner made read-only would defeat the point of making it so, root or not.
   if (replace_input && output_is_input && !writable_by_owner(output))
-    throw std::runtime_error("refusing to replace " + output.string() + ": it is read-only (mode " +
-                             mode_text(output) + ")");
+    throw std::runtime_error("refusing to replace " + output.string() + ": it is read-only (mode " + mode_text(output) +
+                             ")");
 
   std::vector<std::string> buffer_uris(model.buffers.size());
   if (to_glb) {
