@@ -227,7 +227,8 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
   AtomicWriteSet files;
   const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
   const fs::path input_folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
-  if (!asset.binary && fs::weakly_canonical(folder) != fs::weakly_canonical(input_folder)) {
+  // A GLB may name external files too: they come along as a .gltf's do.
+  if (fs::weakly_canonical(folder) != fs::weakly_canonical(input_folder)) {
     // A resource outside the input's folder (--allow-outside-uris) cannot keep its URI in a copy
     // elsewhere: save_asset writes it beside the output and rewrites the URI instead.
     auto outside = [](const std::string& uri) {
@@ -244,7 +245,9 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
     auto copy = [&](const std::string& uri) {
       if (uri.empty() || is_data_uri(uri)) return;
       const std::string relative = percent_decode(uri);
-      if (auto bytes = read_file(input_folder / relative)) files.stage(folder / relative, *bytes);
+      const auto bytes = read_file(input_folder / relative);
+      if (!bytes) throw InputError(asset.path.string(), "", "cannot read " + uri + " to copy it");
+      files.stage(folder / relative, *bytes);
     };
     for (const auto& buffer : asset.model.buffers) copy(buffer.uri);
     for (const auto& image : asset.model.images) copy(image.uri);

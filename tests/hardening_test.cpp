@@ -369,6 +369,23 @@ TEST(SaveOutsideUris, RenamedImagesKeepTheirBytesInTheSavedAsset) {
   EXPECT_EQ(read_file(scratch / "out" / images[1].uri), bytes_of("not the logo")) << images[1].uri;
 }
 
+// A GLB may name external files too: converted with nothing to change into another folder, it is
+// copied as it was and takes them along.
+TEST(CopyVerbatim, AGlbWithExternalFilesTakesThemAlong) {
+  ScratchDir scratch;
+  fs::create_directories(scratch / "in" / "tex");
+  const fs::path logo = specgloss("BoxTextured") / "CesiumLogoFlat.png";
+  fs::copy_file(logo, scratch / "in" / "tex" / "logo.png");
+  const std::string json = R"({"asset":{"version":"2.0"},"images":[{"uri":"tex/logo.png"}],"textures":[{"source":0}],)"
+                           R"("materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})";
+  write_bytes(scratch / "in" / "a.glb", glb_bytes(json, {}));
+  const auto r =
+      run_cli("convert -q " + quoted(scratch / "in" / "a.glb") + " -o " + quoted(scratch / "out" / "a.glb"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(read_file(scratch / "out" / "a.glb"), read_file(scratch / "in" / "a.glb"));
+  EXPECT_EQ(read_file(scratch / "out" / "tex" / "logo.png"), read_file(logo));
+}
+
 TEST(BadImages, AnEmptyImageFileIsRefusedAtLoadNamingItsUri) {
   ScratchDir scratch;
   const fs::path gltf = copy_model("BoxTextured", scratch / "box");
