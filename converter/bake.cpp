@@ -116,7 +116,8 @@ struct ByteTexels {
 // solve without changing any result. Misses are gathered per band and solved together in SIMD
 // lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
 // result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
-// against both legacy readings depends on the same inputs, so it is cached too.
+// against both legacy readings depends on the same inputs, so it is cached too: computed once
+// per entry that a sample texel reads, in SIMD lanes for a batch of entries (measure_errors).
 template <class Key>
 class SolveCache {
  public:
@@ -126,6 +127,7 @@ class SolveCache {
     std::uint8_t metalness;
     float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
     bool filled = false, queued = false, has_error = false;
+    std::int32_t error_job = -1;   // the waiting error job for this entry's contents, or -1
     std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
   };
   enum class Found { Solved, Queued };
@@ -146,6 +148,7 @@ class SolveCache {
     if (cache.entries_.size() < size) cache.entries_.assign(size, Entry{}), cache.ticket_of_slot_.resize(size);
     ++cache.generation_;
     cache.queue_.clear(), cache.claimed_.clear(), cache.spill_.clear();  // an earlier bake may have thrown
+    cache.error_jobs_.clear(), cache.error_waiting_.clear();
     return cache;
   }
 
@@ -156,7 +159,8 @@ class SolveCache {
   template <class Legacy>
   Lookup find_or_queue(const Key& key, std::uint64_t hash, Legacy&& legacy) {
     Entry& entry = entries_[hash & (entries_.size() - 1)];
-    if (entry.generation != generation_) entry.filled = entry.queued = false, entry.generation = generation_;
+    if (entry.generation != generation_)
+      entry.filled = entry.queued = false, entry.error_job = -1, entry.generation = generation_;
     const bool same = entry.key == key;
     if (entry.filled && same) return {Found::Solved, &entry, 0};
     const size_t slot = static_cast<size_t>(&entry - entries_.data());
@@ -201,36 +205,65 @@ class SolveCache {
   }
   Entry& entry(size_t ticket) { return *ticket_entries_[ticket]; }
 
-  // The error of what is stored: the quantized texels, read back as a viewer reads them.
-  const float* error(Entry& entry, const SpecGloss& legacy) {
-    if (!entry.has_error) {
-      MetalRough stored;
-      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(entry.base_srgb[c]);
-      stored.metalness = static_cast<float>(entry.metalness) / 255.0f;
-      const Reflectance converted = core_reflectance(stored);
-      const Reflectance a = legacy_reflectance(legacy, LegacyReading::A),
-                        b = legacy_reflectance(legacy, LegacyReading::B);
-      // Each colour's Lab once: the converted pair serves both readings, and so does F0, which is
-      // the specular colour under either; reading B's diffuse is A's where the specular is 0, and
-      // the legacy F0 is one colour for a whole texture when the specular is a factor.
-      auto lab = [](glm::vec3 linear) { return linear_srgb_to_lab(glm::dvec3(linear)); };
-      const glm::dvec3 diffuse = lab(converted.diffuse), f0 = lab(converted.f0);
-      if (!(legacy_f0_ == a.f0)) legacy_f0_ = a.f0, legacy_f0_lab_ = lab(a.f0);
-      entry.delta_e[0] = static_cast<float>(delta_e_2000(lab(a.diffuse), diffuse));
-      entry.delta_e[1] = static_cast<float>(delta_e_2000(legacy_f0_lab_, f0));
-      entry.delta_e[2] =
-          b.diffuse == a.diffuse ? entry.delta_e[0] : static_cast<float>(delta_e_2000(lab(b.diffuse), diffuse));
-      entry.delta_e[3] = b.f0 == a.f0 ? entry.delta_e[1] : static_cast<float>(delta_e_2000(lab(b.f0), f0));
-      entry.has_error = true;
+  // Sample `sample` takes the ΔE2000 of what `entry` stores, against legacy readings A and B:
+  // at once, through set(sample, delta_e), when the entry knows it; else at the next
+  // measure_errors(), which computes it once for every entry waiting. `legacy()` gives the
+  // texel's material, asked for only when the entry does not know its error.
+  template <class Legacy, class Set>
+  void take_error(Entry& entry, Legacy&& legacy, size_t sample, Set&& set) {
+    if (entry.has_error) return set(sample, entry.delta_e);
+    if (entry.error_job < 0) {
+      entry.error_job = static_cast<std::int32_t>(error_jobs_.size());
+      error_jobs_.push_back({legacy(), &entry, {}});
+      std::memcpy(error_jobs_.back().stored.base_srgb, entry.base_srgb, 3);
+      error_jobs_.back().stored.metalness = entry.metalness;
     }
-    return entry.delta_e;
+    error_waiting_.emplace_back(sample, static_cast<size_t>(entry.error_job));
+    if (error_jobs_.size() >= kErrorBatch) measure_errors(set);
+  }
+
+  // The waiting error jobs, in one batch: the stored texels read back as a viewer reads them
+  // (core_reflectance of the 8-bit sRGB base and metalness) against legacy readings A and B,
+  // each colour pair in CIELAB and ΔE2000 lanes. F0 is the specular colour under either reading.
+  template <class Set>
+  void measure_errors(Set&& set) {
+    const size_t jobs = error_jobs_.size();
+    if (jobs == 0) return;
+    linear_.resize(6 * jobs), lab_.resize(6 * jobs), delta_e_.resize(3 * jobs);
+    for (size_t j = 0; j < jobs; ++j) {
+      const ErrorJob& job = error_jobs_[j];
+      MetalRough stored;
+      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(job.stored.base_srgb[c]);
+      stored.metalness = static_cast<float>(job.stored.metalness) / 255.0f;
+      const Reflectance converted = core_reflectance(stored);
+      const Reflectance a = legacy_reflectance(job.legacy, LegacyReading::A),
+                        b = legacy_reflectance(job.legacy, LegacyReading::B);
+      glm::vec3* expected = &linear_[3 * j];  // the first half: legacy; the second: converted
+      glm::vec3* actual = &linear_[3 * (jobs + j)];
+      expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
+      actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
+    }
+    linear_srgb_to_lab(linear_, lab_);
+    delta_e_2000(std::span(lab_).first(3 * jobs), std::span(lab_).subspan(3 * jobs), delta_e_);
+    for (size_t j = 0; j < jobs; ++j) {
+      ErrorJob& job = error_jobs_[j];
+      const float* d = &delta_e_[3 * j];
+      job.delta_e[0] = d[0], job.delta_e[1] = d[1], job.delta_e[2] = d[2], job.delta_e[3] = d[1];
+      Entry& entry = *job.entry;
+      if (entry.error_job == static_cast<std::int32_t>(j)) {  // still holding what the job measured
+        std::memcpy(entry.delta_e, job.delta_e, sizeof entry.delta_e);
+        entry.has_error = true, entry.error_job = -1;
+      }
+    }
+    for (const auto& [sample, job] : error_waiting_) set(sample, error_jobs_[job].delta_e);
+    error_jobs_.clear(), error_waiting_.clear();
   }
 
  private:
   static void fill(Entry& entry, const MetalRough& r) {
     for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
     entry.metalness = quantize(r.metalness);
-    entry.filled = true, entry.queued = false, entry.has_error = false;
+    entry.filled = true, entry.queued = false, entry.has_error = false, entry.error_job = -1;
   }
 
   SolveCache() = default;
@@ -243,9 +276,24 @@ class SolveCache {
   std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose slot was taken
   std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
   std::vector<Entry*> ticket_entries_;
-  Entry unqueued_;              // an answer known without a solve whose slot is claimed: good until the next ask
-  glm::vec3 legacy_f0_{-1.0f};  // the last legacy F0 error() saw, and its Lab
-  glm::dvec3 legacy_f0_lab_{0.0};
+  Entry unqueued_;  // an answer known without a solve whose slot is claimed: good until the next ask
+
+  // An entry's error to measure, with a copy of what it measures: the entry may be taken by
+  // another input before measure_errors(), and then keeps none of it.
+  static constexpr size_t kErrorBatch = 4096;  // jobs held at most (memory stays bounded)
+  struct ErrorJob {
+    SpecGloss legacy;
+    Entry* entry;
+    struct {
+      std::uint8_t base_srgb[3];
+      std::uint8_t metalness;
+    } stored;
+    float delta_e[4] = {};
+  };
+  std::vector<ErrorJob> error_jobs_;
+  std::vector<std::pair<size_t, size_t>> error_waiting_;  // (sample, job)
+  std::vector<glm::vec3> linear_, lab_;
+  std::vector<float> delta_e_;
 };
 
 // A channel's 256 byte values through f, quantized: per-texel alpha and roughness by lookup.
@@ -301,14 +349,17 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
 
   // Texel i's solve, its error when the texel is a sample, and its comparison with the diffuse,
   // all before its base bytes are written (they may be the diffuse's).
+  const auto set_error = [&](size_t sample, const float* delta_e) {
+    out.error_a.set(sample, delta_e[0], delta_e[1]);
+    out.error_b.set(sample, delta_e[2], delta_e[3]);
+  };
   const auto write = [&](size_t i, auto& solved, auto& cache, bool& equal) {
     if (i % stride == 0) {
       const size_t sample = i / stride;
-      const SpecGloss legacy = texels_of.legacy(i);
-      const float* delta_e = cache.error(solved, legacy);
-      out.error_a.set(sample, delta_e[0], delta_e[1]);
-      out.error_b.set(sample, delta_e[2], delta_e[3]);
+      cache.take_error(
+          solved, [&] { return texels_of.legacy(i); }, sample, set_error);
       if (in.measure_extension_route) {
+        const SpecGloss legacy = texels_of.legacy(i);
         const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
         out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
         out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
@@ -354,10 +405,12 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
         else
           waiting.emplace_back(i, found.ticket);
       }
-      if (waiting.empty()) continue;
-      cache.solve_queued();
-      for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), cache, equal);
-      waiting.clear();
+      if (!waiting.empty()) {
+        cache.solve_queued();
+        for (const auto& [i, ticket] : waiting) write(i, cache.entry(ticket), cache, equal);
+        waiting.clear();
+      }
+      cache.measure_errors(set_error);
     }
     if (!equal) equals_diffuse = false;
   });

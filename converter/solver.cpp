@@ -13,6 +13,8 @@
 #include <span>
 #include <vector>
 
+#include "core/lanes.hpp"
+
 namespace gltf_pbr {
 namespace {
 
@@ -109,14 +111,25 @@ struct Objective {
   float prior_m, prior_weight;
 };
 
-Objective objective_for(const SpecGloss& legacy) {
+// `previous`, when given, is another input's objective whose metrics are reused where a target
+// is the same colour: the same numbers, and a texture with a specular factor (most of them) has
+// one F0 for every texel.
+Objective objective_for(const SpecGloss& legacy, const Objective* previous = nullptr) {
   Objective o;
   o.target = legacy_reflectance(legacy, LegacyReading::A);
-  o.diffuse_metric = lab_metric(o.target.diffuse);
-  o.f0_metric = lab_metric(o.target.f0);
-  o.diffuse_pull = o.diffuse_metric * o.target.diffuse;
-  o.f0_pull = o.f0_metric * o.target.f0;
-  o.dielectric_pull = o.f0_metric * glm::vec3(1.0f);
+  if (previous && previous->target.diffuse == o.target.diffuse) {
+    o.diffuse_metric = previous->diffuse_metric, o.diffuse_pull = previous->diffuse_pull;
+  } else {
+    o.diffuse_metric = lab_metric(o.target.diffuse);
+    o.diffuse_pull = o.diffuse_metric * o.target.diffuse;
+  }
+  if (previous && previous->target.f0 == o.target.f0) {
+    o.f0_metric = previous->f0_metric, o.f0_pull = previous->f0_pull, o.dielectric_pull = previous->dielectric_pull;
+  } else {
+    o.f0_metric = lab_metric(o.target.f0);
+    o.f0_pull = o.f0_metric * o.target.f0;
+    o.dielectric_pull = o.f0_metric * glm::vec3(1.0f);
+  }
   const float mean_f0 = (o.target.f0.x + o.target.f0.y + o.target.f0.z) / 3.0f;
   o.prior_m = smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
   o.prior_weight = kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
@@ -283,25 +296,10 @@ float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.gl
 // objective, grid, refinement and blending as solve(); the 3×3 systems are solved by cofactors
 // rather than glm::inverse, so results agree with solve() to float rounding, not bit for bit.
 // The rare lane whose unconstrained base has a negative channel takes the scalar active set.
-namespace lanes {
+namespace lane_solver {
 
-constexpr int kLanes = 8;
+using namespace lanes;
 constexpr int kMaxGrid = 64;  // the "exact" preset's; finer grids take the scalar solve
-using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
-using Mask = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
-
-#define GLTF_PBR_INLINE [[gnu::always_inline]] inline
-
-GLTF_PBR_INLINE Floats splat(float v) { return Floats{} + v; }
-GLTF_PBR_INLINE Floats select(Mask mask, Floats yes, Floats no) {
-  return reinterpret_cast<Floats>((reinterpret_cast<Mask>(yes) & mask) | (reinterpret_cast<Mask>(no) & ~mask));
-}
-GLTF_PBR_INLINE Floats max(Floats a, Floats b) { return select(a > b, a, b); }
-GLTF_PBR_INLINE bool any(Mask mask) {
-  for (int l = 0; l < kLanes; ++l)
-    if (mask[l]) return true;
-  return false;
-}
 
 // A symmetric 3×3 matrix per lane: xx, yy, zz, xy, xz, yz.
 struct Symmetric {
@@ -415,8 +413,9 @@ GLTF_PBR_INLINE Floats error_at(Floats m, const Objectives& o) {
 
 Objectives objectives_for(const SpecGloss* legacy) {
   Objectives o;
+  Objective one;
   for (int l = 0; l < kLanes; ++l) {
-    const Objective one = objective_for(legacy[l]);
+    one = objective_for(legacy[l], l > 0 ? &one : nullptr);
     for (int i = 0; i < 3; ++i) {
       o.target_diffuse.c[i][l] = one.target.diffuse[i];
       o.target_f0.c[i][l] = one.target.f0[i];
@@ -458,10 +457,7 @@ GLTF_PBR_INLINE void refine(Floats lo, Floats hi, Floats& m, Floats& error, int 
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-// AVX2 + FMA where the processor has them (8 lanes in one register), plain x86-64 otherwise.
-[[gnu::target_clones("arch=x86-64-v3", "default")]]
-#endif
+GLTF_PBR_LANE_CLONES
 void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& settings) {
   const Objectives o = objectives_for(legacy);
   const int steps = std::max(1, settings.grid_steps);
@@ -501,9 +497,7 @@ void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& setti
     out[l] = {glm::vec3(base.c[0][l], base.c[1][l], base.c[2][l]), m[l], roughness_of(legacy[l])};
 }
 
-#undef GLTF_PBR_INLINE
-
-}  // namespace lanes
+}  // namespace lane_solver
 
 }  // namespace
 
@@ -551,7 +545,7 @@ void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, c
     for (size_t i = 0; i < legacy.size(); ++i) out[i] = solve_reference(legacy[i]);
     return;
   }
-  if (settings.grid_steps > lanes::kMaxGrid) {
+  if (settings.grid_steps > lane_solver::kMaxGrid) {
     for (size_t i = 0; i < legacy.size(); ++i) out[i] = solve(legacy[i], settings);
     return;
   }
@@ -560,7 +554,7 @@ void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, c
     SpecGloss in[lanes::kLanes];
     MetalRough solved[lanes::kLanes];
     for (size_t l = 0; l < lanes::kLanes; ++l) in[l] = legacy[first + std::min(l, n - 1)];  // pad with the last
-    lanes::solve(in, solved, settings);
+    lane_solver::solve(in, solved, settings);
     std::copy_n(solved, n, out.begin() + static_cast<std::ptrdiff_t>(first));
   }
 }

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <span>
 
 namespace gltf_pbr {
 
@@ -20,5 +21,13 @@ glm::dvec3 linear_srgb_to_lab(glm::dvec3 rgb);
 
 // CIEDE2000 colour difference (Sharma, Wu, Dalal 2005, "The CIEDE2000 Color-Difference Formula").
 double delta_e_2000(glm::dvec3 lab1, glm::dvec3 lab2);
+
+// The same two in float SIMD lanes, for many colours at once (error statistics, difference maps).
+// Cube root, arctangent, sine and exponential are Cephes-style polynomials (Moshier, "Methods and
+// Programs for Mathematical Functions", 1989) good to a few float ulps, so each result agrees
+// with the double-precision function above to float rounding (tests/color_test.cpp bounds it),
+// not bit for bit, and never depends on the other colours of the batch. Spans are of one length.
+void linear_srgb_to_lab(std::span<const glm::vec3> linear, std::span<glm::vec3> lab);
+void delta_e_2000(std::span<const glm::vec3> lab1, std::span<const glm::vec3> lab2, std::span<float> delta_e);
 
 }  // namespace gltf_pbr
