@@ -156,7 +156,7 @@ GLTF_PBR_INLINE void sine_cosine(Floats x, Floats& sine, Floats& cosine) {
 // e^x for x <= 0: 2^n · e^r with r = x - n ln 2 in [-ln2/2, ln2/2] and Cephes' expf polynomial.
 // Below -87 (where e^x leaves the normal floats) it is e^-87, near enough to 0 for every use here.
 GLTF_PBR_INLINE Floats exp_nonpositive(Floats x) {
-  x = max(x, splat(-87.0f));
+  x = select(x < -87.0f, splat(-87.0f), x);  // NaN stays NaN
   const Floats n_shifted = shifted(x * 1.44269504088896341f);
   const Floats n = n_shifted - kRoundingShift;
   const Floats r = (x - n * 0.693359375f) + n * 2.12194440e-4f;
@@ -251,7 +251,9 @@ GLTF_PBR_INLINE Floats delta_e_2000_of(const Floats (&lab1)[3], const Floats (&l
   sine_cosine(d_theta * (kPi / 90.0f), rotation_sine, unused);
   const Floats rt = -rotation_sine * rc;
   const Floats tl = (lab2[0] - lab1[0]) / sl, tc = (cp2 - cp1) / sc, th = dH / sh;
-  return square_root(max(tl * tl + tc * tc + th * th + rt * tc * th, splat(0.0f)));
+  // Never below 0 but by rounding; NaN (a colour no float holds) stays NaN, as in the scalar form.
+  const Floats squared = tl * tl + tc * tc + th * th + rt * tc * th;
+  return square_root(select(squared < 0.0f, splat(0.0f), squared));
 }
 
 // The batches, kLanes colours at a time; the last lanes of a short batch repeat its last colour.

@@ -26,7 +26,9 @@ double delta_e_2000(glm::dvec3 lab1, glm::dvec3 lab2);
 // Cube root, arctangent, sine and exponential are Cephes-style polynomials (Moshier, "Methods and
 // Programs for Mathematical Functions", 1989) good to a few float ulps, so each result agrees
 // with the double-precision function above to float rounding (tests/color_test.cpp bounds it),
-// not bit for bit, and never depends on the other colours of the batch. Spans are of one length.
+// not bit for bit, and never depends on the other colours of the batch. Where CIEDE2000 is itself
+// discontinuous (a grey's hue is its a*, b* rounding noise; hues 180° apart) the two may differ
+// by more: up to 0.05 against a grey. A NaN in gives NaN out. Spans are of one length.
 void linear_srgb_to_lab(std::span<const glm::vec3> linear, std::span<glm::vec3> lab);
 void delta_e_2000(std::span<const glm::vec3> lab1, std::span<const glm::vec3> lab2, std::span<float> delta_e);
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <glm/vec2.hpp>
+#include <limits>
 #include <random>
 #include <span>
 #include <vector>
@@ -253,6 +254,16 @@ TEST(DeltaE2000Batch, IsZeroForIdenticalColours) {
   const std::vector<glm::vec3> linear = {{0, 0, 0}, {0.04f, 0.02f, 0.04f}, {0.5f, 0.25f, 0.5f}, {1, 1, 1}};
   const std::vector<glm::vec3> lab = lab_batch_of(linear);
   for (float d : delta_e_batch_of(lab, lab)) EXPECT_EQ(d, 0.0f);
+}
+
+TEST(DeltaE2000Batch, ANaNColourGivesNaNNotAPerfectMatch) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<glm::vec3> lab = lab_batch_of({{nan, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}});
+  EXPECT_TRUE(std::isnan(lab[0].x)) << "L* of a NaN colour";
+  const std::vector<float> delta_e = delta_e_batch_of({lab[0], {50, 0, 0}, {nan, nan, nan}}, {lab[1], lab[1], lab[1]});
+  EXPECT_TRUE(std::isnan(delta_e[0]));
+  EXPECT_FALSE(std::isnan(delta_e[1])) << "a NaN lane leaves its neighbours alone";
+  EXPECT_TRUE(std::isnan(delta_e[2]));
 }
 
 }  // namespace
