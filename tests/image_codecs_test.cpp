@@ -6,11 +6,13 @@
 #include <turbojpeg.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/image.hpp"
 #include "test_support.hpp"
@@ -229,6 +231,60 @@ TEST(LeanCodecs, ProgressiveGreyAndExifOrientedJpegsDecodeAsOpenImageIoDecodesTh
   EXPECT_EQ(decoded.width, kW);
   EXPECT_EQ(decoded.height, kH);
   expect_decoded_as_openimageio_does(oriented, "Exif orientation 6", 1.0f);
+}
+
+// The encoder deflates images above 1 MiB in pieces on the thread pool (core/png.cpp): each piece
+// ends on a byte boundary, carries its own IDAT CRC and adds to the stream's Adler-32. Both
+// decoders check all of those; the texels must read back exactly, in every colour type, at the
+// fastest, the default and the smallest compression levels, with a short last piece.
+// Every chunk of a PNG (PNG spec 5.3), its CRC checked here with zlib: returns the chunk types.
+std::vector<std::string> chunk_types_with_correct_crcs(const Bytes& png) {
+  std::vector<std::string> types;
+  for (size_t at = 8; at + 12 <= png.size();) {
+    const auto be32 = [&](size_t i) {
+      return std::uint32_t{png[i]} << 24 | std::uint32_t{png[i + 1]} << 16 | std::uint32_t{png[i + 2]} << 8 |
+             png[i + 3];
+    };
+    const std::uint32_t length = be32(at);
+    if (at + 12 + length > png.size()) break;
+    const std::string type(png.begin() + static_cast<std::ptrdiff_t>(at + 4),
+                           png.begin() + static_cast<std::ptrdiff_t>(at + 8));
+    EXPECT_EQ(be32(at + 8 + length), crc32(0, &png[at + 4], 4 + length)) << type << " chunk at byte " << at;
+    types.push_back(type);
+    at += 12 + length;
+  }
+  return types;
+}
+
+TEST(LeanCodecs, APngOfManyDeflatedPiecesReadsBackExactlyInBothDecoders) {
+  constexpr int kWidth = 1031, kHeight = 769;  // ~1 MiB a piece: 4-5 pieces at 4 channels
+  for (int channels = 1; channels <= 4; ++channels)
+    for (bool few_colours : {false, true}) {
+      std::vector<std::uint8_t> texels(static_cast<size_t>(kWidth) * kHeight * static_cast<size_t>(channels));
+      for (size_t i = 0; i < texels.size(); ++i) {  // gradients with noise, or 200 colours (a palette)
+        const size_t texel = i / static_cast<size_t>(channels), channel = i % static_cast<size_t>(channels);
+        const std::uint32_t noise = static_cast<std::uint32_t>((texel * 3 + channel) * 2654435761u) >> 28;
+        texels[i] = few_colours ? static_cast<std::uint8_t>(texel / 97 % 200 + channel * 37)
+                                : static_cast<std::uint8_t>(texel % kWidth / 5 * (channel + 1) + noise);
+      }
+      const Pixels original{kWidth, kHeight, channels, 8, TexelBytes(texels.begin(), texels.end()), {}, {}};
+      for (int level : {1, 6, 9}) {
+        const Bytes png = encode_png(texels, kWidth, kHeight, channels, level);
+        const std::string what = std::to_string(channels) + " channels" + (few_colours ? ", few colours" : "") +
+                                 ", level " + std::to_string(level);
+        const std::vector<std::string> chunks = chunk_types_with_correct_crcs(png);
+        ASSERT_FALSE(chunks.empty()) << what;
+        EXPECT_EQ(chunks.back(), "IEND") << what;
+        if (channels >= 3 && !few_colours) EXPECT_GE(std::ranges::count(chunks, "IDAT"), 2) << what << ": pieces";
+        const Pixels decoded = decode_image(png, what);
+        ASSERT_EQ(decoded.width, kWidth) << what;
+        ASSERT_EQ(decoded.height, kHeight) << what;
+        for (size_t i = 0; i < static_cast<size_t>(kWidth) * kHeight; ++i)
+          ASSERT_EQ(rgba(decoded, i), rgba(original, i)) << what << ", texel " << i;
+        expect_decoded_as_openimageio_does(png, what, 0.0f);
+        EXPECT_EQ(encode_png(texels, kWidth, kHeight, channels, level), png) << what << ": the same bytes every time";
+      }
+    }
 }
 
 }  // namespace
