@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -187,6 +188,8 @@ void append_image_data(Bytes& png, std::span<const std::uint8_t> image, std::siz
                        std::size_t pixel_bytes, bool sub_filter, int level) {
   constexpr std::size_t kPieceBytes = 1u << 20;
   const std::size_t row_bytes = width * pixel_bytes, filtered_row_bytes = 1 + row_bytes;
+  if (filtered_row_bytes > std::numeric_limits<uInt>::max())  // zlib takes a row in one call
+    throw std::runtime_error("PNG encoder: a row of " + std::to_string(row_bytes) + " bytes");
   const std::size_t rows_per_piece = std::max<std::size_t>(1, kPieceBytes / filtered_row_bytes);
   const std::size_t pieces = (height + rows_per_piece - 1) / rows_per_piece;
   struct Piece {
