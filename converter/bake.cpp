@@ -318,11 +318,11 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
   const bool alpha_texels = out.base_channels == 4;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
-  // The base colour's bytes: the diffuse's own when handed over (see bake()). Either way texel i's
-  // diffuse bytes are read (key, legacy material, comparison) before texel i's base is written.
+  // The base colour's bytes: the diffuse's own when handed over (see bake(), which hands over only
+  // a diffuse of the base colour's layout). Either way texel i's diffuse bytes are read (key,
+  // legacy material, comparison) before texel i's base is written.
   std::uint8_t* const base = in.overwrite_diffuse ? in.overwrite_diffuse->data() : out.base_color.data();
-  const std::uint8_t* const diffuse_bytes =
-      in.overwrite_diffuse || same_layout_as_base(in.diffuse, out) ? in.diffuse->bytes.data() : nullptr;
+  const std::uint8_t* const diffuse_bytes = same_layout_as_base(in.diffuse, out) ? in.diffuse->bytes.data() : nullptr;
   std::atomic<bool> equals_diffuse{diffuse_bytes != nullptr};
   // Every stride-th texel is a sample, in texel order.
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);

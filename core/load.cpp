@@ -215,12 +215,13 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
         std::error_code error;
         size = fs::file_size(resolved.path, error);
         if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
-        if (std::strcmp(collection, "images") == 0 && size == 0)
-          throw InputError(file, where + "/uri", "the image file " + text + " is empty");
-        if (std::strcmp(collection, "images") == 0 && !asset.image_files.count(text)) {
-          auto mapped = MappedFile::open(resolved.path, MappedFile::ReadAhead::OnTouch);
-          if (!mapped) throw InputError(file, where + "/uri", "cannot read " + text);
-          asset.image_files.emplace(text, std::make_shared<const MappedFile>(std::move(*mapped)));
+        if (std::strcmp(collection, "images") == 0) {
+          if (size == 0) throw InputError(file, where + "/uri", "the image file " + text + " is empty");
+          if (!asset.image_files.count(text)) {
+            auto mapped = MappedFile::open(resolved.path, MappedFile::ReadAhead::OnTouch);
+            if (!mapped) throw InputError(file, where + "/uri", "cannot read " + text);
+            asset.image_files.emplace(text, std::make_shared<const MappedFile>(std::move(*mapped)));
+          }
         }
       }
       // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf 2.7
