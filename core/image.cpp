@@ -25,15 +25,19 @@ fs::path executable_folder() {
   return ec ? fs::path() : self.parent_path();
 }
 
-// Looks beside the executable, then in ../lib (an installed layout), then in the build tree.
+// Looks beside the executable, then in ../lib/gltf-pbr (the installed layout), and, only for a
+// program inside the build tree (the tool, tests, benchmarks), in the build tree: an installed
+// copy never reads a build folder that may be gone or hold another version.
 const ImageCodec& codec() {
   static const ImageCodec* loaded = [] {
     std::vector<fs::path> candidates;
     if (const char* override_path = std::getenv("GLTF_PBR_IMAGE_MODULE")) candidates.emplace_back(override_path);
     const fs::path here = executable_folder();
     candidates.push_back(here / kModuleName);
-    candidates.push_back(here / ".." / "lib" / "gltf-pbr" / kModuleName);
-    candidates.push_back(fs::path(GLTF_PBR_BUILD_DIR) / kModuleName);
+    candidates.push_back((here / ".." / "lib" / "gltf-pbr" / kModuleName).lexically_normal());
+    const fs::path build = fs::path(GLTF_PBR_BUILD_DIR);
+    const auto [build_end, here_end] = std::mismatch(build.begin(), build.end(), here.begin(), here.end());
+    if (build_end == build.end()) candidates.push_back(build / kModuleName);
     std::string tried;
     for (const fs::path& candidate : candidates) {
       if (!fs::exists(candidate)) continue;
