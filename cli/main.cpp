@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "core/files.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 
 int main(int argc, char** argv) {
   gltf_pbr::install_signal_cleanup();  // before any worker thread: they inherit its signal mask
@@ -13,7 +14,7 @@ int main(int argc, char** argv) {
       "gltf-pbr: turns legacy KHR_materials_pbrSpecularGlossiness glTF materials into physically based\n"
       "albedo + metalness (core pbrMetallicRoughness) and reports the error each material took on;\n"
       "validates glTF structure, material plausibility, textures and meshes; previews before and after."};
-  app.set_version_flag("--version", "gltf-pbr 0.1.0");
+  app.set_version_flag("--version", gltf_pbr::tool_name_and_version());
   app.require_subcommand(1);
   const auto run_convert = gltf_pbr::cli::add_convert_command(app);
   const auto run_compare = gltf_pbr::cli::add_compare_command(app);

@@ -4,6 +4,7 @@
 
 #include "cli/inputs.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -78,7 +79,7 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
     total_ms += r.total_ms;
   }
   return {{"tool", "gltf-pbr"},
-          {"version", "0.1.0"},
+          {"version", tool_version()},
           {"target", options.target == Target::Metalness ? "metalness" : "specular"},
           {"solver",
            {{"name", solver_name},

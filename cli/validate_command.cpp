@@ -15,6 +15,7 @@
 #include "core/files.hpp"
 #include "core/parallel.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 #include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
@@ -61,9 +62,16 @@ nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity
     failing += fails(report, fail_on);
     files.push_back(std::move(entry));
   }
-  return {{"files", reports.size()}, {"failing", failing},         {"failOn", severity_name(fail_on)},
-          {"numErrors", totals[0]},  {"numWarnings", totals[1]},   {"numInfos", totals[2]},
-          {"numHints", totals[3]},   {"reports", std::move(files)}};
+  return {{"tool", "gltf-pbr"},
+          {"version", tool_version()},
+          {"files", reports.size()},
+          {"failing", failing},
+          {"failOn", severity_name(fail_on)},
+          {"numErrors", totals[0]},
+          {"numWarnings", totals[1]},
+          {"numInfos", totals[2]},
+          {"numHints", totals[3]},
+          {"reports", std::move(files)}};
 }
 
 int run(const ValidateArgs& args) {

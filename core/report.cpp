@@ -5,15 +5,20 @@
 #include <unordered_map>
 
 #include "core/text.hpp"
+#include "core/version.hpp"
 
 namespace gltf_pbr {
 
 const char* severity_name(Severity severity) {
   switch (severity) {
-    case Severity::Error: return "error";
-    case Severity::Warning: return "warning";
-    case Severity::Information: return "info";
-    case Severity::Hint: return "hint";
+    case Severity::Error:
+      return "error";
+    case Severity::Warning:
+      return "warning";
+    case Severity::Information:
+      return "info";
+    case Severity::Hint:
+      return "hint";
   }
   return "error";
 }
@@ -83,7 +88,7 @@ nlohmann::ordered_json report_to_json(const Report& report) {
   nlohmann::ordered_json json;
   json["uri"] = report.uri;
   json["mimeType"] = report.mime_type;
-  json["validatorVersion"] = std::string("gltf-pbr ") + GLTF_PBR_VERSION;
+  json["validatorVersion"] = tool_name_and_version();
   json["issues"] = {{"numErrors", report.count(Severity::Error)},
                     {"numWarnings", report.count(Severity::Warning)},
                     {"numInfos", report.count(Severity::Information)},

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `cmake --install` into a fresh prefix, then the installed tool alone: it reports the build's
-# version, and it converts an asset whose WebP texture needs the image module, which it must load
+# version (--version and every report), and it converts an asset whose WebP texture needs the image module, which it must load
 # from the installed tree (lib/gltf-pbr, found relative to the executable), never from the build.
 #   installed_tool_runs.sh BUILD_DIR VERSION SOURCE_DIR
 set -euo pipefail
@@ -22,7 +22,8 @@ reported=$("$prefix/bin/gltf-pbr" --version)
 # The dynamic loader names every file it opens (LD_DEBUG=files): the module must be the installed one.
 out="$prefix/converted"
 env -u GLTF_PBR_IMAGE_MODULE LD_DEBUG=files "$prefix/bin/gltf-pbr" convert -q \
-  "$source/tests/hostile_inputs/webp_data_uri.gltf" -o "$out/webp.gltf" 2>"$prefix/loader.log"
+  "$source/tests/hostile_inputs/webp_data_uri.gltf" -o "$out/webp.gltf" --report "$out/report.json" \
+  2>"$prefix/loader.log"
 [ -s "$out/webp.gltf" ] || { echo "the installed tool wrote no output" >&2; exit 1; }
 if ! grep -q "file=$prefix/lib/gltf-pbr/libgltf_pbr_images.so" "$prefix/loader.log"; then
   echo "the installed tool did not load the installed image module; it loaded:" >&2
@@ -33,4 +34,12 @@ if grep -q "file=$build/libgltf_pbr_images.so" "$prefix/loader.log"; then
   echo "the installed tool loaded the build tree's image module" >&2
   exit 1
 fi
+# One version everywhere: the convert report, and validate's report and summary.
+"$prefix/bin/gltf-pbr" validate -q --format json -o "$out/validated" "$source/tests/hostile_inputs/webp_data_uri.gltf" ||
+  true  # its issues do not matter here, only the reports' version
+for report in "$out/report.json" "$out/validated/summary.json"; do
+  grep -q "\"version\": *\"$version\"" "$report" || { echo "$report does not carry version $version" >&2; exit 1; }
+done
+grep -q "\"validatorVersion\": *\"gltf-pbr $version\"" "$out/validated/webp_data_uri.gltf.report.json" ||
+  { echo "the validate report does not carry version $version" >&2; exit 1; }
 echo "installed into $prefix: --version and a WebP conversion through lib/gltf-pbr ran"
