@@ -178,7 +178,7 @@ class SolveCache {
       spill_.push_back(ticket);
     } else {  // claim the slot (an older solve there is dropped)
       entry.key = key;
-      entry.filled = false, entry.queued = true;
+      entry.filled = false, entry.queued = true, entry.error_job = -1;  // a waiting job keeps its copy
       ticket_of_slot_[slot] = ticket;
       claimed_.push_back(slot);
     }
