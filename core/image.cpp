@@ -35,7 +35,8 @@ const ImageCodec& codec() {
     const fs::path here = executable_folder();
     candidates.push_back(here / kModuleName);
     candidates.push_back((here / ".." / "lib" / "gltf-pbr" / kModuleName).lexically_normal());
-    const fs::path build = fs::path(GLTF_PBR_BUILD_DIR);
+    // /proc/self/exe has its symlinks resolved; the build folder's path as CMake wrote it may not.
+    const fs::path build = fs::weakly_canonical(fs::path(GLTF_PBR_BUILD_DIR));
     const auto [build_end, here_end] = std::mismatch(build.begin(), build.end(), here.begin(), here.end());
     if (build_end == build.end()) candidates.push_back(build / kModuleName);
     std::string tried;

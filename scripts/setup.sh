@@ -19,9 +19,9 @@ if [ "$mode" = test ] && ! command -v npm >/dev/null; then packages+=(nodejs npm
 # loader's own allocations (tests/lsan.supp) match by symbol, and ld.so has symbols only with
 # libc6-dbg: without it every test that dlopens a module reports a leak inside ld-linux.
 if [ "$mode" = test ]; then packages+=(clang libclang-rt-14-dev libc6-dbg); fi
-# The package test runs cpack, whose Debian generator finds binaries with file(1) and their
-# dependencies with dpkg-shlibdeps.
-if [ "$mode" = test ]; then packages+=(file dpkg-dev); fi
+# cpack -G DEB (the package test, and the README's recipe) finds binaries with file(1) and their
+# dependencies with dpkg-shlibdeps; without them it fails or writes a package with no Depends.
+packages+=(file dpkg-dev)
 missing=()
 for p in "${packages[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p"); done
 if [ "${#missing[@]}" -gt 0 ]; then

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # `cmake --install` into a fresh prefix, then the installed tool alone: it reports the build's
-# version (--version and every report), and it converts an asset whose WebP texture needs the image module, which it must load
-# from the installed tree (lib/gltf-pbr, found relative to the executable), never from the build.
+# version (--version and every report), and it converts an asset whose WebP texture needs the
+# image module, which it must load from the installed tree (lib/gltf-pbr, found relative to the
+# executable); with that module moved away it must fail, never reach for the build tree's.
 #   installed_tool_runs.sh BUILD_DIR VERSION SOURCE_DIR
 set -euo pipefail
 build=$1
 version=$2
 source=$3
-prefix=$(mktemp -d)
+prefix=$(realpath "$(mktemp -d)")  # as the loader prints it
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" >/dev/null
 
@@ -35,11 +36,28 @@ if grep -q "file=$build/libgltf_pbr_images.so" "$prefix/loader.log"; then
   exit 1
 fi
 # One version everywhere: the convert report, and validate's report and summary.
+status=0
 "$prefix/bin/gltf-pbr" validate -q --format json -o "$out/validated" "$source/tests/hostile_inputs/webp_data_uri.gltf" ||
-  true  # its issues do not matter here, only the reports' version
+  status=$?
+# 1: the file has issues, which do not matter here; anything else (a crash, a leak report) does.
+[ "$status" -le 1 ] || { echo "validate ended with status $status" >&2; exit 1; }
 for report in "$out/report.json" "$out/validated/summary.json"; do
   grep -q "\"version\": *\"$version\"" "$report" || { echo "$report does not carry version $version" >&2; exit 1; }
 done
 grep -q "\"validatorVersion\": *\"gltf-pbr $version\"" "$out/validated/webp_data_uri.gltf.report.json" ||
   { echo "the validate report does not carry version $version" >&2; exit 1; }
+# Without its own module the installed tool must fail, not fall back to the build tree's.
+mv "$prefix/lib/gltf-pbr/libgltf_pbr_images.so" "$prefix/module.aside"
+if env -u GLTF_PBR_IMAGE_MODULE LD_DEBUG=files "$prefix/bin/gltf-pbr" convert -q \
+  "$source/tests/hostile_inputs/webp_data_uri.gltf" -o "$out/again/webp.gltf" 2>"$prefix/loader-without.log"; then
+  echo "the installed tool converted a WebP without its own image module" >&2
+  exit 1
+fi
+if grep -q "file=[^ ]*libgltf_pbr_images.so" "$prefix/loader-without.log"; then
+  echo "without its own module, the installed tool loaded another:" >&2
+  grep -o "file=[^ ]*libgltf_pbr_images.so" "$prefix/loader-without.log" | sort -u >&2
+  exit 1
+fi
+grep -q "cannot load the image module" "$prefix/loader-without.log" ||
+  { echo "the installed tool did not say why the conversion failed" >&2; exit 1; }
 echo "installed into $prefix: --version and a WebP conversion through lib/gltf-pbr ran"

@@ -7,7 +7,7 @@ set -euo pipefail
 build=$1
 version=$2
 source=$3
-work=$(mktemp -d)
+work=$(realpath "$(mktemp -d)")  # as the loader prints it
 trap 'rm -rf "$work"' EXIT
 (cd "$build" && cpack -G DEB -B "$work" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log" >&2; exit 1; }
 deb=$(ls "$work"/gltf-pbr_"$version"_*.deb)
@@ -29,7 +29,8 @@ done
 
 dpkg-deb -x "$deb" "$work/root"
 tool="$work/root/usr/bin/gltf-pbr"
-[ "$("$tool" --version)" = "gltf-pbr $version" ] || { echo "the packaged tool reports another version" >&2; exit 1; }
+reported=$("$tool" --version)
+[ "$reported" = "gltf-pbr $version" ] || { echo "the packaged tool says '$reported', not $version" >&2; exit 1; }
 env -u GLTF_PBR_IMAGE_MODULE LD_DEBUG=files "$tool" convert -q "$source/tests/hostile_inputs/webp_data_uri.gltf" \
   -o "$work/out/webp.gltf" 2>"$work/loader.log"
 [ -s "$work/out/webp.gltf" ] || { echo "the packaged tool wrote no output" >&2; exit 1; }
