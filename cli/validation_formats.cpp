@@ -18,14 +18,10 @@ struct Style {
 
 const char* severity_colour(Severity severity) {
   switch (severity) {
-    case Severity::Error:
-      return "1;31";
-    case Severity::Warning:
-      return "33";
-    case Severity::Information:
-      return "36";
-    case Severity::Hint:
-      return "2";
+    case Severity::Error: return "1;31";
+    case Severity::Warning: return "33";
+    case Severity::Information: return "36";
+    case Severity::Hint: return "2";
   }
   return "0";
 }
@@ -42,20 +38,16 @@ int material_of(const Issue& issue) {
 }
 
 std::string location(const Issue& issue) {
-  if (issue.offset)
-    return std::string(1, '@').append(std::to_string(*issue.offset));  // not "@" + ...: GCC 12 -O3 -Wrestrict
+  if (issue.offset) return std::string(1, '@').append(std::to_string(*issue.offset));  // not "@" + ...: GCC 12 -O3 -Wrestrict
   return issue.pointer.empty() ? std::string("/") : issue.pointer;
 }
 
 const char* sarif_level(Severity severity) {
   switch (severity) {
-    case Severity::Error:
-      return "error";
-    case Severity::Warning:
-      return "warning";
+    case Severity::Error: return "error";
+    case Severity::Warning: return "warning";
     case Severity::Information:
-    case Severity::Hint:
-      return "note";
+    case Severity::Hint: return "note";
   }
   return "note";
 }
@@ -132,11 +124,12 @@ nlohmann::ordered_json sarif_log(const std::vector<Report>& reports, const RuleS
       results.push_back(std::move(result));
     }
   }
-  nlohmann::ordered_json driver{{"name", "gltf-pbr"}, {"version", tool_version()}, {"rules", std::move(rule_list)}};
+  nlohmann::ordered_json driver{{"name", "gltf-pbr"},
+                                {"version", tool_version()},
+                                {"rules", std::move(rule_list)}};
   return {{"$schema", "https://json.schemastore.org/sarif-2.1.0.json"},
           {"version", "2.1.0"},
-          {"runs", nlohmann::ordered_json::array(
-                       {{{"tool", {{"driver", std::move(driver)}}}, {"results", std::move(results)}}})}};
+          {"runs", nlohmann::ordered_json::array({{{"tool", {{"driver", std::move(driver)}}}, {"results", std::move(results)}}})}};
 }
 
 }  // namespace gltf_pbr::cli

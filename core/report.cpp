@@ -11,14 +11,10 @@ namespace gltf_pbr {
 
 const char* severity_name(Severity severity) {
   switch (severity) {
-    case Severity::Error:
-      return "error";
-    case Severity::Warning:
-      return "warning";
-    case Severity::Information:
-      return "info";
-    case Severity::Hint:
-      return "hint";
+    case Severity::Error: return "error";
+    case Severity::Warning: return "warning";
+    case Severity::Information: return "info";
+    case Severity::Hint: return "hint";
   }
   return "error";
 }
