@@ -1,21 +1,14 @@
 // `gltf-pbr convert`: many files in parallel, each loaded once, converted, saved atomically.
-#include <unistd.h>
-
-#include <atomic>
-#include <chrono>
+#include <algorithm>
 #include <cstdio>
-#include <mutex>
 #include <thread>
 
+#include "api/files.hpp"
 #include "cli/commands.hpp"
+#include "cli/file_summary.hpp"
 #include "cli/inputs.hpp"
-#include "cli/report.hpp"
-#include "core/asset.hpp"
-#include "core/error.hpp"
-#include "core/parallel.hpp"
+#include "core/files.hpp"
 #include "core/text.hpp"
-#include "preview/preview.hpp"
-#include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -31,14 +24,9 @@ struct ConvertArgs {
   size_t error_samples = 1u << 16;
 };
 
-struct Job {
-  fs::path input, output;
-  fs::path preview;  // folder for this file's before/after images; empty: none
-};
-
 // Expands inputs (files, directories searched recursively) into jobs with output paths; inputs
 // under the output folder are earlier outputs, left out and counted.
-std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output) {
+std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output) {
   const fs::path output = args.output;
   const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
   // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
@@ -48,7 +36,7 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
   if (single_file_output && files.size() > 1)
     throw CLI::ValidationError(
         "--output", output.string() + " is one file, for " + std::to_string(files.size()) + " inputs: give a folder");
-  std::vector<Job> jobs;
+  std::vector<ConvertJob> jobs;
   for (auto& [file, relative] : files) {
     fs::path target;
     if (args.in_place) {
@@ -64,9 +52,9 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
     jobs.push_back({file, target, preview_folder});
   }
   std::vector<fs::path> outputs, previews;
-  for (const Job& job : jobs) {
+  for (const ConvertJob& job : jobs) {
     outputs.push_back(job.output);
-    previews.push_back(job.preview);
+    previews.push_back(job.preview_dir);
   }
   refuse_shared_outputs(files, outputs);
   if (!args.preview.empty())  // a preview folder is the file's path without its extension
@@ -74,92 +62,32 @@ std::vector<Job> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_o
   return jobs;
 }
 
-// A value loading would drop or misread is refused, never written back as less than was read.
-void refuse_value_errors(const fs::path& input) {
-  static const RuleSet rules = builtin_rules();
-  if (const std::optional<Issue> issue = first_value_error(input, rules)) {
-    const std::string reason = issue->code + ": " + issue->message + " (converting would lose or change this value)";
-    if (issue->offset) throw InputError(input.string(), ByteOffset{*issue->offset}, reason);
-    throw InputError(input.string(), issue->pointer, reason);
-  }
-}
-
-FileResult convert_file(const Job& job, const ConvertArgs& args, const ConvertOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
-  FileResult result{job.input.string(), job.output.string(), "failed", std::nullopt, "", {}, 0, 0, 0};
-  const auto start = Clock::now();
-  try {
-    Asset asset = load_asset(job.input, {args.allow_outside});  // its own errors first: they name the byte
-    refuse_value_errors(job.input);
-    const auto loaded = Clock::now();
-    result.load_ms = ms(start, loaded);
-    // The preview draws the legacy asset beside its conversion: keep the original only then.
-    const std::optional<Asset> original = job.preview.empty() ? std::nullopt : std::optional<Asset>(asset);
-    result.report = convert(asset, options);
-    const auto converted = Clock::now();
-    const bool same_format = asset.binary == (job.output.extension() == ".glb");
-    if (!result.report.changed() && same_format && !args.in_place) {
-      copy_asset_verbatim(asset, job.output);
-      result.status = "copied";
-    } else if (!result.report.changed() && args.in_place) {
-      result.status = "copied";  // nothing to write: the input already is the result
-    } else {
-      save_asset(asset, job.output, /*replace_input=*/args.in_place);
-      result.status = "converted";
-    }
-    result.save_ms = ms(converted, Clock::now());
-    if (original) {
-      preview::PreviewOptions preview_options;
-      preview_options.convert = options;
-      const preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
-      preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview);
-    }
-  } catch (const InputError& e) {
-    result.error = e;
-  } catch (const OutputError& e) {  // names the output it was writing, then the file and errno's text
-    result.failure = "output " + job.output.string() + ": " + e.what();
-  } catch (const std::bad_alloc&) {
-    result.failure = "out of memory while converting (--max-image-pixels lowers the largest image accepted)";
-  } catch (const std::exception& e) {
-    result.failure = e.what();
-  }
-  result.total_ms = ms(start, Clock::now());
-  return result;
-}
-
 int run(const ConvertArgs& args) {
   if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
-  ConvertOptions options;
-  options.target = args.target == "specular" ? Target::Specular : Target::Metalness;
-  options.solver = solver_preset(args.solver.c_str());
+  ConvertFileOptions options;
+  options.target = *target_from_name(args.target);  // CLI::IsMember checked the names
+  options.solver = *solver_effort_from_name(args.solver);
   options.specular_tolerance = args.specular_tolerance;
   options.png_compression = args.png_compression;
   options.jpeg_quality = args.jpeg_quality;
-  options.max_error_samples = args.error_samples;
+  options.error_samples = args.error_samples;
+  options.allow_outside_uris = args.allow_outside;
+  options.replace_input = args.in_place;
   std::size_t skipped = 0;
-  const std::vector<Job> jobs = plan_jobs(args, skipped);
+  const std::vector<ConvertJob> jobs = plan_jobs(args, skipped);
   if (skipped && !args.quiet)
     std::fprintf(stderr, "skipped %zu .gltf/.glb files inside the output folder %s (earlier outputs)\n", skipped,
                  printable(args.output).c_str());
 
-  std::vector<FileResult> results(jobs.size());
   Progress progress(jobs.size(), "converting");
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i; (i = next++) < jobs.size();) {
-      results[i] = convert_file(jobs[i], args, options);
-      progress.done(!args.quiet || results[i].status == "failed" ? file_summary(results[i], args.verbose) : "");
-    }
-  };
-  run_on_threads(static_cast<std::int64_t>(std::min<std::size_t>(args.jobs, jobs.size())), worker);
-
+  const std::vector<FileResult> results = convert_batch(jobs, options, args.jobs, [&](const FileResult& result) {
+    const bool show = !args.quiet || result.status == FileStatus::Failed;
+    progress.done(show ? file_summary(result, args.verbose) : "");
+  });
   const auto failed =
-      std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == "failed"; });
+      std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == FileStatus::Failed; });
   if (!args.report.empty()) {
-    const std::string text = json_text(run_json(results, options, args.solver));
+    const std::string text = json_text(run_json(results, options));
     AtomicWriteSet files;
     files.stage(args.report, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     files.commit();

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "api/files.hpp"
 #include "cli/commands.hpp"
-#include "core/text.hpp"
 #include "cli/inputs.hpp"
 #include "core/error.hpp"
-#include "preview/preview.hpp"
+#include "core/text.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -43,8 +43,8 @@ int run(const PreviewArgs& args) {
                                                          : preview::ToneMap::KhronosPbrNeutral;
   options.lighting.exposure = args.exposure;
   options.lighting.sun = !args.no_sun;
-  options.convert.target = args.target == "specular" ? Target::Specular : Target::Metalness;
-  options.convert.solver = solver_preset(args.solver.c_str());
+  options.convert.target = *target_from_name(args.target);  // CLI::IsMember checked the names
+  options.convert.solver = solver_preset(*solver_effort_from_name(args.solver));
   if (args.camera != "auto") {
     if (args.camera == "gltf") {
       options.gltf_camera = 0;
@@ -62,28 +62,20 @@ int run(const PreviewArgs& args) {
     return kBadUsage;
   }
   try {
-    preview::PreviewResult result;
+    DrawnPreview drawn;
     if (args.grid) {
       preview::GridOptions grid;
       grid.albedo = glm::vec3(args.albedo[0], args.albedo[1], args.albedo[2]);
       grid.rows = grid.columns = args.grid_count;
       grid.cell = std::max(16, std::min(options.width, options.height) / args.grid_count);
-      result = preview::render_grid(grid, options);
+      const nlohmann::json grid_report = {
+          {"grid", {{"albedo_linear", args.albedo}, {"rows", "metalness 0..1"}, {"columns", "roughness 0..1"}}}};
+      drawn = finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
     } else {
-      const Asset asset = load_asset(args.input, {args.allow_outside});
-      result = preview::render_preview(asset, options);
+      drawn = preview_one(args.input, args.output, options, args.allow_outside);
     }
-    // A picture of nothing compares equal to itself: that is not a pass.
-    if (std::none_of(result.covered.begin(), result.covered.end(), [](std::uint8_t c) { return c != 0; })) {
-      std::fprintf(stderr, "gltf-pbr preview: %s: nothing to draw: the scene has no visible triangles\n",
-                   printable(args.grid ? "grid" : args.input).c_str());
-      return kSomeFilesFailed;
-    }
-    nlohmann::json report = preview::preview_report(result, options);
-    report["input"] = args.grid ? "grid" : args.input;
-    if (args.grid)
-      report["grid"] = {{"albedo_linear", args.albedo}, {"rows", "metalness 0..1"}, {"columns", "roughness 0..1"}};
-    preview::write_preview(result, report, args.output);
+    const preview::PreviewResult& result = drawn.result;
+    const nlohmann::json& report = drawn.report;
     if (!args.quiet)
       std::fprintf(stderr,
                    "%s: FLIP mean %.3f; ΔE2000 mean %.2f, p95 %.2f; RMS %.1f dB; G-buffer %d B/px after, %d B/px "
@@ -94,10 +86,7 @@ int run(const PreviewArgs& args) {
                    report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(),
                    peak_text(report["memory"]["process_peak_rss_bytes"]).c_str(), printable(args.output).c_str());
     return kAllDone;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
-    return kSomeFilesFailed;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // bad input (InputError) or an unreadable environment
     std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
   }

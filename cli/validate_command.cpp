@@ -2,7 +2,6 @@
 // as JSON, text or SARIF; --fail-on turns findings into the exit code.
 #include <unistd.h>
 
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -106,24 +105,22 @@ int run(const ValidateArgs& args) {
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
   Progress progress(files.size(), "validating");
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i; (i = next++) < files.size();) {
-      // Heat maps go under the input's own relative folder, so a/Box.gltf and b/Box.gltf keep theirs.
-      ValidateOptions file_options = options;
-      if (!options.heatmaps_dir.empty())
-        file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
-      reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, file_options);
-      const Report& report = reports[i];
-      std::ostringstream line;
-      if (!args.quiet || fails(report, fail_on))
-        line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
-             << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
-             << report.count(Severity::Hint) << " hints\n";
-      progress.done(line.str());
-    }
+  const auto validate_one = [&](std::int64_t index) {
+    const auto i = static_cast<std::size_t>(index);
+    // Heat maps go under the input's own relative folder, so a/Box.gltf and b/Box.gltf keep theirs.
+    ValidateOptions file_options = options;
+    if (!options.heatmaps_dir.empty())
+      file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
+    reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, file_options);
+    const Report& report = reports[i];
+    std::ostringstream line;
+    if (!args.quiet || fails(report, fail_on))
+      line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
+           << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
+           << report.count(Severity::Hint) << " hints\n";
+    progress.done(line.str());
   };
-  run_on_threads(static_cast<std::int64_t>(std::min<std::size_t>(args.jobs, files.size())), worker);
+  ThreadPool::shared().run(static_cast<std::int64_t>(files.size()), validate_one, args.jobs);
 
   const nlohmann::ordered_json summary = summary_json(reports, fail_on);
   if (args.format == "sarif") {

@@ -8,13 +8,9 @@
 #include "converter/error_stats.hpp"
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
+#include "gltf_pbr/gltf_pbr.hpp"  // Target
 
 namespace gltf_pbr {
-
-enum class Target {
-  Metalness,  // core glTF only
-  Specular,   // + KHR_materials_specular / KHR_materials_ior where the metalness fit misses
-};
 
 struct ConvertOptions {
   Target target = Target::Metalness;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -520,10 +519,17 @@ Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 f0) {
   return {base * std::max(0.0f, 1.0f - max3(f0)), f0};
 }
 
-SolverSettings solver_preset(const char* name) {
-  if (std::strcmp(name, "fast") == 0) return {8, 0};
-  if (std::strcmp(name, "exact") == 0) return {64, 40};
-  if (std::strcmp(name, "reference") == 0) return {0, 0, true};
+SolverSettings solver_preset(SolverEffort effort) {
+  switch (effort) {
+    case SolverEffort::Fast:
+      return {8, 0};
+    case SolverEffort::Exact:
+      return {64, 40};
+    case SolverEffort::Reference:
+      return {0, 0, true};
+    case SolverEffort::Balanced:
+      break;
+  }
   return {};
 }
 

@@ -3,6 +3,8 @@
 #include <glm/vec3.hpp>
 #include <span>
 
+#include "gltf_pbr/gltf_pbr.hpp"  // SolverEffort
+
 namespace gltf_pbr {
 
 // Legacy KHR_materials_pbrSpecularGlossiness values, linear, factors already applied.
@@ -50,8 +52,8 @@ struct SolverSettings {
   int refine_iterations = 12;      // golden-section steps: the bracket shrinks to 0.618^12 of 2/16, ~4e-4
   bool reference_formula = false;  // use solve_reference instead (for comparison only)
 };
-// Named settings for the CLI and the benchmark: error against run time.
-SolverSettings solver_preset(const char* name);  // "fast", "balanced" (default), "exact", "reference"
+// Named settings for the tool, the library and the benchmark: error against run time.
+SolverSettings solver_preset(SolverEffort effort);
 
 // Minimises, over base in [0,1]^3 and m in [0,1]:
 //   E = |Jd (D_core - D_legacy)|^2 + |Jf (F0_core - F0_legacy)|^2 + lambda (m - m_prior)^2

@@ -1,38 +1,11 @@
 // User-facing errors and internal invariants (pbrt's split: ErrorExit vs CHECK).
 #pragma once
-#include <cstdint>
-#include <optional>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
+#include "gltf_pbr/error.hpp"  // InputError, OutputError: public, thrown through the library
+
 namespace gltf_pbr {
-
-// A place in a file named by its byte, where no JSON pointer reaches (a GLB header, cut JSON).
-struct ByteOffset {
-  std::uint64_t value;
-};
-
-// Bad input: names the file, a JSON pointer (RFC 6901) or a byte offset, and the reason.
-struct InputError : std::runtime_error {
-  InputError(std::string file_, std::string pointer_, std::string reason_)
-      : std::runtime_error(file_ + (pointer_.empty() ? "" : ": " + pointer_) + ": " + reason_),
-        file(std::move(file_)),
-        pointer(std::move(pointer_)),
-        reason(std::move(reason_)) {}
-  InputError(std::string file_, ByteOffset at, std::string reason_)
-      : std::runtime_error(file_ + ": byte " + std::to_string(at.value) + ": " + reason_),
-        file(std::move(file_)),
-        reason(std::move(reason_)),
-        offset(at.value) {}
-  std::string file, pointer, reason;
-  std::optional<std::uint64_t> offset;  // set instead of pointer by the ByteOffset constructor
-};
-
-// An output that cannot be written (a full disk, a missing folder, permissions), with errno's text.
-struct OutputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 [[noreturn]] void check_failed(const char* expr, const std::string& operands, const char* where);
 

@@ -3,6 +3,7 @@
 #include "core/image.hpp"
 
 #include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,20 +20,30 @@ namespace {
 
 constexpr const char* kModuleName = "libgltf_pbr_images.so";
 
-fs::path executable_folder() {
+// The folder of the file this code was loaded from: the executable (the tool, a test), or the
+// shared library libgltf_pbr.so when a program or Python links that instead.
+fs::path own_folder() {
+  Dl_info info;
+  link_map* object = nullptr;
   std::error_code ec;
+  if (::dladdr1(reinterpret_cast<void*>(&own_folder), &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) &&
+      object && object->l_name && object->l_name[0]) {  // the main program's entry has no name
+    const fs::path library = fs::canonical(object->l_name, ec);
+    if (!ec) return library.parent_path();
+  }
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   return ec ? fs::path() : self.parent_path();
 }
 
-// Looks beside the executable, then in ../lib/gltf-pbr (the installed layout), and, only for a
-// program inside the build tree (the tool, tests, benchmarks), in the build tree: an installed
-// copy never reads a build folder that may be gone or hold another version.
+// Looks beside its own file, then in ../lib/gltf-pbr (the installed layout: from bin/ for the
+// tool, from lib/ itself for the library), and, only for a program or library inside the build tree (the
+// tool, tests, benchmarks), in the build tree: an installed copy never reads a build folder that
+// may be gone or hold another version.
 const ImageCodec& codec() {
   static const ImageCodec* loaded = [] {
     std::vector<fs::path> candidates;
     if (const char* override_path = std::getenv("GLTF_PBR_IMAGE_MODULE")) candidates.emplace_back(override_path);
-    const fs::path here = executable_folder();
+    const fs::path here = own_folder();
     candidates.push_back(here / kModuleName);
     candidates.push_back((here / ".." / "lib" / "gltf-pbr" / kModuleName).lexically_normal());
     // /proc/self/exe has its symlinks resolved; the build folder's path as CMake wrote it may not.

@@ -220,8 +220,8 @@ TEST(Solver, StaysFiniteOnExtremes) {
     for (float s : values)
       for (float g : {0.0f, denormal, 0.5f, 1.0f}) {
         const SpecGloss legacy{glm::vec3(std::min(d, 1.0f)), glm::vec3(s, s * 0.5f, s), g};
-        for (const SolverSettings& settings :
-             {solver_preset("fast"), solver_preset("balanced"), solver_preset("exact")})
+        for (const SolverSettings& settings : {solver_preset(SolverEffort::Fast), solver_preset(SolverEffort::Balanced),
+                                               solver_preset(SolverEffort::Exact)})
           EXPECT_TRUE(finite_and_in_unit_range(solve(legacy, settings))) << d << " " << s << " " << g;
         EXPECT_TRUE(finite_and_in_unit_range(solve_reference(legacy))) << d << " " << s << " " << g;
       }
@@ -238,8 +238,8 @@ TEST(Solver, MoreEffortNeverFitsWorse) {
   double fast = 0, exact = 0;
   for (int i = 0; i < 300; ++i) {
     const SpecGloss legacy{{unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)), 1.0f};
-    fast += worst_delta_e(legacy, solve(legacy, solver_preset("fast")));
-    exact += worst_delta_e(legacy, solve(legacy, solver_preset("exact")));
+    fast += worst_delta_e(legacy, solve(legacy, solver_preset(SolverEffort::Fast)));
+    exact += worst_delta_e(legacy, solve(legacy, solver_preset(SolverEffort::Exact)));
   }
   EXPECT_LE(exact, fast * 1.001);
 }
@@ -289,14 +289,15 @@ TEST(Solver, EveryDiffuseOverTheCoreDielectricF0SolvesToItself) {
 
 TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
   const std::vector<SpecGloss> materials = varied_materials(20000, 5);
-  for (const char* preset : {"fast", "balanced", "exact", "reference"}) {
+  for (const SolverEffort preset :
+       {SolverEffort::Fast, SolverEffort::Balanced, SolverEffort::Exact, SolverEffort::Reference}) {
     const SolverSettings settings = solver_preset(preset);
     std::vector<MetalRough> batch(materials.size());
     solve_batch(materials, batch, settings);
     double worst = 0.0, sum = 0.0;
     for (size_t i = 0; i < materials.size(); ++i) {
       const MetalRough scalar = solve(materials[i], settings);
-      ASSERT_TRUE(finite_and_in_unit_range(batch[i])) << preset << " " << i;
+      ASSERT_TRUE(finite_and_in_unit_range(batch[i])) << solver_effort_name(preset) << " " << i;
       EXPECT_EQ(batch[i].roughness, scalar.roughness);
       ErrorAccumulator apart;  // the two answers' reflectances against each other
       apart.add(core_reflectance(scalar), core_reflectance(batch[i]));
@@ -306,8 +307,8 @@ TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
     // The 3×3 systems are solved another way, so the errors differ in the last bits. Without
     // refinement that moves the answer by < 0.001 ΔE2000; with it, a golden-section step whose two
     // errors tie within rounding may go the other way along a flat minimum (measured worst 0.12).
-    EXPECT_LT(worst, settings.refine_iterations == 0 ? 0.005 : 0.25) << preset;
-    EXPECT_LT(sum / static_cast<double>(materials.size()), 0.01) << preset;  // measured 0.003
+    EXPECT_LT(worst, settings.refine_iterations == 0 ? 0.005 : 0.25) << solver_effort_name(preset);
+    EXPECT_LT(sum / static_cast<double>(materials.size()), 0.01) << solver_effort_name(preset);  // measured 0.003
   }
 }
 

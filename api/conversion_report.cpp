@@ -1,12 +1,9 @@
-#include "cli/report.hpp"
-
-#include <cstdio>
-
-#include "cli/inputs.hpp"
-#include "core/text.hpp"
+// The conversion report as JSON: one entry per file (`convert --report`, the library's
+// FileConversion::report_json, the Python module's dicts) and the run around them.
+#include "api/files.hpp"
 #include "core/version.hpp"
 
-namespace gltf_pbr::cli {
+namespace gltf_pbr {
 namespace {
 
 using nlohmann::json;
@@ -21,22 +18,16 @@ json times_json(const StageTimes& t) {
   return {{"decode", t.decode_ms}, {"solve", t.solve_ms}, {"encode", t.encode_ms}, {"total", t.total()}};
 }
 
-std::string format(const char* pattern, double a, double b, double c) {
-  char text[96];
-  std::snprintf(text, sizeof text, pattern, a, b, c);
-  return text;
-}
-
 }  // namespace
 
 json file_json(const FileResult& r) {
-  json out = {{"input", r.input}, {"output", r.output}, {"status", r.status}};
+  json out = {{"input", r.input}, {"output", r.output}, {"status", file_status_name(r.status)}};
   if (r.error) {
     out["error"] = {{"file", r.error->file}, {"pointer", r.error->pointer}, {"reason", r.error->reason}};
     if (r.error->offset) out["error"]["offset"] = *r.error->offset;
   }
   if (!r.failure.empty()) out["error"] = {{"file", r.input}, {"pointer", ""}, {"reason", r.failure}};
-  if (r.status == "failed") return out;
+  if (r.status == FileStatus::Failed) return out;
   json materials = json::array();
   for (const MaterialReport& m : r.report.materials) {
     json entry = {{"index", m.index},
@@ -64,27 +55,28 @@ json file_json(const FileResult& r) {
   return out;
 }
 
-json run_json(const std::vector<FileResult>& results, const ConvertOptions& options, const std::string& solver_name) {
+json run_json(std::span<const FileResult> results, const ConvertFileOptions& options) {
+  const SolverSettings solver = solver_preset(options.solver);
   json files = json::array();
   int converted = 0, copied = 0, failed = 0;
   long long materials = 0, texels = 0;
   double total_ms = 0;
   for (const FileResult& r : results) {
     files.push_back(file_json(r));
-    converted += r.status == "converted";
-    copied += r.status == "copied";
-    failed += r.status == "failed";
+    converted += r.status == FileStatus::Converted;
+    copied += r.status == FileStatus::Copied;
+    failed += r.status == FileStatus::Failed;
     materials += static_cast<long long>(r.report.materials.size());
     for (const auto& m : r.report.materials) texels += m.texels;
     total_ms += r.total_ms;
   }
   return {{"tool", "gltf-pbr"},
           {"version", tool_version()},
-          {"target", options.target == Target::Metalness ? "metalness" : "specular"},
+          {"target", target_name(options.target)},
           {"solver",
-           {{"name", solver_name},
-            {"gridSteps", options.solver.grid_steps},
-            {"refineIterations", options.solver.refine_iterations}}},
+           {{"name", solver_effort_name(options.solver)},
+            {"gridSteps", solver.grid_steps},
+            {"refineIterations", solver.refine_iterations}}},
           {"errorModel",
            "CIEDE2000 between legacy and converted reflectance at normal incidence, per texel (linear sRGB, D65): "
            "diffuse weight and F0. Legacy reading A: c_diff = diffuse*(1-max(specular)); reading B also weights "
@@ -100,32 +92,4 @@ json run_json(const std::vector<FileResult>& results, const ConvertOptions& opti
             {"timeMs", total_ms}}}};
 }
 
-std::string file_summary(const FileResult& r, bool verbose) {
-  if (r.status == "failed")
-    return "FAILED " + printable(r.error ? std::string(r.error->what()) : r.input + ": " + r.failure) + "\n";
-  const ConversionReport& c = r.report;
-  // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
-  const std::string input = printable(r.input), output = printable(r.output);
-  std::string out =
-      r.status == "copied"
-          ? "copied " + input + " -> " + output + " (nothing to convert)\n"
-          : "converted " + input + " -> " + output + " (" + counted(c.materials.size(), "material") +
-                format(", %.0f ms, %.0f images decoded)\n", r.total_ms, static_cast<double>(c.images_decoded), 0);
-  double worst = 0;
-  for (const MaterialReport& m : c.materials) {
-    if (m.error_a) worst = std::max(worst, m.error_a->worst());
-    if (!verbose && m.outcome == MaterialOutcome::Metalness) continue;
-    const std::string error =
-        m.error_a ? format(", ΔE2000 diffuse mean %.2f max %.2f", m.error_a->diffuse.mean, m.error_a->diffuse.max, 0) +
-                        format(", F0 mean %.2f max %.2f", m.error_a->f0.mean, m.error_a->f0.max, 0)
-                  : ", ΔE2000 not measured";
-    out += "  /materials/" + std::to_string(m.index) + " " + (m.name.empty() ? "" : "'" + printable(m.name) + "' ") +
-           material_outcome_name(m.outcome) + format(": texels %.0f", static_cast<double>(m.texels), 0, 0) + error +
-           format(", %.1f ms", m.times.total(), 0, 0) + (m.note.empty() ? "" : " (" + printable(m.note) + ")") + "\n";
-  }
-  if (!c.materials.empty()) out += format("  worst material ΔE2000 (reading A): %.2f\n", worst, 0, 0);
-  for (const std::string& w : c.warnings) out += "  warning: " + printable(w) + "\n";
-  return out;
-}
-
-}  // namespace gltf_pbr::cli
+}  // namespace gltf_pbr

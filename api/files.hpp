@@ -1,0 +1,62 @@
+// The file-level operations every front end runs: the tool (cli/), the C++ library
+// (include/gltf_pbr/gltf_pbr.hpp, api/library.cpp) and the Python module (python/). One file in,
+// its outputs written atomically, a result that says what happened; batches on the one pool.
+#pragma once
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "converter/convert.hpp"
+#include "gltf_pbr/gltf_pbr.hpp"
+#include "preview/preview.hpp"
+
+namespace gltf_pbr {
+
+// One file's conversion, with the typed report the tool prints for people.
+struct FileResult {
+  std::string input, output;
+  FileStatus status = FileStatus::Failed;
+  std::optional<InputError> error;  // Failed on bad input
+  std::string failure;              // Failed for another reason
+  ConversionReport report;
+  double load_ms = 0, save_ms = 0, total_ms = 0;
+};
+
+// The converter's options for the file options.
+ConvertOptions conversion_options(const ConvertFileOptions& options);
+
+// Loads, refuses values that writing back would lose, converts, writes (or copies the bytes when
+// nothing changed) and draws the preview when the job asks for one. Throws what it meets.
+FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& options);
+
+// The same, with any failure caught into the result: one bad file never ends a batch.
+FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options);
+
+// convert_one for every job on the process's pool, at most `threads` files at a time (0: one per
+// hardware thread); on_done(result) as each finishes, on the thread that ran it.
+std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
+                                      unsigned threads, const std::function<void(const FileResult&)>& on_done);
+
+// A file's entry of `convert --report`, and the whole report around several.
+nlohmann::json file_json(const FileResult& result);
+nlohmann::json run_json(std::span<const FileResult> results, const ConvertFileOptions& options);
+
+// The preview of one file as `gltf-pbr preview` draws it: loaded, converted in memory, drawn both
+// ways, compared, and written into out_dir with its report (which names the input). Throws
+// InputError for bad input or a scene with nothing visible to draw.
+struct DrawnPreview {
+  preview::PreviewResult result;
+  nlohmann::json report;
+};
+DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,
+                         bool allow_outside_uris);
+
+// The tail of preview_one for any drawn result (the tool's --grid too): refuses a picture of
+// nothing, adds `extra` and "input": name to the report, and writes the folder.
+DrawnPreview finish_preview(preview::PreviewResult result, const preview::PreviewOptions& options,
+                            const std::string& name, nlohmann::json extra, const fs::path& out_dir);
+
+}  // namespace gltf_pbr
