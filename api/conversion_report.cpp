@@ -27,7 +27,10 @@ json file_json(const FileResult& r) {
     if (r.error->offset) out["error"]["offset"] = *r.error->offset;
   }
   if (!r.failure.empty()) out["error"] = {{"file", r.input}, {"pointer", ""}, {"reason", r.failure}};
-  if (r.status == FileStatus::Failed) return out;
+  if (r.status == FileStatus::Failed) {
+    out["timeMs"] = {{"total", r.total_ms}};
+    return out;
+  }
   json materials = json::array();
   for (const MaterialReport& m : r.report.materials) {
     json entry = {{"index", m.index},
@@ -55,21 +58,30 @@ json file_json(const FileResult& r) {
   return out;
 }
 
+json conversion_totals(const json& files) {
+  std::size_t converted = 0, copied = 0, failed = 0, materials = 0;
+  long long texels = 0;
+  double total_ms = 0;
+  for (const json& file : files) {
+    const std::string status = file.value("status", "");
+    converted += status == "converted";
+    copied += status == "copied";
+    failed += status == "failed";
+    if (file.contains("materials")) {
+      materials += file["materials"].size();
+      for (const json& m : file["materials"]) texels += m.value("texels", 0LL);
+    }
+    total_ms += file["timeMs"].value("total", 0.0);
+  }
+  return {{"files", files.size()},  {"converted", converted}, {"copied", copied},  {"failed", failed},
+          {"materials", materials}, {"texels", texels},       {"timeMs", total_ms}};
+}
+
 json run_json(std::span<const FileResult> results, const ConvertFileOptions& options) {
   const SolverSettings solver = solver_preset(options.solver);
   json files = json::array();
-  int converted = 0, copied = 0, failed = 0;
-  long long materials = 0, texels = 0;
-  double total_ms = 0;
-  for (const FileResult& r : results) {
-    files.push_back(file_json(r));
-    converted += r.status == FileStatus::Converted;
-    copied += r.status == FileStatus::Copied;
-    failed += r.status == FileStatus::Failed;
-    materials += static_cast<long long>(r.report.materials.size());
-    for (const auto& m : r.report.materials) texels += m.texels;
-    total_ms += r.total_ms;
-  }
+  for (const FileResult& r : results) files.push_back(file_json(r));
+  json totals = conversion_totals(files);
   return {{"tool", "gltf-pbr"},
           {"version", tool_version()},
           {"target", target_name(options.target)},
@@ -81,15 +93,8 @@ json run_json(std::span<const FileResult> results, const ConvertFileOptions& opt
            "CIEDE2000 between legacy and converted reflectance at normal incidence, per texel (linear sRGB, D65): "
            "diffuse weight and F0. Legacy reading A: c_diff = diffuse*(1-max(specular)); reading B also weights "
            "by (1-specular). Core: diffuse = base*(1-m)*0.96, F0 = mix(0.04, base, m) (glTF 2.0 Appendix B)."},
-          {"files", files},
-          {"totals",
-           {{"files", results.size()},
-            {"converted", converted},
-            {"copied", copied},
-            {"failed", failed},
-            {"materials", materials},
-            {"texels", texels},
-            {"timeMs", total_ms}}}};
+          {"files", std::move(files)},
+          {"totals", std::move(totals)}};
 }
 
 }  // namespace gltf_pbr

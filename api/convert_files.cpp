@@ -99,14 +99,16 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
 }
 
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
-                                      unsigned threads, const std::function<void(const FileResult&)>& on_done) {
+                                      unsigned threads,
+                                      const std::function<void(std::size_t, const FileResult&)>& on_done) {
   std::vector<FileResult> results(jobs.size());
   const std::int64_t at_once = threads ? threads : hardware_threads();
   ThreadPool::shared().run(
       static_cast<std::int64_t>(jobs.size()),
-      [&](std::int64_t i) {
-        results[static_cast<std::size_t>(i)] = convert_one(jobs[static_cast<std::size_t>(i)], options);
-        if (on_done) on_done(results[static_cast<std::size_t>(i)]);
+      [&](std::int64_t index) {
+        const auto i = static_cast<std::size_t>(index);
+        results[i] = convert_one(jobs[i], options);
+        if (on_done) on_done(i, results[i]);
       },
       at_once);
   return results;

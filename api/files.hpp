@@ -36,13 +36,16 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
 FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options);
 
 // convert_one for every job on the process's pool, at most `threads` files at a time (0: one per
-// hardware thread); on_done(result) as each finishes, on the thread that ran it.
+// hardware thread); on_done(job index, result) as each finishes, on the thread that ran it.
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
-                                      unsigned threads, const std::function<void(const FileResult&)>& on_done);
+                                      unsigned threads,
+                                      const std::function<void(std::size_t, const FileResult&)>& on_done);
 
 // A file's entry of `convert --report`, and the whole report around several.
 nlohmann::json file_json(const FileResult& result);
 nlohmann::json run_json(std::span<const FileResult> results, const ConvertFileOptions& options);
+// The report's "totals", counted from its file entries (also for reports merged from shards).
+nlohmann::json conversion_totals(const nlohmann::json& files);
 
 // The preview of one file as `gltf-pbr preview` draws it: loaded, converted in memory, drawn both
 // ways, compared, and written into out_dir with its report (which names the input). Throws

@@ -53,8 +53,8 @@ FileConversion convert_file(const ConvertJob& job, const ConvertFileOptions& opt
 std::vector<FileConversion> convert_files(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                           unsigned threads, const std::function<void(const FileConversion&)>& on_done) {
   check(options);
-  std::function<void(const FileResult&)> each;
-  if (on_done) each = [&](const FileResult& result) { on_done(public_result(result)); };
+  std::function<void(std::size_t, const FileResult&)> each;
+  if (on_done) each = [&](std::size_t, const FileResult& result) { on_done(public_result(result)); };
   const std::vector<FileResult> results = convert_batch(jobs, options, threads, each);
   std::vector<FileConversion> out;
   out.reserve(results.size());

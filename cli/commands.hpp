@@ -28,5 +28,6 @@ std::function<int()> add_convert_command(CLI::App& app);
 std::function<int()> add_compare_command(CLI::App& app);
 std::function<int()> add_validate_command(CLI::App& app);
 std::function<int()> add_preview_command(CLI::App& app);
+std::function<int()> add_merge_command(CLI::App& app);
 
 }  // namespace gltf_pbr::cli

@@ -7,6 +7,7 @@
 #include "cli/commands.hpp"
 #include "cli/file_summary.hpp"
 #include "cli/inputs.hpp"
+#include "cli/pipeline.hpp"
 #include "core/files.hpp"
 #include "core/text.hpp"
 
@@ -22,17 +23,24 @@ struct ConvertArgs {
   int png_compression = 3;
   int jpeg_quality = 90;
   size_t error_samples = 1u << 16;
+  PipelineArgs pipeline;
 };
 
 // Expands inputs (files, directories searched recursively) into jobs with output paths; inputs
 // under the output folder are earlier outputs, left out and counted.
-std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output) {
+// `files` receives the input file of each job.
+std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output,
+                                  std::vector<InputFile>& files) {
   const fs::path output = args.output;
   const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  std::vector<std::string> inputs = args.inputs;
+  if (!args.pipeline.inputs_from.empty())
+    for (std::string& listed : read_input_list(args.pipeline.inputs_from)) inputs.push_back(std::move(listed));
+  if (inputs.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
   // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
-  FoundInputs found = find_gltf_files(args.inputs, args.in_place ? fs::path() : output);
+  FoundInputs found = find_gltf_files(inputs, args.in_place ? fs::path() : output);
   skipped_under_output = found.skipped_under_output;
-  const std::vector<InputFile>& files = found.files;
+  files = std::move(found.files);
   if (single_file_output && files.size() > 1)
     throw CLI::ValidationError(
         "--output", output.string() + " is one file, for " + std::to_string(files.size()) + " inputs: give a folder");
@@ -73,21 +81,42 @@ int run(const ConvertArgs& args) {
   options.error_samples = args.error_samples;
   options.allow_outside_uris = args.allow_outside;
   options.replace_input = args.in_place;
+  const Shard shard = args.pipeline.shard.empty() ? Shard{} : parse_shard(args.pipeline.shard);
   std::size_t skipped = 0;
-  const std::vector<ConvertJob> jobs = plan_jobs(args, skipped);
+  std::vector<InputFile> inputs;
+  // The whole run is planned, and its outputs checked, before a shard takes its part: every shard
+  // sees the same run, and a file's position is its place in it.
+  const std::vector<ConvertJob> planned = plan_jobs(args, skipped, inputs);
   if (skipped && !args.quiet)
     std::fprintf(stderr, "skipped %zu .gltf/.glb files inside the output folder %s (earlier outputs)\n", skipped,
                  printable(args.output).c_str());
+  std::vector<ConvertJob> jobs;
+  std::vector<std::size_t> positions;
+  for (std::size_t i = 0; i < planned.size(); ++i)
+    if (shard.whole() || shard_of(inputs[i], shard.count) == shard.index) {
+      jobs.push_back(planned[i]);
+      positions.push_back(i);
+    }
 
+  ResultsLog results_log(args.pipeline.results);
   Progress progress(jobs.size(), "converting");
-  const std::vector<FileResult> results = convert_batch(jobs, options, args.jobs, [&](const FileResult& result) {
-    const bool show = !args.quiet || result.status == FileStatus::Failed;
-    progress.done(show ? file_summary(result, args.verbose) : "");
-  });
+  const std::vector<FileResult> results =
+      convert_batch(jobs, options, args.jobs, [&](std::size_t job, const FileResult& result) {
+        nlohmann::json line = file_json(result);
+        line["position"] = positions[job];
+        results_log.write(line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+        const bool show = !args.quiet || result.status == FileStatus::Failed;
+        progress.done(show ? file_summary(result, args.verbose) : "");
+      });
   const auto failed =
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == FileStatus::Failed; });
   if (!args.report.empty()) {
-    const std::string text = json_text(run_json(results, options));
+    nlohmann::json report = run_json(results, options);
+    if (!shard.whole()) {  // what merge-reports needs to put the shards back together
+      report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", planned.size()}};
+      for (std::size_t i = 0; i < positions.size(); ++i) report["files"][i]["position"] = positions[i];
+    }
+    const std::string text = json_text(report);
     AtomicWriteSet files;
     files.stage(args.report, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     files.commit();
@@ -109,7 +138,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
                          "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
                          "(unless --in-place); every output is written to a temporary file and renamed.\n"
                          "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
-  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
+  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)");
   cmd->add_option("-o,--output", args->output,
                   "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs; "
                   "a name ending in .gltf or .glb is a file, so several inputs need a folder)");
@@ -144,6 +173,7 @@ std::function<int()> add_convert_command(CLI::App& app) {
                   "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
   add_batch_options(*cmd, "converted", args->jobs, args->allow_outside);
+  add_pipeline_options(*cmd, args->pipeline);
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
   return [cmd, args]() -> int {

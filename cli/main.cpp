@@ -20,14 +20,19 @@ int main(int argc, char** argv) {
   const auto run_compare = gltf_pbr::cli::add_compare_command(app);
   const auto run_validate = gltf_pbr::cli::add_validate_command(app);
   const auto run_preview = gltf_pbr::cli::add_preview_command(app);
+  const auto run_merge = gltf_pbr::cli::add_merge_command(app);
   // CLI11 would call an unknown first word "A subcommand is required"; name it instead.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string_view word = argv[1];
-    if (word != "convert" && word != "compare" && word != "validate" && word != "preview") {
-      std::fprintf(stderr,
-                   "gltf-pbr: unknown command '%s'; the commands are convert, compare, validate, preview "
-                   "(gltf-pbr --help)\n",
-                   gltf_pbr::printable(word).c_str());
+    std::string commands;
+    bool known = false;
+    for (const CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) {
+      commands += (commands.empty() ? "" : ", ") + command->get_name();
+      known = known || command->get_name() == word;
+    }
+    if (!known) {
+      std::fprintf(stderr, "gltf-pbr: unknown command '%s'; the commands are %s (gltf-pbr --help)\n",
+                   gltf_pbr::printable(word).c_str(), commands.c_str());
       return gltf_pbr::cli::kBadUsage;
     }
   }
@@ -47,7 +52,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
   }
   // Each runner returns -1 unless its subcommand was the one given.
-  for (const auto& run : {run_convert, run_compare, run_validate, run_preview})
+  for (const auto& run : {run_convert, run_compare, run_validate, run_preview, run_merge})
     if (const int code = run(); code >= 0) return code;
   return gltf_pbr::cli::kBadUsage;
 }

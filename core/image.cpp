@@ -28,8 +28,9 @@ fs::path own_folder() {
   std::error_code ec;
   if (::dladdr1(reinterpret_cast<void*>(&own_folder), &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) &&
       object && object->l_name && object->l_name[0]) {  // the main program's entry has no name
+    // A library never looks beside the program that loaded it: that may hold another version.
     const fs::path library = fs::canonical(object->l_name, ec);
-    if (!ec) return library.parent_path();
+    return (ec ? fs::absolute(object->l_name, ec) : library).parent_path();
   }
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   return ec ? fs::path() : self.parent_path();

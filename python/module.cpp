@@ -19,8 +19,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-PyObject* input_error_type = nullptr;   // gltf_pbr.InputError, a ValueError; owned by the module
-PyObject* output_error_type = nullptr;  // gltf_pbr.OutputError, an OSError
+// gltf_pbr.InputError (a ValueError) and gltf_pbr.OutputError (an OSError): strong references held
+// for the process's life, so the translator never meets a freed type whatever happens to the module.
+PyObject* input_error_type = nullptr;
+PyObject* output_error_type = nullptr;
+
+// Text from a file's world (paths, reasons quoting them) as Python decodes file names: bytes that
+// are not UTF-8 (Latin-1 names exist) survive as surrogate escapes instead of raising in the
+// translator, which would replace the error being raised.
+py::str file_text(const std::string& text) {
+  return py::reinterpret_steal<py::str>(
+      PyUnicode_DecodeFSDefaultAndSize(text.data(), static_cast<Py_ssize_t>(text.size())));
+}
 
 py::object from_json(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
 
@@ -61,20 +71,20 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "files, previews the difference. The same code as the gltf-pbr tool; reports are its JSON formats as dicts.";
   m.attr("__version__") = gltf_pbr::version();
 
-  input_error_type = py::exception<gltf_pbr::InputError>(m, "InputError", PyExc_ValueError).ptr();
-  output_error_type = py::exception<gltf_pbr::OutputError>(m, "OutputError", PyExc_OSError).ptr();
+  input_error_type = py::exception<gltf_pbr::InputError>(m, "InputError", PyExc_ValueError).release().ptr();
+  output_error_type = py::exception<gltf_pbr::OutputError>(m, "OutputError", PyExc_OSError).release().ptr();
   py::register_exception_translator([](std::exception_ptr error) {
     try {
       if (error) std::rethrow_exception(error);
     } catch (const gltf_pbr::InputError& e) {
-      py::object instance = py::reinterpret_borrow<py::object>(input_error_type)(e.what());
-      instance.attr("file") = e.file;
-      instance.attr("pointer") = e.pointer;
-      instance.attr("reason") = e.reason;
+      py::object instance = py::reinterpret_borrow<py::object>(input_error_type)(file_text(e.what()));
+      instance.attr("file") = file_text(e.file);
+      instance.attr("pointer") = file_text(e.pointer);
+      instance.attr("reason") = file_text(e.reason);
       instance.attr("offset") = e.offset ? py::cast(*e.offset) : py::none();
       PyErr_SetObject(input_error_type, instance.ptr());
     } catch (const gltf_pbr::OutputError& e) {
-      PyErr_SetString(output_error_type, e.what());
+      PyErr_SetObject(output_error_type, file_text(e.what()).ptr());
     }
   });
 
@@ -96,7 +106,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "src"_a, "dst"_a, GLTF_PBR_CONVERT_KEYWORDS, "preview"_a = py::none(),
       "Convert one file's spec-gloss materials; returns its report (per material: outcome, ΔE2000 error, time).\n"
       "Raises InputError for bad input (with .file, .pointer, .offset, .reason), OutputError when dst cannot be "
-      "written, ValueError for an option out of range. preview: a folder for before/after images.");
+      "written, RuntimeError when dst is an input (an overwrite refused; replace_input=True allows dst == src), "
+      "ValueError for an option out of range. preview: a folder for before/after images.");
 
   m.def(
       "convert_many",

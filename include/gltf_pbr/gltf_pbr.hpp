@@ -2,10 +2,10 @@
 // gltf_pbr::gltf_pbr (find_package(gltf_pbr CONFIG REQUIRED)); the Python module `gltf_pbr` wraps
 // these same functions. The tool, this library and the module run one implementation (api/).
 //
-// Every report comes as JSON text in the tool's own formats (README "Reports"): a file's entry of
-// `convert --report`, the Khronos validator's report schema, `preview`'s report.json. Inputs are
-// never overwritten unless asked, outputs are written atomically, and no file outside an asset's
-// folder is opened unless allow_outside_uris is set.
+// Every report comes as JSON text in the tool's own formats (README: Convert, Validate, Preview):
+// a file's entry of `convert --report`, the Khronos validator's report schema, `preview`'s
+// report.json. Inputs are never overwritten unless asked, outputs are written atomically, and no
+// file outside an asset's folder is opened unless allow_outside_uris is set.
 //
 // Thread safety: every function may be called from several threads at once. Batches and the work
 // inside one file run on the process's one thread pool (hardware threads - 1 workers).
@@ -17,6 +17,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "gltf_pbr/error.hpp"
@@ -57,6 +58,8 @@ struct ConvertFileOptions {
 };
 
 struct ConvertJob {
+  ConvertJob(std::filesystem::path input_, std::filesystem::path output_, std::filesystem::path preview_dir_ = {})
+      : input(std::move(input_)), output(std::move(output_)), preview_dir(std::move(preview_dir_)) {}
   std::filesystem::path input, output;
   std::filesystem::path preview_dir;  // not empty: also draw before and after into this folder
 };

@@ -1,0 +1,115 @@
+// `gltf-pbr merge-reports`: the reports of `convert --shard I/N` runs joined into the report one
+// unsharded run writes: its files in the unsharded order, its totals recounted. Every shard must
+// be there exactly once, from the same tool version and options.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "api/files.hpp"
+#include "cli/commands.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
+
+namespace gltf_pbr::cli {
+namespace {
+
+using nlohmann::json;
+
+struct MergeArgs {
+  std::vector<std::string> reports;
+  std::string output;
+};
+
+json read_report(const std::string& file) {
+  const std::optional<Bytes> bytes = read_file(file);
+  if (!bytes) throw InputError(file, "", "cannot read the file");
+  json report = json::parse(bytes->begin(), bytes->end(), nullptr, /*allow_exceptions=*/false);
+  if (report.is_discarded()) throw InputError(file, "", "not valid JSON");
+  if (!report.is_object() || report.value("tool", "") != "gltf-pbr" || !report.contains("files"))
+    throw InputError(file, "", "not a report of gltf-pbr convert");
+  const json& shard = report["shard"];
+  if (!shard.is_object() || !shard["index"].is_number_unsigned() || !shard["count"].is_number_unsigned() ||
+      !shard["files"].is_number_unsigned())
+    throw InputError(file, "/shard", "not the report of a sharded run (convert --shard I/N --report FILE)");
+  if (!report["files"].is_array()) throw InputError(file, "/files", "expected an array");
+  return report;
+}
+
+json merge(const std::vector<std::string>& files) {
+  std::vector<json> reports;
+  for (const std::string& file : files) reports.push_back(read_report(file));
+  const json& first = reports.front();
+  const std::size_t shard_count = first["shard"]["count"], total = first["shard"]["files"];
+  // The same run split N ways: every header field but the shard index must agree.
+  json header = first;
+  header.erase("files"), header.erase("totals"), header.erase("shard");
+  std::vector<bool> shard_seen(shard_count, false);
+  std::vector<json> by_position(total);
+  for (std::size_t r = 0; r < reports.size(); ++r) {
+    json& report = reports[r];
+    const std::string& file = files[r];
+    for (auto it = header.begin(); it != header.end(); ++it)
+      if (report[it.key()] != it.value())
+        throw InputError(file, "/" + it.key(), "differs from " + files.front() + ": not shards of one run");
+    if (report["shard"]["count"] != shard_count || report["shard"]["files"] != total)
+      throw InputError(file, "/shard", "a different split from " + files.front());
+    const std::size_t index = report["shard"]["index"];
+    if (index >= shard_count) throw InputError(file, "/shard/index", "beyond the shard count");
+    if (shard_seen[index]) throw InputError(file, "/shard/index", "shard " + std::to_string(index) + " given twice");
+    shard_seen[index] = true;
+    for (std::size_t f = 0; f < report["files"].size(); ++f) {
+      json& entry = report["files"][f];
+      const std::string pointer = "/files/" + std::to_string(f) + "/position";
+      if (!entry.is_object() || !entry["position"].is_number_unsigned() || entry["position"] >= total)
+        throw InputError(file, pointer, "expected a position below " + std::to_string(total));
+      const std::size_t position = entry["position"];
+      if (!by_position[position].is_null())
+        throw InputError(file, pointer, "position " + std::to_string(position) + " is in two shards");
+      entry.erase("position");
+      by_position[position] = std::move(entry);
+    }
+  }
+  for (std::size_t s = 0; s < shard_count; ++s)
+    if (!shard_seen[s])
+      throw InputError(files.front(), "/shard",
+                       "shard " + std::to_string(s) + " of " + std::to_string(shard_count) + " is missing");
+  json merged = std::move(header);
+  merged["files"] = json::array();
+  for (std::size_t p = 0; p < total; ++p) {
+    if (by_position[p].is_null())
+      throw InputError(files.front(), "/files", "no shard reports file " + std::to_string(p) + " of the run");
+    merged["files"].push_back(std::move(by_position[p]));
+  }
+  merged["totals"] = conversion_totals(merged["files"]);
+  return merged;
+}
+
+int run(const MergeArgs& args) {
+  const std::string text = json_text(merge(args.reports));
+  if (args.output.empty()) {
+    write_stdout(text);
+  } else {
+    AtomicWriteSet out;
+    out.stage(args.output, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    out.commit();
+  }
+  return kAllDone;
+}
+
+}  // namespace
+
+std::function<int()> add_merge_command(CLI::App& app) {
+  auto args = std::make_shared<MergeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "merge-reports",
+      "Join the reports of `convert --shard I/N --report FILE` runs into the report of one unsharded run:\n"
+      "files in the unsharded order, totals recounted. Refuses a missing, repeated or foreign shard.\n"
+      "Exit codes: 0 merged, 2 the reports do not make one run, 3 the output cannot be written.");
+  cmd->add_option("reports", args->reports, "the shards' --report files, in any order")->required();
+  cmd->add_option("-o,--output", args->output, "write the merged report here (default: standard output)");
+  return [cmd, args]() -> int {
+    if (!cmd->parsed()) return -1;
+    return run_command("merge-reports", [&] { return run(*args); });
+  };
+}
+
+}  // namespace gltf_pbr::cli

@@ -1,0 +1,78 @@
+#include "cli/pipeline.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+
+#include "core/error.hpp"
+
+namespace gltf_pbr::cli {
+
+Shard parse_shard(const std::string& text) {
+  const auto fail = [&] { return CLI::ValidationError("--shard", "expected I/N with 0 <= I < N, got '" + text + "'"); };
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos || slash == 0 || slash + 1 == text.size()) throw fail();
+  const auto number = [&](const std::string& digits) {
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) throw fail();
+    return static_cast<std::uint32_t>(std::stoul(digits));
+  };
+  const Shard shard{number(text.substr(0, slash)), number(text.substr(slash + 1))};
+  if (shard.count == 0 || shard.index >= shard.count) throw fail();
+  return shard;
+}
+
+std::uint32_t shard_of(const InputFile& file, std::uint32_t shard_count) {
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64-bit offset basis and prime
+  for (const char c : file.relative.generic_string()) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 1099511628211ull;
+  }
+  return static_cast<std::uint32_t>(hash % shard_count);
+}
+
+std::vector<std::string> read_input_list(const std::string& source) {
+  std::ifstream file;
+  if (source != "-") {
+    file.open(source);
+    if (!file) throw CLI::ValidationError("--inputs-from", source + ": " + std::strerror(errno));
+  }
+  std::istream& in = source == "-" ? std::cin : file;
+  std::vector<std::string> paths;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty()) paths.push_back(line);
+  }
+  if (in.bad()) throw CLI::ValidationError("--inputs-from", source + ": read error");
+  return paths;
+}
+
+ResultsLog::ResultsLog(const std::filesystem::path& path) : path_(path) {
+  if (path.empty()) return;
+  file_ = std::fopen(path.c_str(), "w");
+  if (!file_) throw OutputError(path.string() + ": " + std::strerror(errno));
+}
+
+ResultsLog::~ResultsLog() {
+  if (file_) std::fclose(file_);
+}
+
+void ResultsLog::write(const std::string& line) {
+  if (!file_) return;
+  std::lock_guard lock(mutex_);
+  if (std::fputs(line.c_str(), file_) < 0 || std::fputc('\n', file_) < 0 || std::fflush(file_) != 0)
+    throw OutputError(path_.string() + ": " + std::strerror(errno));
+}
+
+void add_pipeline_options(CLI::App& command, PipelineArgs& args) {
+  command.add_option("--inputs-from", args.inputs_from,
+                     "also take the inputs listed in FILE, one path per line ('-': standard input)");
+  command.add_option("--shard", args.shard,
+                     "take only shard I of N (I/N, 0-based): files by a hash of their path under the input root, "
+                     "so N runs with I = 0..N-1 split the input without overlap (merge-reports joins their reports)");
+  command.add_option("--results", args.results,
+                     "write one JSON line per file as it finishes (status, outputs, errors, times), flushed at once");
+}
+
+}  // namespace gltf_pbr::cli

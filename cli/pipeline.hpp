@@ -1,0 +1,61 @@
+// What batch runs in build pipelines share: inputs from a list, deterministic shards of the input,
+// and results written line by line as files finish (issue 16).
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "cli/inputs.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace gltf_pbr::cli {
+
+// --shard I/N: this run takes shard I (0-based) of N.
+struct Shard {
+  std::uint32_t index = 0, count = 1;
+  bool whole() const { return count == 1; }
+};
+
+// "I/N" with 0 <= I < N; throws CLI::ValidationError otherwise.
+Shard parse_shard(const std::string& text);
+
+// The file's shard: FNV-1a (64-bit) of its path relative to the input root, in generic form, mod
+// N. It depends only on that path, so every machine puts a file in the same shard, the shards are
+// disjoint and together cover the input, and adding files never moves the others.
+std::uint32_t shard_of(const InputFile& file, std::uint32_t shard_count);
+
+// --inputs-from FILE, or "-" for stdin: one path per line, as if given on the command line; empty
+// lines are skipped and a Windows line end's CR is dropped. Throws CLI::ValidationError naming the
+// list when it cannot be read.
+std::vector<std::string> read_input_list(const std::string& source);
+
+// --results FILE.jsonl: one JSON object per line, each written and flushed as its file finishes,
+// so a driver or `tail -f` can follow a long run. A log, not an output: it grows as the run goes
+// and is complete when the run ends. Throws OutputError when it cannot be written.
+class ResultsLog {
+ public:
+  explicit ResultsLog(const std::filesystem::path& path);  // empty path: no log
+  ~ResultsLog();
+  ResultsLog(const ResultsLog&) = delete;
+  ResultsLog& operator=(const ResultsLog&) = delete;
+  void write(const std::string& line);  // one line, without its newline; any thread
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::mutex mutex_;
+};
+
+// --inputs-from, --shard and --results, for a batch subcommand.
+struct PipelineArgs {
+  std::string inputs_from, shard, results;
+};
+void add_pipeline_options(CLI::App& command, PipelineArgs& args);
+
+}  // namespace gltf_pbr::cli
