@@ -13,8 +13,8 @@ sudo=""
 packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev libdraco-dev libopenimageio-dev
           libspng-dev libturbojpeg0-dev libglm-dev libcli11-dev libgtest-dev libyaml-cpp-dev libcgal-dev
           libbenchmark-dev python3-dev python3-pybind11)
-# The Python module's tests run under Debian's pytest.
-if [ "$mode" = test ]; then packages+=(python3-pytest); fi
+# The Python module's tests run under Debian's pytest; the Dask driver's (dist/) on a local cluster.
+if [ "$mode" = test ]; then packages+=(python3-pytest python3-distributed); fi
 # The tests check converted files with the Khronos validator from npm; keep an existing node.
 if [ "$mode" = test ] && ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
 # The fuzzer needs clang and its libFuzzer runtime. LeakSanitizer's suppressions of the dynamic

@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""Fans `gltf-pbr convert` out over a Dask cluster: one task per shard (`--shard I/N`), each a
+`gltf-pbr` process of its own, so a file that crashes the tool takes down one task, never a Dask
+worker. The shards' reports are joined by `gltf-pbr merge-reports` into the report one unsharded
+run writes, and the shards' JSONL results into one file.
+
+    python3 dist/dask_convert.py INPUT... -o OUT --report REPORT.json
+        [--scheduler tcp://HOST:8786 | --local-workers 2] [--shards N] [--tool gltf-pbr]
+        [--task-jobs J] [-- CONVERT OPTIONS...]
+
+Every worker must see INPUT, OUT and the work folder at the same paths (a shared file system), and
+run the same gltf-pbr version (`--tool`, default: `gltf-pbr` on PATH). A task only writes its
+shard's outputs, each atomically and byte-for-byte what any other run writes for that file, so a
+task that Dask retries after losing a worker converges on the same files. With no --scheduler, a
+local cluster of --local-workers processes is started and stopped.
+"""
+import argparse
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+
+
+def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
+    """One shard, in a gltf-pbr process of its own; returns its report's path. Exit 1 means some
+    files failed, which their report entries say; anything else is the task's failure."""
+    report = pathlib.Path(work) / f"shard{shard:05d}.json"
+    results = pathlib.Path(work) / f"shard{shard:05d}.jsonl"
+    command = [tool, "convert", *inputs, "-o", output, "--shard", f"{shard}/{shards}", "--report", str(report),
+               "--results", str(results), "-q", *(["-j", str(jobs)] if jobs else []), *extra]
+    run = subprocess.run(command, capture_output=True, text=True, check=False)
+    if run.returncode not in (0, 1) or not report.exists():
+        raise RuntimeError(f"shard {shard}/{shards}: {' '.join(command)} ended with {run.returncode}: "
+                           f"{run.stderr.strip()}")
+    return str(report)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("inputs", nargs="+", help=".gltf/.glb files or folders")
+    parser.add_argument("-o", "--output", required=True, help="output folder (on the shared file system)")
+    parser.add_argument("--report", required=True, help="the merged report (as `convert --report` writes it)")
+    parser.add_argument("--results", help="the shards' JSONL results joined into this file")
+    parser.add_argument("--scheduler", help="address of a running Dask scheduler; none: start a local cluster")
+    parser.add_argument("--local-workers", type=int, default=2, help="worker processes of the local cluster")
+    parser.add_argument("--shards", type=int, default=0, help="tasks (default: 4 per worker)")
+    parser.add_argument("--tool", default=shutil.which("gltf-pbr") or "gltf-pbr", help="the gltf-pbr executable")
+    parser.add_argument("--task-jobs", type=int, default=0,
+                        help="files at once in each task (-j); default: the local cluster's cores per worker, "
+                             "or the tool's default on a remote cluster")
+    parser.add_argument("--work", help="folder for the shards' reports (default: beside --report)")
+    args, extra = parser.parse_known_args()
+    extra = [word for word in extra if word != "--"]
+
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    tool = os.path.abspath(args.tool) if os.path.sep in args.tool else args.tool
+    inputs = [os.path.abspath(path) for path in args.inputs]
+    output = os.path.abspath(args.output)
+    work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="shards.", dir=os.path.dirname(
+        os.path.abspath(args.report)) or "."))
+    work.mkdir(parents=True, exist_ok=True)
+
+    cluster = None
+    if args.scheduler:
+        client = Client(args.scheduler)
+        task_jobs = args.task_jobs
+    else:
+        cluster = LocalCluster(n_workers=args.local_workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+        task_jobs = args.task_jobs or max(1, (os.cpu_count() or 1) // args.local_workers)
+    try:
+        workers = max(1, len(client.scheduler_info()["workers"]))
+        shards = args.shards or 4 * workers
+        futures = [client.submit(convert_shard, tool, inputs, output, shard, shards, str(work), task_jobs, extra,
+                                 key=f"gltf-pbr-shard-{shard}-of-{shards}", retries=2)
+                   for shard in range(shards)]
+        reports = []
+        for done, future in enumerate(as_completed(futures), 1):
+            reports.append(future.result())
+            print(f"\r[{done}/{shards}] shards converted", end="", file=sys.stderr, flush=True)
+        print(file=sys.stderr)
+    finally:
+        client.close()
+        if cluster:
+            cluster.close()
+
+    merged = subprocess.run([tool, "merge-reports", *sorted(reports), "-o", args.report], check=False)
+    if merged.returncode != 0:
+        return merged.returncode
+    if args.results:
+        with open(args.results, "w", encoding="utf-8") as joined:
+            for report in sorted(reports):
+                joined.write(pathlib.Path(report).with_suffix(".jsonl").read_text(encoding="utf-8"))
+    totals = json.loads(pathlib.Path(args.report).read_text(encoding="utf-8"))["totals"]
+    print(f"{shards} shards on {workers} workers: {totals['files']} files, {totals['failed']} failed; "
+          f"report in {args.report}", file=sys.stderr)
+    return 1 if totals["failed"] else 0  # as `gltf-pbr convert` exits
+
+
+if __name__ == "__main__":
+    sys.exit(main())
