@@ -12,8 +12,8 @@ source=$3
 shared=$4
 cxx_flags=$5
 python=$6
-# shellcheck source=readme_example.sh
-. "$(dirname "$0")/readme_example.sh"
+# shellcheck source=helpers.sh
+. "$(dirname "$0")/helpers.sh"
 prefix=$(realpath "$(mktemp -d)")  # as the loader prints it
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" >/dev/null
@@ -58,20 +58,8 @@ grep -q "file=$prefix/lib/gltf-pbr/libgltf_pbr_images.so" "$prefix/webp-loader.l
   { echo "the installed library did not load the installed image module" >&2; exit 1; }
 
 # Without its own module the installed library must fail, not reach for the build tree's.
-mv "$prefix/lib/gltf-pbr/libgltf_pbr_images.so" "$prefix/module.aside"
-if env -u GLTF_PBR_IMAGE_MODULE LD_DEBUG=files "$example" "$source/tests/hostile_inputs/webp_data_uri.gltf" \
-  "$prefix/out/webp-again.gltf" >/dev/null 2>"$prefix/without-loader.log"; then
-  echo "the installed library converted a WebP without its own image module" >&2
-  exit 1
-fi
-if grep -q "file=[^ ]*libgltf_pbr_images.so" "$prefix/without-loader.log"; then
-  echo "without its own module, the installed library loaded another:" >&2
-  grep -o "file=[^ ]*libgltf_pbr_images.so" "$prefix/without-loader.log" | sort -u >&2
-  exit 1
-fi
-grep -q "cannot load the image module" "$prefix/without-loader.log" ||
-  { echo "the example did not say why the conversion failed" >&2; exit 1; }
-mv "$prefix/module.aside" "$prefix/lib/gltf-pbr/libgltf_pbr_images.so"
+fails_without_its_image_module "$prefix" "the installed library" "$example" \
+  "$source/tests/hostile_inputs/webp_data_uri.gltf" "$prefix/out/webp-again.gltf"
 
 # Bad input: InputError with the file and the reason, exit 1.
 status=0

@@ -5,6 +5,8 @@
 # executable); with that module moved away it must fail, never reach for the build tree's.
 #   installed_tool_runs.sh BUILD_DIR VERSION SOURCE_DIR
 set -euo pipefail
+# shellcheck source=helpers.sh
+. "$(dirname "$0")/helpers.sh"
 build=$1
 version=$2
 source=$3
@@ -47,17 +49,6 @@ done
 grep -q "\"validatorVersion\": *\"gltf-pbr $version\"" "$out/validated/webp_data_uri.gltf.report.json" ||
   { echo "the validate report does not carry version $version" >&2; exit 1; }
 # Without its own module the installed tool must fail, not fall back to the build tree's.
-mv "$prefix/lib/gltf-pbr/libgltf_pbr_images.so" "$prefix/module.aside"
-if env -u GLTF_PBR_IMAGE_MODULE LD_DEBUG=files "$prefix/bin/gltf-pbr" convert -q \
-  "$source/tests/hostile_inputs/webp_data_uri.gltf" -o "$out/again/webp.gltf" 2>"$prefix/loader-without.log"; then
-  echo "the installed tool converted a WebP without its own image module" >&2
-  exit 1
-fi
-if grep -q "file=[^ ]*libgltf_pbr_images.so" "$prefix/loader-without.log"; then
-  echo "without its own module, the installed tool loaded another:" >&2
-  grep -o "file=[^ ]*libgltf_pbr_images.so" "$prefix/loader-without.log" | sort -u >&2
-  exit 1
-fi
-grep -q "cannot load the image module" "$prefix/loader-without.log" ||
-  { echo "the installed tool did not say why the conversion failed" >&2; exit 1; }
+fails_without_its_image_module "$prefix" "the installed tool" "$prefix/bin/gltf-pbr" convert -q \
+  "$source/tests/hostile_inputs/webp_data_uri.gltf" -o "$out/again/webp.gltf"
 echo "installed into $prefix: --version and a WebP conversion through lib/gltf-pbr ran"

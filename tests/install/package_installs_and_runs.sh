@@ -2,11 +2,12 @@
 # `cpack -G DEB` in the build folder: the package holds the installed layout under /usr, declares
 # the shared libraries the tool and its image module link (dpkg-shlibdeps), and its unpacked tree
 # runs on its own: --version, and a WebP conversion through its own image module.
-#   package_installs_and_runs.sh BUILD_DIR VERSION SOURCE_DIR
+#   package_installs_and_runs.sh BUILD_DIR VERSION SOURCE_DIR PYTHON_MODULE_BUILT(ON|OFF)
 set -euo pipefail
 build=$1
 version=$2
 source=$3
+python_module=$4
 work=$(realpath "$(mktemp -d)")  # as the loader prints it
 trap 'rm -rf "$work"' EXIT
 (cd "$build" && cpack -G DEB -B "$work" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log" >&2; exit 1; }
@@ -21,9 +22,18 @@ depends=$(dpkg-deb -f "$deb" Depends)
 for library in libspng0 libturbojpeg0 libdraco7 libyaml-cpp0.7 libopenimageio2.4 libstdc++6; do
   grep -q "\b$library\b" <<<"$depends" || { echo "Depends lacks $library: $depends" >&2; exit 1; }
 done
+# The Python module needs the interpreter it was built for; the tool does not.
+recommends=$(dpkg-deb -f "$deb" Recommends)
+if [ "$python_module" = ON ]; then
+  grep -q "python3 (>= 3\.[0-9]*), python3 (<< 3\.[0-9]*)" <<<"$recommends" ||
+    { echo "Recommends lacks the Python the module was built for: '$recommends'" >&2; exit 1; }
+fi
 contents=$(dpkg-deb -c "$deb")
-for file in ./usr/bin/gltf-pbr ./usr/lib/gltf-pbr/libgltf_pbr_images.so ./usr/share/gltf-pbr/rules/materials.json \
-  ./usr/share/doc/gltf-pbr/README.md; do
+packaged=(./usr/bin/gltf-pbr ./usr/lib/gltf-pbr/libgltf_pbr_images.so ./usr/share/gltf-pbr/rules/materials.json
+  ./usr/share/doc/gltf-pbr/README.md ./usr/include/gltf_pbr/gltf_pbr.hpp "./usr/lib/libgltf_pbr.so.$version"
+  ./usr/lib/cmake/gltf_pbr/gltf_pbrConfig.cmake)
+[ "$python_module" = ON ] && packaged+=("./usr/lib/python3/dist-packages/gltf_pbr.cpython-.*.so")  # a pattern: grep reads each entry as one
+for file in "${packaged[@]}"; do
   grep -q " $file\$" <<<"$contents" || { echo "the package lacks $file" >&2; exit 1; }
 done
 

@@ -24,24 +24,8 @@ fail() { echo "$*" >&2; exit 1; }
 "$cli" convert "$work/library" -o "$work/whole" --report "$work/whole.json" -q || fail "the one run failed"
 same_as_one_run() {  # same_as_one_run NAME: outputs in $work/NAME, report $work/NAME.json
   diff -r "$work/whole" "$work/$1" >/dev/null || fail "$1: the outputs differ from the one run's"
-  "$python" - "$work" "$1" <<'PY'
-import json, pathlib, sys
-work, name = pathlib.Path(sys.argv[1]), sys.argv[2]
-
-def without_times(value):
-    if isinstance(value, dict):
-        return {k: without_times(v) for k, v in value.items() if k != "timeMs"}
-    if isinstance(value, list):
-        return [without_times(v) for v in value]
-    return value
-
-whole = json.loads((work / "whole.json").read_text())
-for entry in whole["files"]:
-    entry["output"] = entry["output"].replace(f"{work}/whole/", f"{work}/{name}/", 1)
-merged = json.loads((work / f"{name}.json").read_text())
-assert merged["totals"]["files"] == 400 and merged["totals"]["failed"] == 0, merged["totals"]
-assert without_times(merged) == without_times(whole), f"{name}: the merged report differs from the one run's"
-PY
+  "$python" "$source/tests/pipeline/reports.py" "$work/whole.json" "$work/$1.json" "$work/whole" "$work/$1" 400 ||
+    fail "$1: the merged report differs from the one run's"
 }
 
 # A local cluster the driver starts: two worker processes.

@@ -18,18 +18,12 @@ import gltf_pbr
 SHARED = pathlib.Path(os.environ["GLTF_PBR_SHARED_DIR"])
 CLI = os.environ["GLTF_PBR_CLI"]
 SOURCE = pathlib.Path(os.environ["GLTF_PBR_SOURCE_DIR"])
+sys.path.insert(0, str(SOURCE / "tests" / "pipeline"))
+from reports import without_times  # noqa: E402  (the comparison the pipeline tests use)
+
 DUCK = SHARED / "assets/Duck/specgloss/Duck.gltf"
 AVOCADO = SHARED / "assets/Avocado/specgloss/Avocado.gltf"
 BOX = SHARED / "assets/Box/specgloss/Box.gltf"
-
-
-def without_times(value):
-    """A report with its measured times taken out: they differ from run to run."""
-    if isinstance(value, dict):
-        return {k: without_times(v) for k, v in value.items() if k != "timeMs"}
-    if isinstance(value, list):
-        return [without_times(v) for v in value]
-    return value
 
 
 def tool(*args):
