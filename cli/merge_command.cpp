@@ -3,6 +3,7 @@
 // be there exactly once, from the same tool version and options.
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "api/files.hpp"
 #include "cli/commands.hpp"
@@ -42,8 +43,8 @@ json merge(const std::vector<std::string>& files) {
   // The same run split N ways: every header field but the shard index must agree.
   json header = first;
   header.erase("files"), header.erase("totals"), header.erase("shard");
-  std::vector<bool> shard_seen(shard_count, false);
-  std::vector<json> by_position(total);
+  std::set<std::size_t> shards_seen;
+  std::size_t entries = 0;
   for (std::size_t r = 0; r < reports.size(); ++r) {
     json& report = reports[r];
     const std::string& file = files[r];
@@ -54,31 +55,42 @@ json merge(const std::vector<std::string>& files) {
       throw InputError(file, "/shard", "a different split from " + files.front());
     const std::size_t index = report["shard"]["index"];
     if (index >= shard_count) throw InputError(file, "/shard/index", "beyond the shard count");
-    if (shard_seen[index]) throw InputError(file, "/shard/index", "shard " + std::to_string(index) + " given twice");
-    shard_seen[index] = true;
-    for (std::size_t f = 0; f < report["files"].size(); ++f) {
-      json& entry = report["files"][f];
+    if (!shards_seen.insert(index).second)
+      throw InputError(file, "/shard/index", "shard " + std::to_string(index) + " given twice");
+    entries += report["files"].size();
+  }
+  // Counts come from the files: they are checked against what was given before anything is
+  // allocated by them.
+  if (shards_seen.size() != shard_count) {
+    std::size_t missing = 0;
+    while (shards_seen.contains(missing)) ++missing;
+    throw InputError(files.front(), "/shard",
+                     "shard " + std::to_string(missing) + " of " + std::to_string(shard_count) + " is missing" +
+                         (shard_count - shards_seen.size() > 1
+                              ? " (and " + std::to_string(shard_count - shards_seen.size() - 1) + " more)"
+                              : ""));
+  }
+  if (entries != total)
+    throw InputError(files.front(), "/shard/files",
+                     "a run of " + std::to_string(total) + " files, but the shards report " + std::to_string(entries));
+  std::vector<json> by_position(total);
+  for (std::size_t r = 0; r < reports.size(); ++r) {
+    for (std::size_t f = 0; f < reports[r]["files"].size(); ++f) {
+      json& entry = reports[r]["files"][f];
       const std::string pointer = "/files/" + std::to_string(f) + "/position";
       if (!entry.is_object() || !entry["position"].is_number_unsigned() || entry["position"] >= total)
-        throw InputError(file, pointer, "expected a position below " + std::to_string(total));
+        throw InputError(files[r], pointer, "expected a position below " + std::to_string(total));
       const std::size_t position = entry["position"];
       if (!by_position[position].is_null())
-        throw InputError(file, pointer, "position " + std::to_string(position) + " is in two shards");
+        throw InputError(files[r], pointer, "position " + std::to_string(position) + " is in two shards");
       entry.erase("position");
       by_position[position] = std::move(entry);
     }
   }
-  for (std::size_t s = 0; s < shard_count; ++s)
-    if (!shard_seen[s])
-      throw InputError(files.front(), "/shard",
-                       "shard " + std::to_string(s) + " of " + std::to_string(shard_count) + " is missing");
+  // Every position is now filled: as many entries as positions, none twice.
   json merged = std::move(header);
   merged["files"] = json::array();
-  for (std::size_t p = 0; p < total; ++p) {
-    if (by_position[p].is_null())
-      throw InputError(files.front(), "/files", "no shard reports file " + std::to_string(p) + " of the run");
-    merged["files"].push_back(std::move(by_position[p]));
-  }
+  for (json& entry : by_position) merged["files"].push_back(std::move(entry));
   merged["totals"] = conversion_totals(merged["files"]);
   return merged;
 }

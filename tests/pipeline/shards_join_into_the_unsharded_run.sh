@@ -54,6 +54,24 @@ status=0
 [ "$status" -eq 2 ] && grep -q "shard 0 given twice" "$work/twice.txt" ||
   fail "a repeated shard: status $status, $(cat "$work/twice.txt")"
 
+# A report whose header claims more than the shards hold is refused before anything is sized by it.
+"$python" - "$work/shard1.json" "$work/huge.json" <<'PY'
+import json, sys
+report = json.load(open(sys.argv[1]))
+report["shard"]["files"] = 10**15
+json.dump(report, open(sys.argv[2], "w"))
+PY
+status=0
+"$cli" merge-reports "$work/shard0.json" "$work/huge.json" "$work/shard2.json" "$work/shard3.json" \
+  2>"$work/huge.txt" || status=$?
+[ "$status" -eq 2 ] && grep -q "a different split" "$work/huge.txt" || fail "a huge claim: status $status"
+sed -i 's/"files": *1000/"files": 1000000000000000/' "$work/shard0.json"
+for shard in 1 2 3; do sed -i 's/"files": *1000/"files": 1000000000000000/' "$work/shard$shard.json"; done
+status=0
+"$cli" merge-reports "$work"/shard?.json 2>"$work/huge.txt" || status=$?
+[ "$status" -eq 2 ] && grep -q "a run of 1000000000000000 files, but the shards report 1000" "$work/huge.txt" ||
+  fail "a huge claim in every shard: status $status, $(cat "$work/huge.txt")"
+
 # --inputs-from: exactly the listed files, from a file or from standard input.
 find "$work/library/group003" -name "*.gltf" | sort | head -5 >"$work/list.txt"
 "$cli" convert --inputs-from - -o "$work/listed" -q <"$work/list.txt" || fail "--inputs-from - failed"
