@@ -81,7 +81,9 @@ int run(const ConvertArgs& args) {
   options.error_samples = args.error_samples;
   options.allow_outside_uris = args.allow_outside;
   options.replace_input = args.in_place;
-  const Shard shard = args.pipeline.shard.empty() ? Shard{} : parse_shard(args.pipeline.shard);
+  // Given or not: a --shard 0/1 run is the whole input, and still writes what merge-reports reads.
+  const bool sharded = !args.pipeline.shard.empty();
+  const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
   std::size_t skipped = 0;
   std::vector<InputFile> inputs;
   // The whole run is planned, and its outputs checked, before a shard takes its part: every shard
@@ -93,7 +95,7 @@ int run(const ConvertArgs& args) {
   std::vector<ConvertJob> jobs;
   std::vector<std::size_t> positions;
   for (std::size_t i = 0; i < planned.size(); ++i)
-    if (shard.whole() || shard_of(inputs[i], shard.count) == shard.index) {
+    if (!sharded || shard_of(inputs[i], shard.count) == shard.index) {
       jobs.push_back(planned[i]);
       positions.push_back(i);
     }
@@ -112,7 +114,7 @@ int run(const ConvertArgs& args) {
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == FileStatus::Failed; });
   if (!args.report.empty()) {
     nlohmann::json report = run_json(results, options);
-    if (!shard.whole()) {  // what merge-reports needs to put the shards back together
+    if (sharded) {  // what merge-reports needs to put the shards back together
       report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", planned.size()}};
       for (std::size_t i = 0; i < positions.size(); ++i) report["files"][i]["position"] = positions[i];
     }
@@ -131,13 +133,14 @@ int run(const ConvertArgs& args) {
 
 std::function<int()> add_convert_command(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd =
-      app.add_subcommand("convert",
-                         "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
-                         "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
-                         "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
-                         "(unless --in-place); every output is written to a temporary file and renamed.\n"
-                         "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage.");
+  CLI::App* cmd = app.add_subcommand(
+      "convert",
+      "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
+      "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
+      "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
+      "(unless --in-place); every output is written to a temporary file and renamed.\n"
+      "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage, 3 a report or --results could\n"
+      "not be written.");
   cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)");
   cmd->add_option("-o,--output", args->output,
                   "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs; "

@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/json_pointer.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -20,18 +21,49 @@ struct MergeArgs {
   std::string output;
 };
 
+constexpr int kMaxDepth = 64;  // a report nests 6 levels; deeper is not one, and recursion must stay bounded
+
+bool has_unsigned(const json& object, const char* key) {
+  return object.contains(key) && object[key].is_number_unsigned();
+}
+
+// The fields merging reads of a file entry, with the types it reads them as: a crafted entry is
+// refused by its pointer instead of reaching the totals as a type error.
+void check_entry(const json& entry, const std::string& file, const std::string& pointer) {
+  const auto refuse = [&](const std::string& member, const std::string& expected) {
+    throw InputError(file, pointer + member, "expected " + expected);
+  };
+  if (!entry.is_object()) refuse("", "an object");
+  if (!entry.contains("status") || !entry["status"].is_string()) refuse("/status", "a string");
+  if (!entry.contains("timeMs") || !entry["timeMs"].is_object() || !entry["timeMs"].contains("total") ||
+      !entry["timeMs"]["total"].is_number())
+    refuse("/timeMs/total", "a number");
+  if (!entry.contains("materials")) return;
+  if (!entry["materials"].is_array()) refuse("/materials", "an array");
+  for (std::size_t m = 0; m < entry["materials"].size(); ++m) {
+    const json& material = entry["materials"][m];
+    if (!material.is_object() || !material.contains("texels") || !material["texels"].is_number_integer())
+      refuse("/materials/" + std::to_string(m) + "/texels", "an integer");
+  }
+}
+
 json read_report(const std::string& file) {
   const std::optional<Bytes> bytes = read_file(file);
   if (!bytes) throw InputError(file, "", "cannot read the file");
-  json report = json::parse(bytes->begin(), bytes->end(), nullptr, /*allow_exceptions=*/false);
+  const auto bounded = [&](int depth, json::parse_event_t, json&) {
+    if (depth > kMaxDepth) throw InputError(file, "", "nested deeper than any report");
+    return true;
+  };
+  json report = json::parse(bytes->begin(), bytes->end(), bounded, /*allow_exceptions=*/false);
   if (report.is_discarded()) throw InputError(file, "", "not valid JSON");
-  if (!report.is_object() || report.value("tool", "") != "gltf-pbr" || !report.contains("files"))
+  if (!report.is_object() || !report.contains("tool") || report["tool"] != "gltf-pbr" || !report.contains("files"))
     throw InputError(file, "", "not a report of gltf-pbr convert");
-  const json& shard = report["shard"];
-  if (!shard.is_object() || !shard["index"].is_number_unsigned() || !shard["count"].is_number_unsigned() ||
-      !shard["files"].is_number_unsigned())
+  if (!report.contains("shard") || !report["shard"].is_object() || !has_unsigned(report["shard"], "index") ||
+      !has_unsigned(report["shard"], "count") || !has_unsigned(report["shard"], "files"))
     throw InputError(file, "/shard", "not the report of a sharded run (convert --shard I/N --report FILE)");
   if (!report["files"].is_array()) throw InputError(file, "/files", "expected an array");
+  for (std::size_t f = 0; f < report["files"].size(); ++f)
+    check_entry(report["files"][f], file, "/files/" + std::to_string(f));
   return report;
 }
 
@@ -50,7 +82,12 @@ json merge(const std::vector<std::string>& files) {
     const std::string& file = files[r];
     for (auto it = header.begin(); it != header.end(); ++it)
       if (report[it.key()] != it.value())
-        throw InputError(file, "/" + it.key(), "differs from " + files.front() + ": not shards of one run");
+        throw InputError(file, "/" + escape_pointer_token(it.key()),
+                         "differs from " + files.front() + ": not shards of one run");
+    for (auto it = report.begin(); it != report.end(); ++it)
+      if (!header.contains(it.key()) && it.key() != "files" && it.key() != "totals" && it.key() != "shard")
+        throw InputError(file, "/" + escape_pointer_token(it.key()),
+                         "not in " + files.front() + ": not shards of one run");
     if (report["shard"]["count"] != shard_count || report["shard"]["files"] != total)
       throw InputError(file, "/shard", "a different split from " + files.front());
     const std::size_t index = report["shard"]["index"];
@@ -78,7 +115,7 @@ json merge(const std::vector<std::string>& files) {
     for (std::size_t f = 0; f < reports[r]["files"].size(); ++f) {
       json& entry = reports[r]["files"][f];
       const std::string pointer = "/files/" + std::to_string(f) + "/position";
-      if (!entry.is_object() || !entry["position"].is_number_unsigned() || entry["position"] >= total)
+      if (!has_unsigned(entry, "position") || entry["position"] >= total)
         throw InputError(files[r], pointer, "expected a position below " + std::to_string(total));
       const std::size_t position = entry["position"];
       if (!by_position[position].is_null())

@@ -35,13 +35,21 @@ std::uint32_t shard_of(const InputFile& file, std::uint32_t shard_count) {
 std::vector<std::string> read_input_list(const std::string& source) {
   std::ifstream file;
   if (source != "-") {
+    std::error_code ec;
+    if (std::filesystem::is_directory(source, ec))
+      throw CLI::ValidationError("--inputs-from", source + ": a folder, not a list of paths");
     file.open(source);
     if (!file) throw CLI::ValidationError("--inputs-from", source + ": " + std::strerror(errno));
   }
   std::istream& in = source == "-" ? std::cin : file;
   std::vector<std::string> paths;
+  std::size_t number = 0;
   for (std::string line; std::getline(in, line);) {
+    if (++number == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos)
+      throw CLI::ValidationError("--inputs-from",
+                                 source + ": line " + std::to_string(number) + " holds a NUL byte, which no path can");
     if (!line.empty()) paths.push_back(line);
   }
   if (in.bad()) throw CLI::ValidationError("--inputs-from", source + ": read error");

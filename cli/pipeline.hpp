@@ -19,10 +19,9 @@ namespace gltf_pbr::cli {
 // --shard I/N: this run takes shard I (0-based) of N.
 struct Shard {
   std::uint32_t index = 0, count = 1;
-  bool whole() const { return count == 1; }
 };
 
-// "I/N" with 0 <= I < N; throws CLI::ValidationError otherwise.
+// "I/N" in decimal digits with 0 <= I < N; throws CLI::ValidationError otherwise.
 Shard parse_shard(const std::string& text);
 
 // The file's shard: FNV-1a (64-bit) of its path relative to the input root, in generic form, mod
@@ -31,8 +30,9 @@ Shard parse_shard(const std::string& text);
 std::uint32_t shard_of(const InputFile& file, std::uint32_t shard_count);
 
 // --inputs-from FILE, or "-" for stdin: one path per line, as if given on the command line; empty
-// lines are skipped and a Windows line end's CR is dropped. Throws CLI::ValidationError naming the
-// list when it cannot be read.
+// lines are skipped, a Windows line end's CR and a leading UTF-8 byte-order mark are dropped.
+// Throws CLI::ValidationError naming the list (and the line) when it cannot be read or a line
+// holds a NUL byte, which no path can.
 std::vector<std::string> read_input_list(const std::string& source);
 
 // --results FILE.jsonl: one JSON object per line, each written and flushed as its file finishes,

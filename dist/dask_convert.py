@@ -13,6 +13,9 @@ run the same gltf-pbr version (`--tool`, default: `gltf-pbr` on PATH). A task on
 shard's outputs, each atomically and byte-for-byte what any other run writes for that file, so a
 task that Dask retries after losing a worker converges on the same files. With no --scheduler, a
 local cluster of --local-workers processes is started and stopped.
+
+Exit codes: 0 every file converted, 1 some files failed (the report says which), 2 bad usage,
+3 a shard's task failed every retry (no report is written).
 """
 import argparse
 import json
@@ -22,13 +25,17 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import uuid
 
 
 def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
     """One shard, in a gltf-pbr process of its own; returns its report's path. Exit 1 means some
-    files failed, which their report entries say; anything else is the task's failure."""
-    report = pathlib.Path(work) / f"shard{shard:05d}.json"
-    results = pathlib.Path(work) / f"shard{shard:05d}.jsonl"
+    files failed, which their report entries say; anything else is the task's failure. Each
+    attempt writes reports of its own: a process orphaned by a lost worker may still be writing
+    the files of an earlier attempt."""
+    attempt = uuid.uuid4().hex[:12]
+    report = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.json"
+    results = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.jsonl"
     command = [tool, "convert", *inputs, "-o", output, "--shard", f"{shard}/{shards}", "--report", str(report),
                "--results", str(results), "-q", *(["-j", str(jobs)] if jobs else []), *extra]
     run = subprocess.run(command, capture_output=True, text=True, check=False)
@@ -39,7 +46,7 @@ def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("inputs", nargs="+", help=".gltf/.glb files or folders")
     parser.add_argument("-o", "--output", required=True, help="output folder (on the shared file system)")
@@ -53,17 +60,22 @@ def main():
                         help="files at once in each task (-j); default: the local cluster's cores per worker, "
                              "or the tool's default on a remote cluster")
     parser.add_argument("--work", help="folder for the shards' reports (default: beside --report)")
-    args, extra = parser.parse_known_args()
-    extra = [word for word in extra if word != "--"]
+    # Ours before "--", convert's after it: a mistyped option of ours is an error, not passed on.
+    argv = sys.argv[1:]
+    split = argv.index("--") if "--" in argv else len(argv)
+    args, extra = parser.parse_args(argv[:split]), argv[split + 1:]
 
     from dask.distributed import Client, LocalCluster, as_completed
 
     tool = os.path.abspath(args.tool) if os.path.sep in args.tool else args.tool
     inputs = [os.path.abspath(path) for path in args.inputs]
     output = os.path.abspath(args.output)
+    own_work = not args.work  # a folder made here is removed once the reports are merged
     work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="shards.", dir=os.path.dirname(
         os.path.abspath(args.report)) or "."))
     work.mkdir(parents=True, exist_ok=True)
+    work.chmod(0o755)  # mkdtemp's 0700 would shut out workers running as another user
+    run = uuid.uuid4().hex[:12]  # task keys of this run: two drivers on one scheduler never share one
 
     cluster = None
     if args.scheduler:
@@ -78,11 +90,15 @@ def main():
         workers = max(1, len(client.scheduler_info()["workers"]))
         shards = args.shards or 4 * workers
         futures = [client.submit(convert_shard, tool, inputs, output, shard, shards, str(work), task_jobs, extra,
-                                 key=f"gltf-pbr-shard-{shard}-of-{shards}", retries=2)
+                                 key=f"gltf-pbr-{run}-shard-{shard}-of-{shards}", retries=2)
                    for shard in range(shards)]
         reports = []
         for done, future in enumerate(as_completed(futures), 1):
-            reports.append(future.result())
+            try:
+                reports.append(future.result())
+            except Exception as error:  # a task that failed every retry: the run is incomplete
+                print(f"\ndask_convert: {error}", file=sys.stderr)
+                return 3
             print(f"\r[{done}/{shards}] shards converted", end="", file=sys.stderr, flush=True)
         print(file=sys.stderr)
     finally:
@@ -97,6 +113,8 @@ def main():
         with open(args.results, "w", encoding="utf-8") as joined:
             for report in sorted(reports):
                 joined.write(pathlib.Path(report).with_suffix(".jsonl").read_text(encoding="utf-8"))
+    if own_work:
+        shutil.rmtree(work, ignore_errors=True)
     totals = json.loads(pathlib.Path(args.report).read_text(encoding="utf-8"))["totals"]
     print(f"{shards} shards on {workers} workers: {totals['files']} files, {totals['failed']} failed; "
           f"report in {args.report}", file=sys.stderr)

@@ -30,14 +30,25 @@ same_as_one_run() {  # same_as_one_run NAME: outputs in $work/NAME, report $work
 
 # A local cluster the driver starts: two worker processes.
 "$python" "$source/dist/dask_convert.py" "$work/library" -o "$work/local" --report "$work/local.json" \
-  --tool "$cli" --local-workers 2 --shards 8 2>"$work/local.log" || { cat "$work/local.log" >&2; fail "local run failed"; }
+  --results "$work/local.jsonl" --tool "$cli" --local-workers 2 --shards 8 2>"$work/local.log" ||
+  { cat "$work/local.log" >&2; fail "local run failed"; }
 same_as_one_run local
+"$python" - "$work/local.jsonl" <<'PY' || fail "the joined --results do not name every file once"
+import json, sys
+positions = sorted(json.loads(line)["position"] for line in open(sys.argv[1]))
+assert positions == list(range(400)), positions[:10]
+PY
 
 # A running scheduler with two workers; each task waits a second first, and one worker is killed
-# as soon as the first shard is done: Dask runs its tasks again on the other.
+# while it runs a task: Dask runs that task again on the other. The tool counts its conversions,
+# and marks which worker (its parent process) runs one.
 cat >"$work/slow-tool" <<SH
 #!/bin/sh
-[ "\$1" = convert ] && sleep 1
+if [ "\$1" = convert ]; then
+  echo "\$PPID" >>"$work/calls"
+  touch "$work/running.\$PPID"
+  sleep 1
+fi
 exec "$cli" "\$@"
 SH
 chmod +x "$work/slow-tool"
@@ -55,11 +66,13 @@ victim=${pids[1]}
   --tool "$work/slow-tool" --scheduler "$("$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))["address"])' "$work/scheduler.json")" \
   --shards 8 --task-jobs 1 --work "$work/killed-shards" 2>"$work/killed.log" &
 driver=$!
-for _ in $(seq 300); do compgen -G "$work/killed-shards/*.json" >/dev/null && break; sleep 0.1; done
+for _ in $(seq 300); do [ -e "$work/running.$victim" ] && break; sleep 0.1; done
+[ -e "$work/running.$victim" ] || fail "the worker to kill never ran a task"
 kill -9 "$victim"
 wait "$victim" 2>/dev/null || true
 wait "$driver" || { cat "$work/killed.log" >&2; fail "the run with a killed worker failed"; }
 grep -q "Remove worker" "$work/scheduler.log" || fail "the scheduler never saw the worker go"
-[ "$(ls "$work/killed-shards"/*.json | wc -l)" -eq 8 ] || fail "not every shard reported"
+# 8 shards, and the killed worker's task once more.
+[ "$(wc -l <"$work/calls")" -ge 9 ] || fail "no task was run again after the worker died: $(wc -l <"$work/calls") runs"
 same_as_one_run killed
 echo "Dask: a local cluster and a cluster that lost a worker both converted the library as one run does"

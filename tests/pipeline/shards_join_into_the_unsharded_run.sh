@@ -72,8 +72,44 @@ status=0
 [ "$status" -eq 2 ] && grep -q "a run of 1000000000000000 files, but the shards report 1000" "$work/huge.txt" ||
   fail "a huge claim in every shard: status $status, $(cat "$work/huge.txt")"
 
+# Crafted reports: refused (exit 2) with the file and the JSON pointer, never a crash.
+printf '{"tool":"gltf-pbr","files":[],"shard":{}}' >"$work/empty-shard.json"
+printf '{"tool":"gltf-pbr","files":[{"position":0}],"shard":{"index":0,"count":1,"files":1}}' >"$work/no-status.json"
+printf '{"tool":"gltf-pbr","files":[{"position":0,"status":5}],"shard":{"index":0,"count":1,"files":1}}' \
+  >"$work/bad-status.json"
+printf '{"tool":1}' >"$work/bad-tool.json"
+"$python" -c 'print("[" * 100000 + "]" * 100000)' >"$work/deep.json"
+for crafted in "empty-shard.json:/shard" "no-status.json:/files/0/status" "bad-status.json:/files/0/status" \
+  "bad-tool.json:not a report" "deep.json:nested deeper"; do
+  file=${crafted%%:*} expected=${crafted#*:}
+  status=0
+  "$cli" merge-reports "$work/$file" 2>"$work/crafted.txt" || status=$?
+  [ "$status" -eq 2 ] && grep -qF "$work/$file: $expected" "$work/crafted.txt" ||
+    fail "$file: status $status, $(cat "$work/crafted.txt")"
+done
+
+# --shard is checked, and --shard 0/1 is the whole run in a form merge-reports takes.
+for bad in 4/4 1/0 x/4 "1/4x"; do
+  status=0
+  "$cli" convert "$work/library" -o "$work/bad" --shard "$bad" -q 2>/dev/null || status=$?
+  [ "$status" -eq 2 ] || fail "--shard $bad: status $status"
+done
+"$cli" convert "$work/library" -o "$work/one-shard" --shard 0/1 --report "$work/one-shard.json" -q ||
+  fail "--shard 0/1 failed"
+"$cli" merge-reports "$work/one-shard.json" -o "$work/one-shard-merged.json" || fail "merging one shard failed"
+"$python" "$here/reports.py" "$work/whole.json" "$work/one-shard-merged.json" "$work/whole" "$work/one-shard" 1000 ||
+  fail "one shard merged differs from the unsharded report"
+
 # --inputs-from: exactly the listed files, from a file or from standard input.
 find "$work/library/group003" -name "*.gltf" | sort | head -5 >"$work/list.txt"
 "$cli" convert --inputs-from - -o "$work/listed" -q <"$work/list.txt" || fail "--inputs-from - failed"
 [ "$(find "$work/listed" -name "*.gltf" | wc -l)" -eq 5 ] || fail "--inputs-from did not convert the 5 files listed"
+# A list written on Windows: a byte-order mark, CRLF line ends and blank lines.
+{ printf '\xef\xbb\xbf'; sed 's/$/\r/' "$work/list.txt"; printf '\r\n\n'; } >"$work/list-crlf.txt"
+"$cli" convert --inputs-from "$work/list-crlf.txt" -o "$work/listed-crlf" -q || fail "--inputs-from a CRLF list failed"
+[ "$(find "$work/listed-crlf" -name "*.gltf" | wc -l)" -eq 5 ] || fail "a CRLF list did not convert its 5 files"
+printf 'a.gltf\0b\n' >"$work/list-nul.txt"
+status=0
+"$cli" convert --inputs-from "$work/list-nul.txt" -o "$work/nul" -q 2>"$work/nul.txt" || status=$?
+[ "$status" -eq 2 ] && grep -q "line 1 holds a NUL byte" "$work/nul.txt" || fail "a NUL in a list: status $status"
 echo "1,000 files: 4 shards byte-identical to one run, reports merged; --inputs-from converted its list"
