@@ -1,6 +1,7 @@
 // The gltf-pbr subcommands. Exit codes (gltfpack style, one per failure class):
 #pragma once
 #include <CLI/CLI.hpp>
+#include <filesystem>
 
 namespace gltf_pbr::cli {
 
@@ -14,6 +15,12 @@ int run_command(const char* name, const std::function<int()>& body);
 // Writes text to stdout; throws OutputError with the errno text when it cannot (a full disk,
 // a closed pipe), so a lost report is an error and not a silent exit 0.
 void write_stdout(const std::string& text);
+
+// Writes text to `path` atomically (a temporary file, then a rename); OutputError when it cannot.
+void write_atomically(const std::filesystem::path& path, const std::string& text);
+
+// A command's -o: the file when given, else stdout.
+void write_output(const std::filesystem::path& path_or_empty, const std::string& text);
 
 // A JSON document as the text every command writes: indented, and a file name that is not UTF-8
 // (Latin-1 names exist) written with U+FFFD instead of ending the run with a type_error.

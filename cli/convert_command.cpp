@@ -118,10 +118,7 @@ int run(const ConvertArgs& args) {
       report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", planned.size()}};
       for (std::size_t i = 0; i < positions.size(); ++i) report["files"][i]["position"] = positions[i];
     }
-    const std::string text = json_text(report);
-    AtomicWriteSet files;
-    files.stage(args.report, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-    files.commit();
+    write_atomically(args.report, json_text(report));
   }
   if (!args.quiet)
     std::fprintf(stderr, "%s: %zu converted or copied, %zu failed\n", counted(results.size(), "file").c_str(),

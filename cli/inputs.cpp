@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "core/image.hpp"
 #include "core/text.hpp"
 
@@ -132,6 +133,19 @@ int run_command(const char* name, const std::function<int()>& body) {
 void write_stdout(const std::string& text) {
   if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
     throw OutputError(std::string("cannot write to standard output: ") + std::strerror(errno));
+}
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  AtomicWriteSet files;
+  files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  files.commit();
+}
+
+void write_output(const fs::path& path_or_empty, const std::string& text) {
+  if (path_or_empty.empty())
+    write_stdout(text);
+  else
+    write_atomically(path_or_empty, text);
 }
 
 void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<fs::path>& outputs,

@@ -133,14 +133,7 @@ json merge(const std::vector<std::string>& files) {
 }
 
 int run(const MergeArgs& args) {
-  const std::string text = json_text(merge(args.reports));
-  if (args.output.empty()) {
-    write_stdout(text);
-  } else {
-    AtomicWriteSet out;
-    out.stage(args.output, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-    out.commit();
-  }
+  write_output(args.output, json_text(merge(args.reports)));
   return kAllDone;
 }
 

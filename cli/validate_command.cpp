@@ -41,12 +41,6 @@ bool fails(const Report& report, Severity fail_on) {
   return false;
 }
 
-void write_atomically(const fs::path& path, const std::string& text) {
-  AtomicWriteSet files;
-  files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-  files.commit();
-}
-
 nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity fail_on) {
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   std::size_t totals[4] = {0, 0, 0, 0}, failing = 0;
@@ -124,11 +118,7 @@ int run(const ValidateArgs& args) {
 
   const nlohmann::ordered_json summary = summary_json(reports, fail_on);
   if (args.format == "sarif") {
-    const std::string text = json_text(sarif_log(reports, rules));
-    if (args.output.empty())
-      write_stdout(text);
-    else
-      write_atomically(args.output, text);
+    write_output(args.output, json_text(sarif_log(reports, rules)));
   } else if (args.format == "json") {
     if (args.output.empty()) {
       // One report as the Khronos validator prints it; several with the summary around them.
@@ -150,10 +140,7 @@ int run(const ValidateArgs& args) {
     std::string text;  // -q: only the files that fail
     for (const Report& report : reports)
       if (!args.quiet || fails(report, fail_on)) text += report_text(report, colour);
-    if (args.output.empty())
-      write_stdout(text);
-    else
-      write_atomically(args.output, text);
+    write_output(args.output, text);
   }
   if (!args.quiet)
     std::fprintf(stderr, "%s: %zu with issues at or above %s\n", counted(reports.size(), "file").c_str(),
