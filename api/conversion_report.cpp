@@ -21,6 +21,15 @@ json times_json(const StageTimes& t) {
 }  // namespace
 
 json file_json(const FileResult& r) {
+  if (r.cached) {  // the entry as computed, with this run's paths and the time this run took
+    json out = *r.cached;
+    out["input"] = r.input;
+    out["output"] = r.output;
+    out["cached"] = true;
+    out["computedTimeMs"] = out.value("timeMs", json(nullptr));
+    out["timeMs"] = {{"total", r.total_ms}};
+    return out;
+  }
   json out = {{"input", r.input}, {"output", r.output}, {"status", file_status_name(r.status)}};
   if (r.error) {
     out["error"] = {{"file", r.error->file}, {"pointer", r.error->pointer}, {"reason", r.error->reason}};

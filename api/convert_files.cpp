@@ -1,11 +1,16 @@
 // Converting files: one at a time as the library's convert_file, many on the pool as the tool's
 // `convert` and the library's convert_files.
 #include <chrono>
+#include <sstream>
 #include <system_error>
 
 #include "api/files.hpp"
+#include "api/result_cache.hpp"
 #include "core/error.hpp"
+#include "core/image.hpp"
 #include "core/parallel.hpp"
+#include "core/version.hpp"
+#include "rules/rule_set.hpp"
 #include "validators/validate.hpp"
 
 namespace gltf_pbr {
@@ -31,6 +36,68 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+// A job's result before anything happened to it: failed until something succeeds.
+FileResult result_of(const ConvertJob& job) {
+  FileResult result;
+  result.input = job.input.string();
+  result.output = job.output.string();
+  return result;
+}
+
+fs::path folder_of(const fs::path& file) { return file.parent_path().empty() ? fs::path(".") : file.parent_path(); }
+
+// What every conversion of a run depends on besides its files (ResultCache::key): the options that
+// change an output or its report entry, the image limit, the rules and the tool's version.
+std::string run_settings(const ConvertFileOptions& options) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "convert " << tool_version() << " target " << target_name(options.target) << " solver "
+       << solver_effort_name(options.solver) << " specular-tolerance " << options.specular_tolerance << " png "
+       << options.png_compression << " jpeg " << options.jpeg_quality << " error-samples " << options.error_samples
+       << " allow-outside " << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << '\n'
+       << builtin_rules_text();
+  return text.str();
+}
+
+// And what one job adds: the names its outputs take come from the output's file name, and its
+// resources are copied only when it goes to another folder than its input.
+std::string job_settings(const std::string& run, const ConvertJob& job) {
+  std::error_code error;
+  const bool same_folder = fs::equivalent(folder_of(job.input), folder_of(job.output), error);
+  return run + "\noutput " + job.output.filename().string() + " input " + job.input.extension().string() +
+         (same_folder ? " beside its input" : " elsewhere") + (job.preview_dir.empty() ? "" : " with preview");
+}
+
+// A job restored from the cache when it holds the result, else converted and stored.
+FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& options, const std::string& run,
+                          ResultCache& cache) {
+  const auto start = Clock::now();
+  const std::optional<std::string> key = cache.key(job.input, job_settings(run, job), options.allow_outside_uris);
+  const fs::path roots[] = {folder_of(job.output), job.preview_dir};
+  if (key) {
+    try {
+      if (std::optional<nlohmann::json> entry = cache.restore(*key, roots)) {
+        FileResult hit = result_of(job);
+        hit.status = file_status_from_name(entry->value("status", "")).value_or(FileStatus::Failed);
+        hit.cached = std::move(*entry);
+        hit.total_ms = ms_between(start, Clock::now());
+        if (hit.status != FileStatus::Failed) return hit;  // a stored failure is not one we wrote
+      }
+    } catch (const OutputError& e) {
+      FileResult failed = result_of(job);
+      failed.failure = "output " + job.output.string() + ": " + e.what();
+      failed.total_ms = ms_between(start, Clock::now());
+      return failed;
+    }
+  }
+  FileResult result = convert_one(job, options);
+  if (key && result.status != FileStatus::Failed) {
+    const ResultCache::Outputs outputs[] = {{roots[0], result.written}, {roots[1], result.preview_written}};
+    cache.store(*key, file_json(result), outputs);
+  }
+  return result;
+}
+
 }  // namespace
 
 ConvertOptions conversion_options(const ConvertFileOptions& options) {
@@ -45,7 +112,7 @@ ConvertOptions conversion_options(const ConvertFileOptions& options) {
 }
 
 FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& options) {
-  FileResult result{job.input.string(), job.output.string(), FileStatus::Failed, std::nullopt, "", {}, 0, 0, 0};
+  FileResult result = result_of(job);
   const ConvertOptions converter = conversion_options(options);
   const auto start = Clock::now();
   Asset asset = load_asset(job.input, {options.allow_outside_uris});  // its own errors first: they name the byte
@@ -61,10 +128,10 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   if (!result.report.changed() && in_place) {
     result.status = FileStatus::Copied;  // nothing to write: the input already is the result
   } else if (!result.report.changed() && same_format) {
-    copy_asset_verbatim(asset, job.output);
+    result.written = copy_asset_verbatim(asset, job.output);
     result.status = FileStatus::Copied;
   } else {
-    save_asset(asset, job.output, /*replace_input=*/in_place);
+    result.written = save_asset(asset, job.output, /*replace_input=*/in_place);
     result.status = FileStatus::Converted;
   }
   result.save_ms = ms_between(converted, Clock::now());
@@ -72,7 +139,8 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     preview::PreviewOptions preview_options;
     preview_options.convert = converter;
     const preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
-    preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview_dir);
+    result.preview_written =
+        preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview_dir);
   }
   result.total_ms = ms_between(start, Clock::now());
   return result;
@@ -83,7 +151,8 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
   try {
     return convert_or_throw(job, options);
   } catch (const InputError& e) {
-    FileResult failed{job.input.string(), job.output.string(), FileStatus::Failed, e, "", {}, 0, 0, 0};
+    FileResult failed = result_of(job);
+    failed.error = e;
     failed.total_ms = ms_between(start, Clock::now());
     return failed;
   } catch (const std::exception& e) {
@@ -92,7 +161,8 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
       reason = "output " + job.output.string() + ": " + reason;
     else if (dynamic_cast<const std::bad_alloc*>(&e))
       reason = "out of memory while converting (--max-image-pixels lowers the largest image accepted)";
-    FileResult failed{job.input.string(), job.output.string(), FileStatus::Failed, std::nullopt, reason, {}, 0, 0, 0};
+    FileResult failed = result_of(job);
+    failed.failure = reason;
     failed.total_ms = ms_between(start, Clock::now());
     return failed;
   }
@@ -100,14 +170,16 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
 
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                       unsigned threads,
-                                      const std::function<void(std::size_t, const FileResult&)>& on_done) {
+                                      const std::function<void(std::size_t, const FileResult&)>& on_done,
+                                      ResultCache* cache) {
   std::vector<FileResult> results(jobs.size());
   const std::int64_t at_once = threads ? threads : hardware_threads();
+  const std::string run = cache ? run_settings(options) : "";
   ThreadPool::shared().run(
       static_cast<std::int64_t>(jobs.size()),
       [&](std::int64_t index) {
         const auto i = static_cast<std::size_t>(index);
-        results[i] = convert_one(jobs[i], options);
+        results[i] = cache ? convert_cached(jobs[i], options, run, *cache) : convert_one(jobs[i], options);
         if (on_done) on_done(i, results[i]);
       },
       at_once);

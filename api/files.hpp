@@ -23,7 +23,13 @@ struct FileResult {
   std::string failure;              // Failed for another reason
   ConversionReport report;
   double load_ms = 0, save_ms = 0, total_ms = 0;
+  std::vector<fs::path> written, preview_written;  // the files this run wrote: outputs, preview
+  std::optional<nlohmann::json> cached;            // the report entry restored by --cache, on a hit
 };
+
+std::optional<FileStatus> file_status_from_name(std::string_view name);
+
+class ResultCache;
 
 // The converter's options for the file options.
 ConvertOptions conversion_options(const ConvertFileOptions& options);
@@ -36,10 +42,12 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
 FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options);
 
 // convert_one for every job on the process's pool, at most `threads` files at a time (0: one per
-// hardware thread); on_done(job index, result) as each finishes, on the thread that ran it.
+// hardware thread); on_done(job index, result) as each finishes, on the thread that ran it. With a
+// cache, a job whose result it holds is restored from it, and one computed is stored in it.
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                       unsigned threads,
-                                      const std::function<void(std::size_t, const FileResult&)>& on_done);
+                                      const std::function<void(std::size_t, const FileResult&)>& on_done,
+                                      ResultCache* cache = nullptr);
 
 // A file's entry of `convert --report`, and the whole report around several.
 nlohmann::json file_json(const FileResult& result);

@@ -3,6 +3,7 @@
 #include <array>
 #include <utility>
 
+#include "api/files.hpp"
 #include "core/version.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"
 
@@ -18,6 +19,11 @@ constexpr std::array<std::pair<SolverEffort, const char*>, 4> kEfforts{{
     {SolverEffort::Balanced, "balanced"},
     {SolverEffort::Exact, "exact"},
     {SolverEffort::Reference, "reference"},
+}};
+constexpr std::array<std::pair<FileStatus, const char*>, 3> kStatuses{{
+    {FileStatus::Converted, "converted"},
+    {FileStatus::Copied, "copied"},
+    {FileStatus::Failed, "failed"},
 }};
 constexpr std::array<std::pair<ValidationStep, const char*>, 4> kSteps{{
     {ValidationStep::Structure, "structure"},
@@ -49,16 +55,7 @@ const char* target_name(Target target) { return name_of(kTargets, target); }
 const char* solver_effort_name(SolverEffort effort) { return name_of(kEfforts, effort); }
 std::optional<ValidationStep> validation_step_from_name(std::string_view name) { return from_name(kSteps, name); }
 const char* validation_step_name(ValidationStep step) { return name_of(kSteps, step); }
-const char* file_status_name(FileStatus status) {
-  switch (status) {
-    case FileStatus::Converted:
-      return "converted";
-    case FileStatus::Copied:
-      return "copied";
-    case FileStatus::Failed:
-      break;
-  }
-  return "failed";
-}
+const char* file_status_name(FileStatus status) { return name_of(kStatuses, status); }
+std::optional<FileStatus> file_status_from_name(std::string_view name) { return from_name(kStatuses, name); }
 
 }  // namespace gltf_pbr

@@ -1,13 +1,16 @@
 // `gltf-pbr convert`: many files in parallel, each loaded once, converted, saved atomically.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "api/files.hpp"
+#include "api/result_cache.hpp"
 #include "cli/commands.hpp"
 #include "cli/file_summary.hpp"
 #include "cli/inputs.hpp"
 #include "cli/pipeline.hpp"
+#include "core/asset.hpp"
 #include "core/files.hpp"
 #include "core/text.hpp"
 
@@ -72,6 +75,8 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
 
 int run(const ConvertArgs& args) {
   if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
+  if (args.in_place && !args.pipeline.cache.empty())
+    throw CLI::ValidationError("--cache", "--in-place replaces the inputs the cache is keyed by: give -o instead");
   ConvertFileOptions options;
   options.target = *target_from_name(args.target);  // CLI::IsMember checked the names
   options.solver = *solver_effort_from_name(args.solver);
@@ -101,19 +106,27 @@ int run(const ConvertArgs& args) {
     }
 
   ResultsLog results_log(args.pipeline.results);
+  std::optional<ResultCache> cache;
+  if (!args.pipeline.cache.empty()) cache.emplace(args.pipeline.cache);
   Progress progress(jobs.size(), "converting");
-  const std::vector<FileResult> results =
-      convert_batch(jobs, options, args.jobs, [&](std::size_t job, const FileResult& result) {
+  const std::vector<FileResult> results = convert_batch(
+      jobs, options, args.jobs,
+      [&](std::size_t job, const FileResult& result) {
         nlohmann::json line = file_json(result);
         line["position"] = positions[job];
         results_log.write(line.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
         const bool show = !args.quiet || result.status == FileStatus::Failed;
         progress.done(show ? file_summary(result, args.verbose) : "");
-      });
+      },
+      cache ? &*cache : nullptr);
   const auto failed =
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == FileStatus::Failed; });
   if (!args.report.empty()) {
     nlohmann::json report = run_json(results, options);
+    if (cache) {
+      report["cache"] = cache->stats_json();
+      report["cache"]["assetsLoaded"] = work_counters().assets_loaded.load();
+    }
     if (sharded) {  // what merge-reports needs to put the shards back together
       report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", planned.size()}};
       for (std::size_t i = 0; i < positions.size(); ++i) report["files"][i]["position"] = positions[i];
@@ -121,8 +134,10 @@ int run(const ConvertArgs& args) {
     write_atomically(args.report, json_text(report));
   }
   if (!args.quiet)
-    std::fprintf(stderr, "%s: %zu converted or copied, %zu failed\n", counted(results.size(), "file").c_str(),
-                 results.size() - static_cast<size_t>(failed), static_cast<size_t>(failed));
+    std::fprintf(stderr, "%s: %zu converted or copied%s, %zu failed\n", counted(results.size(), "file").c_str(),
+                 results.size() - static_cast<size_t>(failed),
+                 cache ? (" (" + std::to_string(cache->hits()) + " from the cache)").c_str() : "",
+                 static_cast<size_t>(failed));
   return failed ? kSomeFilesFailed : kAllDone;
 }
 

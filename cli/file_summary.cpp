@@ -19,6 +19,11 @@ std::string format(const char* pattern, double a, double b, double c) {
 std::string file_summary(const FileResult& r, bool verbose) {
   if (r.status == FileStatus::Failed)
     return "FAILED " + printable(r.error ? std::string(r.error->what()) : r.input + ": " + r.failure) + "\n";
+  if (r.cached)
+    return std::string(r.status == FileStatus::Copied ? "copied " : "converted ") + printable(r.input) + " -> " +
+           printable(r.output) +
+           " (from the cache: " + counted(r.cached->value("materials", nlohmann::json::array()).size(), "material") +
+           ")\n";
   const ConversionReport& c = r.report;
   // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
   const std::string input = printable(r.input), output = printable(r.output);

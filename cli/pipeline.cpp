@@ -81,6 +81,10 @@ void add_pipeline_options(CLI::App& command, PipelineArgs& args) {
                      "so N runs with I = 0..N-1 split the input without overlap (merge-reports joins their reports)");
   command.add_option("--results", args.results,
                      "write one JSON line per file as it finishes (status, outputs, errors, times), flushed at once");
+  command.add_option("--cache", args.cache,
+                     "keep each file's result in DIR under a hash of its bytes, the files it names, the options, the "
+                     "rules and the version, and restore it from there when they are unchanged (several runs may "
+                     "share DIR)");
 }
 
 }  // namespace gltf_pbr::cli

@@ -52,9 +52,9 @@ class ResultsLog {
   std::mutex mutex_;
 };
 
-// --inputs-from, --shard and --results, for a batch subcommand.
+// --inputs-from, --shard, --results and --cache, for a batch subcommand.
 struct PipelineArgs {
-  std::string inputs_from, shard, results;
+  std::string inputs_from, shard, results, cache;
 };
 void add_pipeline_options(CLI::App& command, PipelineArgs& args);
 

@@ -47,16 +47,21 @@ void remap_in_value(tinygltf::Value& value, const std::string& key, const std::v
 // Throws InputError (file, JSON pointer, reason) for bad input.
 Asset load_asset(const fs::path& path, const LoadOptions& options = {});
 
+// The URIs of the external files a glTF or GLB file's buffers and images name (data URIs left
+// out), in document order, as written: what a result computed from the file also depends on.
+// Reads only the JSON; std::nullopt when the container or the JSON cannot be read that far.
+std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes);
+
 // Writes the asset as .glb or .gltf (by extension of `output`), all files atomically.
 // Buffers and images keep their bytes; a .gltf's external resources are written beside it.
 // Input files are never overwritten, except the asset's own file when replace_input is set
 // (--in-place); its resources still are not. Throws InputError or std::runtime_error; leaves
-// nothing behind on failure.
-void save_asset(Asset& asset, const fs::path& output, bool replace_input = false);
+// nothing behind on failure. Returns the files written, the main file last.
+std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool replace_input = false);
 
 // Copies the input file and every external resource it references to `output` unchanged
-// (same format only). Used when a step changed nothing.
-void copy_asset_verbatim(const Asset& asset, const fs::path& output);
+// (same format only). Used when a step changed nothing. Returns the files written, the main file last.
+std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output);
 
 // A GLB container (glTF 2.0 section 4.4) holding the JSON text and the BIN chunk.
 Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin);
@@ -69,8 +74,9 @@ std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index)
 // what it keeps (a 4096² PNG holds ~13 MB). Nothing happens for images held in memory.
 void release_encoded_image_pages(const Asset& asset, int index);
 
-// Counters that prove lazy work in tests: how often pixels or meshes were decoded.
+// Counters that prove lazy work: how often assets were loaded and pixels or meshes decoded.
 struct WorkCounters {
+  std::atomic<long> assets_loaded{0};  // load_asset calls: what a run served from a cache did not do
   std::atomic<long> images_decoded{0};
   std::atomic<long> meshes_decoded{0};
 };

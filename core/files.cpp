@@ -180,15 +180,18 @@ void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uin
   staged_.emplace_back(temporary, destination);
 }
 
-void AtomicWriteSet::commit() {
+std::vector<fs::path> AtomicWriteSet::commit() {
+  std::vector<fs::path> written;
   for (auto& [temporary, destination] : staged_) {
     std::error_code ec;
     fs::rename(temporary, destination, ec);
     if (ec) throw OutputError("cannot rename into " + destination.string() + ": " + ec.message());
     forget_temporary(temporary);
     temporary.clear();
+    written.push_back(destination);
   }
   staged_.clear();
+  return written;
 }
 
 std::string percent_decode(const std::string& uri) {

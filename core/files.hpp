@@ -52,8 +52,8 @@ class AtomicWriteSet {
   ~AtomicWriteSet();
   // Throws OutputError naming the destination and errno's reason when the temporary cannot be written.
   void stage(const fs::path& destination, std::span<const std::uint8_t> bytes);
-  // Renames every staged file into place, in staging order.
-  void commit();
+  // Renames every staged file into place, in staging order; returns their destinations.
+  std::vector<fs::path> commit();
 
  private:
   std::vector<std::pair<fs::path, fs::path>> staged_;  // (temporary, destination)

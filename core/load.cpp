@@ -346,7 +346,30 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 
 }  // namespace
 
+std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes) {
+  try {
+    const bool binary = file_bytes.size() >= 4 && std::memcmp(file_bytes.data(), "glTF", 4) == 0;
+    const nlohmann::json root = nlohmann::json::parse(binary ? split_glb("", file_bytes).json
+                                                             : std::string(file_bytes.begin(), file_bytes.end()));
+    if (!root.is_object()) return std::nullopt;
+    std::vector<std::string> uris;
+    for (const char* collection : {"buffers", "images"}) {
+      const auto entries = root.find(collection);
+      if (entries == root.end() || !entries->is_array()) continue;
+      for (const nlohmann::json& entry : *entries) {
+        const auto uri = entry.is_object() ? entry.find("uri") : entry.end();
+        if (uri != entry.end() && uri->is_string() && !is_data_uri(uri->get<std::string>()))
+          uris.push_back(uri->get<std::string>());
+      }
+    }
+    return uris;
+  } catch (const std::exception&) {  // InputError from the container, nlohmann's parse errors
+    return std::nullopt;
+  }
+}
+
 Asset load_asset(const fs::path& path, const LoadOptions& options) {
+  ++work_counters().assets_loaded;
   Asset asset;
   asset.path = path;
   const std::string file = path.string();

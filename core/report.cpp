@@ -1,6 +1,7 @@
 #include "core/report.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
 #include <unordered_map>
 
@@ -11,10 +12,14 @@ namespace gltf_pbr {
 
 const char* severity_name(Severity severity) {
   switch (severity) {
-    case Severity::Error: return "error";
-    case Severity::Warning: return "warning";
-    case Severity::Information: return "info";
-    case Severity::Hint: return "hint";
+    case Severity::Error:
+      return "error";
+    case Severity::Warning:
+      return "warning";
+    case Severity::Information:
+      return "info";
+    case Severity::Hint:
+      return "hint";
   }
   return "error";
 }
@@ -93,6 +98,30 @@ nlohmann::ordered_json report_to_json(const Report& report) {
                     {"truncated", report.truncated}};
   if (!report.info.is_null()) json["info"] = report.info;
   return json;
+}
+
+Report report_from_json(const nlohmann::ordered_json& json) {
+  Report report;
+  report.uri = json.at("uri").get<std::string>();
+  report.mime_type = json.at("mimeType").get<std::string>();
+  const nlohmann::ordered_json& issues = json.at("issues");
+  report.truncated = issues.at("truncated").get<bool>();
+  for (const nlohmann::ordered_json& message : issues.at("messages")) {
+    Issue issue;
+    issue.code = message.at("code").get<std::string>();
+    issue.message = message.at("message").get<std::string>();
+    const int severity = message.at("severity").get<int>();
+    if (severity < 0 || severity > 3) throw std::invalid_argument("severity out of range");
+    issue.severity = static_cast<Severity>(severity);
+    if (message.contains("offset"))
+      issue.offset = message["offset"].get<std::uint64_t>();
+    else
+      issue.pointer = message.at("pointer").get<std::string>();
+    issue.count = message.value("count", std::uint64_t{1});
+    report.messages.push_back(std::move(issue));  // as written: add() would fold nothing more
+  }
+  if (json.contains("info")) report.info = json["info"];
+  return report;
 }
 
 }  // namespace gltf_pbr

@@ -61,4 +61,9 @@ void apply_policy(const IssuePolicy& policy, Report& report);
 // "count" only when it is above 1, so unfolded reports stay schema-identical to the reference.
 nlohmann::ordered_json report_to_json(const Report& report);
 
+// The report that report_to_json wrote (material names aside, which it does not hold): what a
+// results cache keeps. Throws nlohmann::json::exception or std::invalid_argument for JSON it did
+// not write.
+Report report_from_json(const nlohmann::ordered_json& json);
+
 }  // namespace gltf_pbr

@@ -122,7 +122,7 @@ Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin)
   return out;
 }
 
-void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
+std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool replace_input) {
   tinygltf::Model& model = asset.model;
   const bool to_glb = has_extension(output, ".glb");
   const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
@@ -218,10 +218,10 @@ void save_asset(Asset& asset, const fs::path& output, bool replace_input) {
     main_file.assign(json.begin(), json.end());
   }
   files.stage(output, main_file);  // staged last, so it is renamed last
-  files.commit();
+  return files.commit();
 }
 
-void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
+std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output) {
   if (fs::weakly_canonical(output) == fs::weakly_canonical(asset.path))
     throw std::runtime_error("refusing to overwrite the input " + output.string());
   AtomicWriteSet files;
@@ -239,8 +239,7 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
         std::any_of(asset.model.images.begin(), asset.model.images.end(),
                     [&](const auto& i) { return outside(i.uri); })) {
       Asset copy = asset;
-      save_asset(copy, output);
-      return;
+      return save_asset(copy, output);
     }
     auto copy = [&](const std::string& uri) {
       if (uri.empty() || is_data_uri(uri)) return;
@@ -255,7 +254,7 @@ void copy_asset_verbatim(const Asset& asset, const fs::path& output) {
   auto bytes = read_file(asset.path);
   if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file");
   files.stage(output, *bytes);
-  files.commit();
+  return files.commit();
 }
 
 }  // namespace gltf_pbr

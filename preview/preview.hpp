@@ -75,8 +75,9 @@ PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const E
 // Analytic spheres for --grid and tests: `after` materials per cell, "before" from to_spec_gloss.
 GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera);
 
-// before.png, after.png, difference.png, sheet.png and report.json into `folder`, atomically.
-void write_preview(const PreviewResult& result, const nlohmann::json& report, const fs::path& folder);
+// before.png, after.png, difference.png, sheet.png and report.json into `folder`, atomically;
+// returns the files written.
+std::vector<fs::path> write_preview(const PreviewResult& result, const nlohmann::json& report, const fs::path& folder);
 nlohmann::json preview_report(const PreviewResult& result, const PreviewOptions& options);
 
 }  // namespace gltf_pbr::preview

@@ -266,7 +266,7 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
   return report;
 }
 
-void write_preview(const PreviewResult& r, const nlohmann::json& report, const fs::path& folder) {
+std::vector<fs::path> write_preview(const PreviewResult& r, const nlohmann::json& report, const fs::path& folder) {
   std::error_code ec;
   fs::create_directories(folder, ec);
   AtomicWriteSet files;
@@ -276,7 +276,7 @@ void write_preview(const PreviewResult& r, const nlohmann::json& report, const f
   files.stage(folder / "sheet.png", encode_png(r.sheet, r.sheet_width, r.height, 3, 6));
   const std::string text = report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   files.stage(folder / "report.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-  files.commit();
+  return files.commit();
 }
 
 }  // namespace gltf_pbr::preview

@@ -34,7 +34,8 @@ Severity parse_severity(const std::string& text, const std::string& file, const 
 
 double Rule::threshold(const std::string& name) const {
   auto found = thresholds.find(name);
-  if (found == thresholds.end()) check_failed("rule has threshold", code + " has no threshold '" + name + "'", file.c_str());
+  if (found == thresholds.end())
+    check_failed("rule has threshold", code + " has no threshold '" + name + "'", file.c_str());
   return found->second;
 }
 
@@ -96,13 +97,15 @@ void RuleSet::add_from_json(const std::string& file_name, const std::string& tex
     rule.code = entry["code"];
     if (rules_.contains(rule.code)) throw InputError(file_name, pointer + "/code", rule.code + " is defined twice");
     const auto& severity = entry.value("severity", nlohmann::json("error"));
-    rule.severity = parse_severity(severity.is_number() ? std::to_string(severity.get<int>()) : severity.get<std::string>(),
-                                   file_name, pointer + "/severity");
+    rule.severity =
+        parse_severity(severity.is_number() ? std::to_string(severity.get<int>()) : severity.get<std::string>(),
+                       file_name, pointer + "/severity");
     rule.enabled = entry.value("enabled", true);
     if (entry.contains("thresholds")) {
       for (const auto& [name, value] : entry["thresholds"].items()) {
         if (!value.is_number())
-          throw InputError(file_name, pointer + "/thresholds/" + escape_pointer_token(name), "a threshold must be a number");
+          throw InputError(file_name, pointer + "/thresholds/" + escape_pointer_token(name),
+                           "a threshold must be a number");
         rule.thresholds[name] = value.get<double>();
       }
     }
@@ -120,6 +123,15 @@ const RuleSet& builtin_rules() {
     return set;
   }();
   return rules;
+}
+
+const std::string& builtin_rules_text() {
+  static const std::string text = [] {
+    std::string all;
+    for (const auto& [name, content] : embedded_rule_files()) all += name + '\0' + content + '\0';
+    return all;
+  }();
+  return text;
 }
 
 void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules, IssuePolicy& policy) {
@@ -141,7 +153,8 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
     if (!list) return result;
     if (!list.IsSequence()) throw InputError(file, std::string("/") + key, "expected a list of issue codes");
     for (std::size_t i = 0; i < list.size(); ++i) {
-      if (!list[i].IsScalar()) throw InputError(file, "/" + std::string(key) + "/" + std::to_string(i), "expected an issue code");
+      if (!list[i].IsScalar())
+        throw InputError(file, "/" + std::string(key) + "/" + std::to_string(i), "expected an issue code");
       result.insert(list[i].as<std::string>());
     }
     return result;

@@ -44,6 +44,8 @@ class RuleSet {
 
 // Every rules/*.json of the source tree, as embedded into the build.
 const RuleSet& builtin_rules();
+// Those files' names and text, one after another: what a cached result's key holds of the rules.
+const std::string& builtin_rules_text();
 
 // Reads a user config (YAML or JSON; JSON is YAML) and applies it. The Khronos shape:
 //   max-issues: 10            ignore: [CODE, ...]      only: [CODE, ...]

@@ -2,9 +2,11 @@
 the shared spec-gloss assets, repeated with small real differences (each copy's spec-gloss factors
 moved a little, so no two convert alike), in nested folders, each copy beside its own resources.
 
-    python3 make_library.py SAMPLES_DIR SHARED_DIR OUT_DIR COUNT [TEXTURED_EVERY]
+    python3 make_library.py SAMPLES_DIR SHARED_DIR OUT_DIR COUNT [TEXTURED_EVERY [NAMES]]
 
-Every TEXTURED_EVERY-th file (default 50) is a textured shared asset; the rest are factor-only samples.
+Every TEXTURED_EVERY-th file (default 50) is a textured shared asset, taken in turn from NAMES (a
+comma-separated list of shared asset names; default Box,Duck,BoxTextured); the rest are factor-only
+samples.
 Deterministic: the same arguments write the same bytes."""
 import json
 import os
@@ -15,9 +17,10 @@ import sys
 samples_dir, shared_dir, out_dir = map(pathlib.Path, sys.argv[1:4])
 count = int(sys.argv[4])
 textured_every = int(sys.argv[5]) if len(sys.argv) > 5 else 50
+textured_names = sys.argv[6].split(",") if len(sys.argv) > 6 else ["Box", "Duck", "BoxTextured"]
 
 samples = sorted(samples_dir.glob("*.gltf"))
-textured = [shared_dir / "assets" / name / "specgloss" / f"{name}.gltf" for name in ("Box", "Duck", "BoxTextured")]
+textured = [shared_dir / "assets" / name / "specgloss" / f"{name}.gltf" for name in textured_names]
 textured = [path for path in textured if path.exists()]
 
 

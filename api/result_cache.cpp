@@ -1,0 +1,275 @@
+#include "api/result_cache.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+
+#include "core/asset.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+constexpr char kFormat[] = "v1";
+
+std::string hex(XXH128_hash_t hash) {
+  char text[33];
+  std::snprintf(text, sizeof text, "%016llx%016llx", static_cast<unsigned long long>(hash.high64),
+                static_cast<unsigned long long>(hash.low64));
+  return text;
+}
+
+std::span<const std::uint8_t> bytes_of(const std::string& text) {
+  return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
+}
+
+// A stored file's path: relative, inside its root, and spelled as we wrote it. Anything else came
+// from a damaged or foreign entry, and is never written.
+bool is_plain_relative(const fs::path& path) {
+  if (path.empty() || path.is_absolute() || path != path.lexically_normal()) return false;
+  for (const fs::path& part : path)
+    if (part == ".." || part == ".") return false;
+  return true;
+}
+
+XXH128_hash_t hash_of(std::string_view text) { return XXH3_128bits(text.data(), text.size()); }
+
+// The file's identity and times, as text: what says it is still the file a digest was taken of.
+std::optional<std::string> signature(const fs::path& file, std::int64_t* changed_ns = nullptr) {
+  struct stat status {};
+  if (::stat(file.c_str(), &status) != 0 || !S_ISREG(status.st_mode)) return std::nullopt;
+  const auto ns = [](const timespec& t) { return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec; };
+  if (changed_ns) *changed_ns = std::max(ns(status.st_mtim), ns(status.st_ctim));
+  char text[128];
+  std::snprintf(text, sizeof text, "%llu %llu %lld %lld %lld", static_cast<unsigned long long>(status.st_dev),
+                static_cast<unsigned long long>(status.st_ino), static_cast<long long>(status.st_size),
+                static_cast<long long>(ns(status.st_mtim)), static_cast<long long>(ns(status.st_ctim)));
+  return text;
+}
+
+std::int64_t now_ns() {
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
+}
+
+// XXH3-128 of a file's bytes, read in blocks (a mapping costs a page fault per page).
+std::optional<std::string> hash_file(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_128bits_reset(state);
+  std::vector<char> block(1 << 20);
+  ssize_t n = 0;
+  while ((n = ::read(fd, block.data(), block.size())) > 0 || (n < 0 && errno == EINTR))
+    if (n > 0) XXH3_128bits_update(state, block.data(), static_cast<std::size_t>(n));
+  ::close(fd);
+  const std::string digest = hex(XXH3_128bits_digest(state));
+  XXH3_freeState(state);
+  if (n < 0) return std::nullopt;
+  return digest;
+}
+
+// The URIs an input names, from the index when an earlier run listed them, else from its JSON.
+std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input) {
+  if (const std::optional<Bytes> listed = read_file(index)) {
+    try {
+      return nlohmann::json::parse(listed->begin(), listed->end()).get<std::vector<std::string>>();
+    } catch (const nlohmann::json::exception&) {
+      // a damaged index is listed again below and replaced
+    }
+  }
+  const std::optional<Bytes> bytes = read_file(input);
+  std::optional<std::vector<std::string>> uris = bytes ? external_uris(*bytes) : std::nullopt;
+  if (uris) try {
+      AtomicWriteSet file;
+      file.stage(index, bytes_of(nlohmann::json(*uris).dump()));
+      file.commit();
+    } catch (const OutputError&) {
+      // an index not written is listed again next time
+    }
+  return uris;
+}
+
+}  // namespace
+
+ResultCache::ResultCache(fs::path folder) : folder_(std::move(folder)) {
+  std::error_code error;
+  fs::create_directories(folder_ / kFormat / "tmp", error);
+  if (error || !fs::is_directory(folder_ / kFormat / "tmp"))
+    throw OutputError("cannot create the cache folder " + folder_.string() + ": " + error.message());
+}
+
+fs::path ResultCache::digest_record(const fs::path& file) const {
+  const std::string name = hex(hash_of(fs::absolute(file).lexically_normal().string()));
+  return folder_ / kFormat / "digests" / name.substr(0, 2) / name;
+}
+
+std::optional<std::string> ResultCache::digest(const fs::path& file) const {
+  std::int64_t changed = 0;
+  const std::optional<std::string> now = signature(file, &changed);
+  if (!now) return std::nullopt;
+  if (const std::optional<Bytes> record = read_file(digest_record(file))) {
+    // "<signature>\n<digest> <recorded at, ns>": trusted only when the file last changed more
+    // than a second before it was recorded. A write within the same timestamp tick as the
+    // recording would leave the times as they were ("racy git"): such a file is read again.
+    const std::string text(record->begin(), record->end());
+    const std::size_t line = text.find('\n'), space = text.rfind(' ');
+    if (line != std::string::npos && space != std::string::npos && space > line && text.compare(0, line, *now) == 0) {
+      const std::int64_t recorded = std::strtoll(text.c_str() + space + 1, nullptr, 10);
+      if (changed < recorded - 1'000'000'000) return text.substr(line + 1, space - line - 1);
+    }
+  }
+  std::optional<std::string> hash = hash_file(file);
+  if (hash) remember(file, *hash);
+  return hash;
+}
+
+void ResultCache::remember(const fs::path& file, const std::string& hash) const {
+  const std::optional<std::string> now = signature(file);
+  if (!now) return;
+  try {
+    AtomicWriteSet record;
+    record.stage(digest_record(file), bytes_of(*now + "\n" + hash + " " + std::to_string(now_ns())));
+    record.commit();
+  } catch (const OutputError&) {
+    // not recorded: read again next time
+  }
+}
+
+std::optional<std::string> ResultCache::key(const fs::path& input, std::string_view settings,
+                                            bool allow_outside) const {
+  const std::optional<std::string> input_hash = digest(input);
+  if (!input_hash) return std::nullopt;
+  const std::optional<std::vector<std::string>> uris =
+      uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input);
+  if (!uris) return std::nullopt;
+
+  XXH3_state_t* state = XXH3_createState();
+  if (!state) throw std::bad_alloc();
+  XXH3_128bits_reset(state);
+  const auto add = [&](std::string_view text) {
+    XXH3_128bits_update(state, text.data(), text.size());
+    XXH3_128bits_update(state, "", 1);  // a separator no text holds
+  };
+  add("gltf-pbr results cache");
+  add(kFormat);
+  add(settings);
+  add(*input_hash);
+  const fs::path folder = input.parent_path().empty() ? fs::path(".") : input.parent_path();
+  for (const std::string& uri : *uris) {
+    add(uri);
+    const ResolvedUri resolved = resolve_uri(folder, uri, allow_outside);
+    const std::optional<std::string> hash =
+        resolved.status == UriStatus::Readable ? digest(resolved.path) : std::nullopt;
+    add(hash                                     ? *hash
+        : resolved.status == UriStatus::Refused  ? "refused"
+        : resolved.status == UriStatus::NotFound ? "missing"
+                                                 : "unreadable");
+  }
+  const std::string key = hex(XXH3_128bits_digest(state));
+  XXH3_freeState(state);
+  return key;
+}
+
+std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::span<const fs::path> roots) {
+  const fs::path entry_folder = folder_ / kFormat / "entries" / key.substr(0, 2) / key;
+  const std::optional<Bytes> text = read_file(entry_folder / "entry.json");
+  if (!text) {
+    ++misses_;
+    return std::nullopt;
+  }
+  std::vector<MappedFile> blobs;                           // kept mapped until the set is committed
+  std::vector<std::pair<fs::path, std::string>> restored;  // (destination, digest) of files written
+  AtomicWriteSet files;
+  nlohmann::json entry;
+  try {
+    const nlohmann::json stored = nlohmann::json::parse(text->begin(), text->end());
+    entry = stored.at("entry");
+    const nlohmann::json& listed = stored.at("files");
+    for (std::size_t i = 0; i < listed.size(); ++i) {
+      const auto root = listed[i].at("root").get<std::size_t>();
+      const fs::path path = listed[i].at("path").get<std::string>();
+      const std::string hash = listed[i].at("digest").get<std::string>();
+      if (root >= roots.size() || !is_plain_relative(path)) throw std::invalid_argument("file outside its root");
+      const fs::path destination = roots[root] / path;
+      if (digest(destination) == hash) continue;  // already there, as a rerun into the same folder finds it
+      std::optional<MappedFile> blob = MappedFile::open(entry_folder / std::to_string(i));
+      if (!blob) throw std::invalid_argument("file missing");
+      blobs.push_back(std::move(*blob));
+      files.stage(destination, blobs.back().bytes());
+      restored.emplace_back(destination, hash);
+    }
+  } catch (const OutputError&) {
+    throw;
+  } catch (const std::exception&) {
+    // Damaged or foreign: never trusted. Moved aside whole (a rename, so no reader sees it half
+    // gone), so the result computed instead can take its place.
+    static std::atomic<std::uint64_t> serial{0};
+    const fs::path aside =
+        folder_ / kFormat / "tmp" / (std::to_string(::getpid()) + "-damaged-" + std::to_string(serial++) + "-" + key);
+    std::error_code error;
+    fs::rename(entry_folder, aside, error);
+    fs::remove_all(aside, error);
+    ++misses_;
+    return std::nullopt;
+  }
+  files.commit();
+  for (const auto& [destination, hash] : restored) remember(destination, hash);
+  ++hits_;
+  return entry;
+}
+
+void ResultCache::store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs) {
+  static std::atomic<std::uint64_t> serial{0};
+  const fs::path entries = folder_ / kFormat / "entries" / key.substr(0, 2);
+  const fs::path temporary =
+      folder_ / kFormat / "tmp" / (std::to_string(::getpid()) + "-" + std::to_string(serial++) + "-" + key);
+  std::error_code error;
+  try {
+    fs::create_directories(temporary);
+    nlohmann::json files = nlohmann::json::array();
+    for (std::size_t root = 0; root < outputs.size(); ++root)
+      for (const fs::path& file : outputs[root].files) {
+        const fs::path relative = file.lexically_relative(outputs[root].root);
+        if (!is_plain_relative(relative)) throw std::invalid_argument("an output outside its folder");
+        const fs::path blob = temporary / std::to_string(files.size());
+        fs::copy_file(file, blob);
+        const std::optional<std::string> hash = hash_file(blob);
+        if (!hash) throw std::invalid_argument("cannot read a copied output");
+        remember(file, *hash);  // the next run finds the output in place without reading it
+        files.push_back({{"root", root}, {"path", relative.generic_string()}, {"digest", *hash}});
+      }
+    const std::string text = nlohmann::json{{"entry", entry}, {"files", files}}.dump(
+        -1, ' ', false, nlohmann::json::error_handler_t::replace);
+    AtomicWriteSet written;
+    written.stage(temporary / "entry.json", bytes_of(text));
+    written.commit();
+    fs::create_directories(entries);
+    // rename(2) of a folder onto a non-empty one fails: another process stored the same result first.
+    if (std::rename(temporary.c_str(), (entries / key).c_str()) != 0 && errno != EEXIST && errno != ENOTEMPTY)
+      throw std::system_error(errno, std::generic_category());
+    fs::remove_all(temporary, error);
+    ++stored_;
+  } catch (const std::exception&) {
+    fs::remove_all(temporary, error);
+    ++not_stored_;
+  }
+}
+
+nlohmann::json ResultCache::stats_json() const {
+  return {{"folder", folder_.string()},
+          {"hits", hits_.load()},
+          {"misses", misses_.load()},
+          {"stored", stored_.load()},
+          {"notStored", not_stored_.load()}};
+}
+
+}  // namespace gltf_pbr

@@ -1,0 +1,71 @@
+// The results cache behind --cache DIR (issue 16). Every command is a pure function of the input's
+// bytes, the files it references, its options, the rules and the tool's version (DESIGN.md, "Scale
+// past one machine"), so a result is kept under a hash of all of them and a later run restores it,
+// outputs and report entry, without loading the asset.
+//
+// DIR holds one format, v1, which several processes and machines may share:
+//   v1/uris/<input digest>.json the external URIs the input names, so a lookup need not parse it
+//   v1/digests/<ab>/<path hash> a file's digest with the identity and times it had then, so an
+//                               unchanged input, resource or output in place is not read again
+//   v1/entries/<ab>/<key>/      entry.json (the report entry and the list of files) and the files
+//   v1/tmp/                     entries being written; each is renamed into entries/ whole, so a
+//                               reader sees a complete entry or none, and the first writer wins
+// Entries never change once written, and nothing is evicted: delete DIR to reclaim its space.
+// Only results worth repeating are stored: a failed file is computed again on every run.
+#pragma once
+#include <atomic>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gltf_pbr {
+
+class ResultCache {
+ public:
+  // Creates the folder; throws OutputError naming it when that fails.
+  explicit ResultCache(std::filesystem::path folder);
+
+  // The key of the result that `settings` (the command and everything besides the files that it
+  // depends on, as text) computes from `input`: XXH3-128 of the settings, the input's bytes and each
+  // external file it names, resolved with the loader's path policy. A URI that is missing, or
+  // outside the input's folder without `allow_outside`, enters the key as such and is not opened.
+  // std::nullopt when the input cannot be read or its URIs listed: that file is computed, not kept.
+  std::optional<std::string> key(const std::filesystem::path& input, std::string_view settings,
+                                 bool allow_outside) const;
+
+  // Files a result wrote, each under `root`: an output folder, a preview folder.
+  struct Outputs {
+    std::filesystem::path root;
+    std::vector<std::filesystem::path> files;
+  };
+
+  // The report entry stored under `key`, with its files written again under `roots` (the same
+  // kinds of folder, in the same order, as when it was stored) in one atomic set; a file already
+  // holding the same bytes is left alone. std::nullopt (a miss) when there is no entry or it is
+  // damaged. Throws OutputError when a file cannot be written.
+  std::optional<nlohmann::json> restore(const std::string& key, std::span<const std::filesystem::path> roots);
+
+  // Keeps `entry` and a copy of every output under `key`. Never throws: a cache that cannot be
+  // written costs the next run time, not this run its result, and is counted as not stored.
+  void store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs);
+
+  // {"folder", "hits", "misses", "stored", "notStored"} for the run's report.
+  nlohmann::json stats_json() const;
+  std::size_t hits() const { return hits_; }
+
+ private:
+  // XXH3-128 of the file's bytes, read only when its device, inode, size and times differ from
+  // those recorded with its last digest; std::nullopt when it cannot be read.
+  std::optional<std::string> digest(const std::filesystem::path& file) const;
+  void remember(const std::filesystem::path& file, const std::string& digest) const;
+  std::filesystem::path digest_record(const std::filesystem::path& file) const;
+
+  std::filesystem::path folder_;
+  std::atomic<std::size_t> hits_{0}, misses_{0}, stored_{0}, not_stored_{0};
+};
+
+}  // namespace gltf_pbr

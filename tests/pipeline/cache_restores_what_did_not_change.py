@@ -1,0 +1,127 @@
+"""convert --cache: a rerun restores every file's outputs and report entry without loading one asset,
+byte-identical to a run without the cache and at least 50 times faster than the run that filled it;
+a changed texture redoes exactly the asset that names it; two processes sharing one cache folder
+at once both finish with the right outputs; and a damaged entry is computed again, never trusted.
+
+    python3 cache_restores_what_did_not_change.py CLI SAMPLES_DIR SHARED_DIR"""
+import hashlib
+import json
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+cli, samples, shared = sys.argv[1:4]
+here = pathlib.Path(__file__).parent
+work = pathlib.Path(tempfile.mkdtemp())
+
+
+def make_library(folder, count, textured_every, names=None):
+    arguments = [samples, shared, str(folder), str(count), str(textured_every)] + ([names] if names else [])
+    subprocess.run([sys.executable, str(here / "make_library.py"), *arguments], check=True, capture_output=True)
+
+
+def convert(library, output, *options):
+    """Runs convert; returns its report and its wall time in seconds."""
+    report = work / "report.json"
+    start = time.monotonic()
+    subprocess.run([cli, "convert", str(library), "-o", str(output), "-q", "-j", "2", "--report", str(report),
+                    *map(str, options)], check=True)
+    return json.loads(report.read_text()), time.monotonic() - start
+
+
+def contents(folder):
+    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def without_run_fields(report):
+    """The file entries as a reader compares runs: measured times and cache marks aside."""
+    files = []
+    for entry in report["files"]:
+        entry = {k: v for k, v in entry.items() if k not in ("timeMs", "computedTimeMs", "cached")}
+        for material in entry.get("materials", []):
+            material.pop("timeMs", None)
+        files.append(entry)
+    return files
+
+
+try:
+    # Assets with real textures, each copy's factors moved a little: what a rerun of a real library skips.
+    library = work / "library"
+    make_library(library, 20, 1, "Avocado,CesiumMilkTruck")
+    # One asset with a texture of its own (the others share theirs with their copies), to change below.
+    solo = library / "solo"
+    solo.mkdir()
+    for resource in (pathlib.Path(shared) / "assets" / "Duck" / "specgloss").iterdir():
+        shutil.copyfile(resource, solo / resource.name)
+    count = 21
+
+    reference, _ = convert(library, work / "reference")
+    cache = work / "cache"
+    first, first_seconds = convert(library, work / "out", "--cache", cache)
+    assert first["cache"]["misses"] == count and first["cache"]["stored"] == count, first["cache"]
+    assert contents(work / "out") == contents(work / "reference"), "a run that fills the cache writes other bytes"
+
+    # A digest is trusted only for a file unchanged for over a second before it was recorded.
+    time.sleep(1.5)
+    reruns = [convert(library, work / "out", "--cache", cache) for _ in range(3)]
+    rerun, _ = reruns[-1]
+    rerun_seconds = min(seconds for _, seconds in reruns)
+    assert rerun["cache"]["hits"] == count and rerun["cache"]["assetsLoaded"] == 0, rerun["cache"]
+    assert all(entry["cached"] for entry in rerun["files"])
+    assert without_run_fields(rerun) == without_run_fields(first), "a restored entry differs from the computed one"
+    assert rerun["totals"]["materials"] == first["totals"]["materials"] > 0
+    assert contents(work / "out") == contents(work / "reference"), "a rerun changed the outputs"
+    speedup = first_seconds / rerun_seconds
+    print(f"first run {first_seconds:.2f} s, cached rerun {rerun_seconds:.3f} s: {speedup:.0f}x")
+    assert speedup >= 50, f"a cached rerun is only {speedup:.1f}x faster than the run that filled the cache"
+
+    # Into an empty folder, every output comes from the cache.
+    fresh, _ = convert(library, work / "elsewhere", "--cache", cache)
+    assert fresh["cache"]["hits"] == count and fresh["cache"]["assetsLoaded"] == 0, fresh["cache"]
+    assert contents(work / "elsewhere") == contents(work / "reference")
+
+    # A changed texture (written as a new file, as an exporter does) redoes the one asset naming it.
+    before = contents(work / "out")
+    replacement = solo / "DuckCM.png.new"
+    shutil.copyfile(pathlib.Path(shared) / "assets" / "BoxTextured" / "specgloss" / "CesiumLogoFlat.png", replacement)
+    replacement.replace(solo / "DuckCM.png")
+    changed, _ = convert(library, work / "out", "--cache", cache)
+    assert changed["cache"]["hits"] == count - 1 and changed["cache"]["misses"] == 1, changed["cache"]
+    assert changed["cache"]["assetsLoaded"] == 1, changed["cache"]
+    redone = [entry["input"] for entry in changed["files"] if not entry.get("cached")]
+    assert redone == [str(solo / "Duck.gltf")], redone
+    after = contents(work / "out")
+    differing = sorted(name for name in after if after[name] != before.get(name))
+    assert differing and all(name.startswith("library/solo/") for name in differing), differing
+
+    # Two processes filling one cache folder at once, on a library of mostly factor-only files.
+    mixed = work / "mixed"
+    make_library(mixed, 300, 25)
+    mixed_reference, _ = convert(mixed, work / "mixed-reference")
+    shared_cache = work / "shared-cache"
+    runs = [subprocess.Popen([cli, "convert", str(mixed), "-o", str(work / f"mixed{n}"), "-q", "-j", "1",
+                              "--cache", str(shared_cache), "--report", str(work / f"mixed{n}.json")])
+            for n in range(2)]
+    assert [run.wait() for run in runs] == [0, 0], "a run sharing the cache folder failed"
+    for n in range(2):
+        assert contents(work / f"mixed{n}") == contents(work / "mixed-reference"), f"run {n} wrote other bytes"
+    entries = list((shared_cache / "v1" / "entries").glob("*/*"))
+    assert len(entries) == 300 and all((entry / "entry.json").is_file() for entry in entries), len(entries)
+    assert not list((shared_cache / "v1" / "tmp").iterdir()), "an entry was left half written"
+
+    # A damaged entry is a miss: computed again and the output written right, never restored.
+    victim = next(entry for entry in entries if json.loads((entry / "entry.json").read_text())["files"])
+    (victim / "0").write_bytes(b"not what was stored")
+    (victim / "entry.json").write_text(json.dumps({"entry": {}, "files": [{"root": 0, "path": "../../escape",
+                                                                          "digest": "0"}]}))
+    damaged, _ = convert(mixed, work / "mixed-damaged", "--cache", shared_cache)
+    assert damaged["cache"]["misses"] == 1 and damaged["cache"]["hits"] == 299, damaged["cache"]
+    assert contents(work / "mixed-damaged") == contents(work / "mixed-reference")
+    assert not (work / "escape").exists()
+    print("cache: reruns restore, changes redo, shared folders hold")
+finally:
+    shutil.rmtree(work, ignore_errors=True)
