@@ -21,13 +21,18 @@ json times_json(const StageTimes& t) {
 }  // namespace
 
 json file_json(const FileResult& r) {
-  if (r.cached) {  // the entry as computed, with this run's paths and the time this run took
-    json out = *r.cached;
+  if (r.entry) {  // as computed elsewhere, with this run's paths and the time this run took for it
+    json out = *r.entry;
     out["input"] = r.input;
     out["output"] = r.output;
-    out["cached"] = true;
-    out["computedTimeMs"] = out.value("timeMs", json(nullptr));
-    out["timeMs"] = {{"total", r.total_ms}};
+    json& times = out["timeMs"];
+    if (r.cached) {
+      out["cached"] = true;
+      if (!out.contains("computedTimeMs")) out["computedTimeMs"] = times;  // a child's entry has it already
+      times = json::object();
+    }
+    if (!times.is_object()) times = json::object();
+    times["total"] = r.total_ms;  // for a child process, its start and exit too
     return out;
   }
   json out = {{"input", r.input}, {"output", r.output}, {"status", file_status_name(r.status)}};

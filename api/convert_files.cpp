@@ -1,8 +1,12 @@
 // Converting files: one at a time as the library's convert_file, many on the pool as the tool's
 // `convert` and the library's convert_files.
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
 #include <sstream>
 #include <system_error>
+#include <thread>
 
 #include "api/files.hpp"
 #include "api/result_cache.hpp"
@@ -34,6 +38,30 @@ bool same_file(const fs::path& a, const fs::path& b) {
 using Clock = std::chrono::steady_clock;
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// For the tests of --isolate only: GLTF_PBR_TEST_FAULT="crash=NAME,hang=NAME,oom=NAME" makes the
+// conversion of a file named NAME crash, hang, or allocate without end. Unset, it costs one getenv.
+void inject_test_fault(const fs::path& input) {
+  const char* faults = std::getenv("GLTF_PBR_TEST_FAULT");
+  if (!faults) return;
+  const std::string name = input.filename().string();
+  std::string_view list = faults;
+  while (!list.empty()) {
+    const std::string_view fault = list.substr(0, list.find(','));
+    list.remove_prefix(std::min(list.size(), fault.size() + 1));
+    const std::size_t equals = fault.find('=');
+    if (equals == std::string_view::npos || fault.substr(equals + 1) != name) continue;
+    const std::string_view kind = fault.substr(0, equals);
+    if (kind == "crash") std::abort();  // SIGABRT: the sanitizers turn a SIGSEGV into an exit code
+    if (kind == "hang")
+      for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+    if (kind == "oom")
+      for (std::vector<std::unique_ptr<char[]>> blocks;;) {  // touched, so it is resident
+        blocks.emplace_back(new char[64 << 20]);
+        std::memset(blocks.back().get(), 1, 64 << 20);
+      }
+  }
 }
 
 // A job's result before anything happened to it: failed until something succeeds.
@@ -79,7 +107,8 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
       if (std::optional<nlohmann::json> entry = cache.restore(*key, roots)) {
         FileResult hit = result_of(job);
         hit.status = file_status_from_name(entry->value("status", "")).value_or(FileStatus::Failed);
-        hit.cached = std::move(*entry);
+        hit.entry = std::move(*entry);
+        hit.cached = true;
         hit.total_ms = ms_between(start, Clock::now());
         if (hit.status != FileStatus::Failed) return hit;  // a stored failure is not one we wrote
       }
@@ -112,6 +141,7 @@ ConvertOptions conversion_options(const ConvertFileOptions& options) {
 }
 
 FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& options) {
+  inject_test_fault(job.input);
   FileResult result = result_of(job);
   const ConvertOptions converter = conversion_options(options);
   const auto start = Clock::now();
@@ -171,7 +201,7 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                       unsigned threads,
                                       const std::function<void(std::size_t, const FileResult&)>& on_done,
-                                      ResultCache* cache) {
+                                      ResultCache* cache, const ConvertJobFunction& convert_job) {
   std::vector<FileResult> results(jobs.size());
   const std::int64_t at_once = threads ? threads : hardware_threads();
   const std::string run = cache ? run_settings(options) : "";
@@ -179,7 +209,9 @@ std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const Co
       static_cast<std::int64_t>(jobs.size()),
       [&](std::int64_t index) {
         const auto i = static_cast<std::size_t>(index);
-        results[i] = cache ? convert_cached(jobs[i], options, run, *cache) : convert_one(jobs[i], options);
+        results[i] = convert_job ? convert_job(i, jobs[i])
+                     : cache     ? convert_cached(jobs[i], options, run, *cache)
+                                 : convert_one(jobs[i], options);
         if (on_done) on_done(i, results[i]);
       },
       at_once);

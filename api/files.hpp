@@ -24,7 +24,10 @@ struct FileResult {
   ConversionReport report;
   double load_ms = 0, save_ms = 0, total_ms = 0;
   std::vector<fs::path> written, preview_written;  // the files this run wrote: outputs, preview
-  std::optional<nlohmann::json> cached;            // the report entry restored by --cache, on a hit
+  // The report entry as JSON when it was not computed here: restored by --cache (`cached`), or
+  // written by the child process that converted the file (--isolate). `report` is then empty.
+  std::optional<nlohmann::json> entry;
+  bool cached = false;
 };
 
 std::optional<FileStatus> file_status_from_name(std::string_view name);
@@ -43,11 +46,13 @@ FileResult convert_one(const ConvertJob& job, const ConvertFileOptions& options)
 
 // convert_one for every job on the process's pool, at most `threads` files at a time (0: one per
 // hardware thread); on_done(job index, result) as each finishes, on the thread that ran it. With a
-// cache, a job whose result it holds is restored from it, and one computed is stored in it.
+// cache, a job whose result it holds is restored from it, and one computed is stored in it. With
+// `convert_job`, each job is converted by it instead of convert_one (and the cache is its own).
+using ConvertJobFunction = std::function<FileResult(std::size_t, const ConvertJob&)>;
 std::vector<FileResult> convert_batch(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                       unsigned threads,
                                       const std::function<void(std::size_t, const FileResult&)>& on_done,
-                                      ResultCache* cache = nullptr);
+                                      ResultCache* cache = nullptr, const ConvertJobFunction& convert_job = {});
 
 // A file's entry of `convert --report`, and the whole report around several.
 nlohmann::json file_json(const FileResult& result);

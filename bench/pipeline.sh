@@ -3,9 +3,10 @@
 # samples and shared assets with varied factors; every TEXTURED_EVERY-th file textured) converted
 #   - by one `gltf-pbr convert -j 2` process,
 #   - by dist/dask_convert.py on a local cluster of two worker processes (8 shards, -j 1 each),
-# alternating, RUNS times each; and validated by one `gltf-pbr validate -j 2` process. Prints
-# markdown: median files per second, the Dask run's overhead against one process, and the per-file
-# convert cost (median, p99) from --results.
+# alternating, RUNS times each; and validated by one `gltf-pbr validate -j 2` process. Then the
+# same with --cache: the run that fills a cache (cold) once, and RUNS reruns restoring from it, for
+# one process, the Dask driver and validate. Prints markdown: median files per second, the Dask
+# run's overhead against one process, and the per-file convert cost (median, p99) from --results.
 #   bench/pipeline.sh [SHARED_DIR]    (FILES=2000 TEXTURED_EVERY=50 RUNS=3 by default)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -37,11 +38,29 @@ for run in $(seq "$runs"); do
     --tool "$tool" --local-workers 2 --shards 8 --work "$work/shards")")
   validate+=("$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated")")
 done
-"$python" - "$files" "$work/one.jsonl" "${one[*]}" "${dask[*]}" "${validate[*]}" <<'PY'
+rm -rf "$work/one" "$work/dask" "$work/shards" "$work/validated"
+cold_one="$(seconds "$tool" convert "$work/library" -o "$work/one" -q -j 2 --cache "$work/cache")"
+cold_dask="$(seconds "$python" "$root/dist/dask_convert.py" "$work/library" -o "$work/dask" --report "$work/dask.json" \
+  --tool "$tool" --local-workers 2 --shards 8 --work "$work/shards" -- --cache "$work/dask-cache")"
+cold_validate="$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated" \
+  --cache "$work/validate-cache")"
+sleep 1.5  # a file's digest is trusted once it is over a second older than its record
+cached_one=() cached_dask=() cached_validate=()
+for run in $(seq "$runs"); do
+  cached_one+=("$(seconds "$tool" convert "$work/library" -o "$work/one" -q -j 2 --cache "$work/cache")")
+  cached_dask+=("$(seconds "$python" "$root/dist/dask_convert.py" "$work/library" -o "$work/dask" \
+    --report "$work/dask.json" --tool "$tool" --local-workers 2 --shards 8 --work "$work/shards" \
+    -- --cache "$work/dask-cache")")
+  cached_validate+=("$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated" \
+    --cache "$work/validate-cache")")
+done
+"$python" - "$files" "$work/one.jsonl" "${one[*]}" "${dask[*]}" "${validate[*]}" "$cold_one" "$cold_dask" \
+  "$cold_validate" "${cached_one[*]}" "${cached_dask[*]}" "${cached_validate[*]}" <<'PY'
 import json, statistics, sys
 files = int(sys.argv[1])
 lines = [json.loads(line) for line in open(sys.argv[2])]
-one, dask, validate = ([float(x) for x in arg.split()] for arg in sys.argv[3:6])
+one, dask, validate, cold_one, cold_dask, cold_validate, cached_one, cached_dask, cached_validate = (
+    [float(x) for x in arg.split()] for arg in sys.argv[3:12])
 def row(name, times):
     m = statistics.median(times)
     print(f"| {name} | {m:.2f} s | {files / m:.0f} | {', '.join(f'{t:.2f}' for t in times)} |")
@@ -50,6 +69,15 @@ print("| run | median wall | files/s | runs |\n|---|---|---|---|")
 row("convert, one process -j 2", one)
 row("convert, Dask local cluster (2 workers, 8 shards)", dask)
 row("validate, one process -j 2", validate)
+row("convert --cache, cold (fills the cache)", cold_one)
+row("convert --cache, rerun (all restored)", cached_one)
+row("convert, Dask, --cache cold", cold_dask)
+row("convert, Dask, --cache rerun", cached_dask)
+row("validate --cache, cold", cold_validate)
+row("validate --cache, rerun", cached_validate)
+print(f"\ncached rerun against the run without a cache: convert {statistics.median(one) / statistics.median(cached_one):.0f}x, "
+      f"Dask {statistics.median(dask) / statistics.median(cached_dask):.1f}x, "
+      f"validate {statistics.median(validate) / statistics.median(cached_validate):.0f}x faster")
 print(f"\nDask against one process: {statistics.median(dask) / statistics.median(one):.2f}x the wall time")
 costs = sorted(l["timeMs"]["total"] for l in lines)
 p99 = costs[min(len(costs) - 1, int(0.99 * len(costs)))]

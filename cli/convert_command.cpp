@@ -1,4 +1,6 @@
 // `gltf-pbr convert`: many files in parallel, each loaded once, converted, saved atomically.
+#include <stdlib.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <optional>
@@ -9,9 +11,12 @@
 #include "cli/commands.hpp"
 #include "cli/file_summary.hpp"
 #include "cli/inputs.hpp"
+#include "cli/isolate.hpp"
 #include "cli/pipeline.hpp"
 #include "core/asset.hpp"
+#include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/image.hpp"
 #include "core/text.hpp"
 
 namespace gltf_pbr::cli {
@@ -20,7 +25,9 @@ namespace {
 struct ConvertArgs {
   std::vector<std::string> inputs;
   std::string output, format, report, target = "metalness", solver = "balanced", preview;
-  bool in_place = false, allow_outside = false, quiet = false, verbose = false;
+  bool in_place = false, allow_outside = false, quiet = false, verbose = false, isolate = false;
+  double file_timeout = 0;        // seconds, with --isolate; 0: none
+  std::uint64_t file_memory = 0;  // MiB, with --isolate; 0: none
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   double specular_tolerance = 2.0;
   int png_compression = 3;
@@ -73,6 +80,53 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
   return jobs;
 }
 
+std::string exact_text(double value) {  // every digit the double holds
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// The options a --isolate child takes from this run: everything that shapes a file's result.
+std::vector<std::string> child_options(const ConvertArgs& args) {
+  std::vector<std::string> options{"--target",
+                                   args.target,
+                                   "--solver",
+                                   args.solver,
+                                   "--specular-tolerance",
+                                   exact_text(args.specular_tolerance),
+                                   "--png-compression",
+                                   std::to_string(args.png_compression),
+                                   "--jpeg-quality",
+                                   std::to_string(args.jpeg_quality),
+                                   "--error-samples",
+                                   std::to_string(args.error_samples),
+                                   "--max-image-pixels",
+                                   std::to_string(max_image_pixels())};
+  if (args.allow_outside) options.push_back("--allow-outside-uris");
+  if (!args.pipeline.cache.empty()) options.insert(options.end(), {"--cache", args.pipeline.cache});
+  return options;
+}
+
+// A private folder for the children's reports, removed with the run.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    std::string name = (fs::temp_directory_path() / "gltf-pbr-isolate-XXXXXX").string();
+    if (!::mkdtemp(name.data())) throw OutputError("cannot create a folder for child reports: " + name);
+    path_ = name;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
 int run(const ConvertArgs& args) {
   if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
   if (args.in_place && !args.pipeline.cache.empty())
@@ -106,8 +160,18 @@ int run(const ConvertArgs& args) {
     }
 
   ResultsLog results_log(args.pipeline.results);
-  std::optional<ResultCache> cache;
-  if (!args.pipeline.cache.empty()) cache.emplace(args.pipeline.cache);
+  std::optional<ResultCache> cache;  // with --isolate, each child keeps its file in the cache
+  if (!args.pipeline.cache.empty() && !args.isolate) cache.emplace(args.pipeline.cache);
+  std::optional<ScratchFolder> scratch;
+  std::vector<nlohmann::json> child_caches(jobs.size());
+  ConvertJobFunction in_child;
+  if (args.isolate) {
+    scratch.emplace();
+    in_child = [&, options = child_options(args), limits = ChildLimits{args.file_timeout, args.file_memory << 20}](
+                   std::size_t job, const ConvertJob& convert_job) {
+      return convert_in_child(convert_job, options, limits, scratch->path(), job, &child_caches[job]);
+    };
+  }
   Progress progress(jobs.size(), "converting");
   const std::vector<FileResult> results = convert_batch(
       jobs, options, args.jobs,
@@ -118,7 +182,7 @@ int run(const ConvertArgs& args) {
         const bool show = !args.quiet || result.status == FileStatus::Failed;
         progress.done(show ? file_summary(result, args.verbose) : "");
       },
-      cache ? &*cache : nullptr);
+      cache ? &*cache : nullptr, in_child);
   const auto failed =
       std::count_if(results.begin(), results.end(), [](const FileResult& r) { return r.status == FileStatus::Failed; });
   if (!args.report.empty()) {
@@ -126,6 +190,8 @@ int run(const ConvertArgs& args) {
     if (cache) {
       report["cache"] = cache->stats_json();
       report["cache"]["assetsLoaded"] = work_counters().assets_loaded.load();
+    } else if (args.isolate && !args.pipeline.cache.empty()) {
+      report["cache"] = sum_of_counts(child_caches);
     }
     if (sharded) {  // what merge-reports needs to put the shards back together
       report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", planned.size()}};
@@ -134,10 +200,14 @@ int run(const ConvertArgs& args) {
     write_atomically(args.report, json_text(report));
   }
   if (!args.quiet)
-    std::fprintf(stderr, "%s: %zu converted or copied%s, %zu failed\n", counted(results.size(), "file").c_str(),
-                 results.size() - static_cast<size_t>(failed),
-                 cache ? (" (" + std::to_string(cache->hits()) + " from the cache)").c_str() : "",
-                 static_cast<size_t>(failed));
+    std::fprintf(
+        stderr, "%s: %zu converted or copied%s, %zu failed\n", counted(results.size(), "file").c_str(),
+        results.size() - static_cast<size_t>(failed),
+        cache ? (" (" + std::to_string(cache->hits()) + " from the cache)").c_str()
+        : args.isolate && !args.pipeline.cache.empty()
+            ? (" (" + std::to_string(sum_of_counts(child_caches).value("hits", 0)) + " from the cache)").c_str()
+            : "",
+        static_cast<size_t>(failed));
   return failed ? kSomeFilesFailed : kAllDone;
 }
 
@@ -188,6 +258,15 @@ std::function<int()> add_convert_command(CLI::App& app) {
                   "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
   add_batch_options(*cmd, "converted", args->jobs, args->allow_outside);
+  cmd->add_flag("--isolate", args->isolate,
+                "convert each file in a child process: a crash, a hang (--file-timeout) or a runaway allocation "
+                "(--file-memory) fails that file and the run goes on (about 20 ms more per file)");
+  cmd->add_option("--file-timeout", args->file_timeout, "with --isolate: seconds a file may take (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--file-memory", args->file_memory,
+                  "with --isolate: MiB of resident memory a file's child may use (0: no limit)")
+      ->capture_default_str();
   add_pipeline_options(*cmd, args->pipeline);
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");

@@ -19,11 +19,12 @@ std::string format(const char* pattern, double a, double b, double c) {
 std::string file_summary(const FileResult& r, bool verbose) {
   if (r.status == FileStatus::Failed)
     return "FAILED " + printable(r.error ? std::string(r.error->what()) : r.input + ": " + r.failure) + "\n";
-  if (r.cached)
+  if (r.entry) {  // from the cache or a child process: what its entry says
+    const std::size_t materials = r.entry->value("materials", nlohmann::json::array()).size();
     return std::string(r.status == FileStatus::Copied ? "copied " : "converted ") + printable(r.input) + " -> " +
-           printable(r.output) +
-           " (from the cache: " + counted(r.cached->value("materials", nlohmann::json::array()).size(), "material") +
-           ")\n";
+           printable(r.output) + " (" + counted(materials, "material") +
+           (r.cached ? ", from the cache)\n" : format(", %.0f ms, in a child process)\n", r.total_ms, 0, 0));
+  }
   const ConversionReport& c = r.report;
   // Paths, names, notes and warnings come from the file or the user: printable() escapes them.
   const std::string input = printable(r.input), output = printable(r.output);

@@ -7,6 +7,7 @@
 
 #include "api/files.hpp"
 #include "cli/commands.hpp"
+#include "cli/pipeline.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/json_pointer.hpp"
@@ -74,7 +75,9 @@ json merge(const std::vector<std::string>& files) {
   const std::size_t shard_count = first["shard"]["count"], total = first["shard"]["files"];
   // The same run split N ways: every header field but the shard index must agree.
   json header = first;
-  header.erase("files"), header.erase("totals"), header.erase("shard");
+  // "cache" is each shard's own count of what it restored: added up, not compared.
+  header.erase("files"), header.erase("totals"), header.erase("shard"), header.erase("cache");
+  std::vector<json> caches;
   std::set<std::size_t> shards_seen;
   std::size_t entries = 0;
   for (std::size_t r = 0; r < reports.size(); ++r) {
@@ -85,7 +88,8 @@ json merge(const std::vector<std::string>& files) {
         throw InputError(file, "/" + escape_pointer_token(it.key()),
                          "differs from " + files.front() + ": not shards of one run");
     for (auto it = report.begin(); it != report.end(); ++it)
-      if (!header.contains(it.key()) && it.key() != "files" && it.key() != "totals" && it.key() != "shard")
+      if (!header.contains(it.key()) && it.key() != "files" && it.key() != "totals" && it.key() != "shard" &&
+          it.key() != "cache")
         throw InputError(file, "/" + escape_pointer_token(it.key()),
                          "not in " + files.front() + ": not shards of one run");
     if (report["shard"]["count"] != shard_count || report["shard"]["files"] != total)
@@ -95,6 +99,14 @@ json merge(const std::vector<std::string>& files) {
     if (!shards_seen.insert(index).second)
       throw InputError(file, "/shard/index", "shard " + std::to_string(index) + " given twice");
     entries += report["files"].size();
+    if (report.contains("cache")) {
+      const json& cache = report["cache"];
+      if (!cache.is_object()) throw InputError(file, "/cache", "expected an object of counts");
+      for (auto it = cache.begin(); it != cache.end(); ++it)
+        if (it.key() != "folder" && !it.value().is_number_unsigned())
+          throw InputError(file, "/cache/" + escape_pointer_token(it.key()), "expected a count");
+      caches.push_back(cache);
+    }
   }
   // Counts come from the files: they are checked against what was given before anything is
   // allocated by them.
@@ -129,6 +141,7 @@ json merge(const std::vector<std::string>& files) {
   merged["files"] = json::array();
   for (json& entry : by_position) merged["files"].push_back(std::move(entry));
   merged["totals"] = conversion_totals(merged["files"]);
+  if (!caches.empty()) merged["cache"] = sum_of_counts(caches);
   return merged;
 }
 

@@ -73,6 +73,19 @@ void ResultsLog::write(const std::string& line) {
     throw OutputError(path_.string() + ": " + std::strerror(errno));
 }
 
+nlohmann::json sum_of_counts(const std::vector<nlohmann::json>& blocks) {
+  nlohmann::json sum = nlohmann::json::object();
+  for (const nlohmann::json& block : blocks)
+    if (block.is_object())
+      for (const auto& [name, value] : block.items()) {
+        if (value.is_number_unsigned())
+          sum[name] = sum.value(name, std::uint64_t{0}) + value.get<std::uint64_t>();
+        else if (!sum.contains(name))
+          sum[name] = value;
+      }
+  return sum;
+}
+
 void add_pipeline_options(CLI::App& command, PipelineArgs& args) {
   command.add_option("--inputs-from", args.inputs_from,
                      "also take the inputs listed in FILE, one path per line ('-': standard input)");
@@ -81,7 +94,11 @@ void add_pipeline_options(CLI::App& command, PipelineArgs& args) {
                      "so N runs with I = 0..N-1 split the input without overlap (merge-reports joins their reports)");
   command.add_option("--results", args.results,
                      "write one JSON line per file as it finishes (status, outputs, errors, times), flushed at once");
-  command.add_option("--cache", args.cache,
+  add_cache_option(command, args.cache);
+}
+
+void add_cache_option(CLI::App& command, std::string& folder) {
+  command.add_option("--cache", folder,
                      "keep each file's result in DIR under a hash of its bytes, the files it names, the options, the "
                      "rules and the version, and restore it from there when they are unchanged (several runs may "
                      "share DIR)");

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -52,10 +53,16 @@ class ResultsLog {
   std::mutex mutex_;
 };
 
+// Several runs' "cache" blocks (shards, --isolate children) as one run's: counts added up, the
+// rest (the folder) as the first block has it. Blocks that are not objects are left out.
+nlohmann::json sum_of_counts(const std::vector<nlohmann::json>& blocks);
+
 // --inputs-from, --shard, --results and --cache, for a batch subcommand.
 struct PipelineArgs {
   std::string inputs_from, shard, results, cache;
 };
 void add_pipeline_options(CLI::App& command, PipelineArgs& args);
+// --cache alone, for a command that takes no other pipeline option yet.
+void add_cache_option(CLI::App& command, std::string& folder);
 
 }  // namespace gltf_pbr::cli

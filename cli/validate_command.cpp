@@ -4,17 +4,23 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <thread>
 
+#include "api/result_cache.hpp"
 #include "cli/commands.hpp"
 #include "cli/inputs.hpp"
+#include "cli/pipeline.hpp"
 #include "cli/validation_formats.hpp"
+#include "core/asset.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/image.hpp"
 #include "core/parallel.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
+#include "rules/rule_set.hpp"
 #include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
@@ -22,7 +28,7 @@ namespace {
 
 struct ValidateArgs {
   std::vector<std::string> inputs;
-  std::string output, format = "text", config, fail_on = "error", heatmaps;
+  std::string output, format = "text", config, fail_on = "error", heatmaps, cache;
   std::vector<std::string> only;
   bool allow_outside = false, quiet = false, no_self_intersections = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
@@ -67,7 +73,24 @@ nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity
           {"reports", std::move(files)}};
 }
 
+// What every file's report depends on besides the file and those it names (ResultCache::key).
+std::string run_settings(const ValidateArgs& args, const ValidateOptions& options) {
+  std::string text = std::string("validate ") + tool_version() + " steps";
+  for (const std::string& step : options.steps) text += " " + step;
+  text += std::string(" self-intersections ") + (options.self_intersections ? "on" : "off") + " allow-outside " +
+          (options.allow_outside_uris ? "on" : "off") + " max-image-pixels " + std::to_string(max_image_pixels()) +
+          "\n" + builtin_rules_text();
+  if (!args.config.empty()) {
+    const std::optional<Bytes> config = read_file(args.config);
+    if (!config) throw InputError(args.config, "", "cannot read the config file");
+    text += "\nconfig\n" + std::string(config->begin(), config->end());
+  }
+  return text;
+}
+
 int run(const ValidateArgs& args) {
+  if (!args.cache.empty() && !args.heatmaps.empty())
+    throw CLI::ValidationError("--cache", "the cache does not keep heat maps: give --cache or --heatmaps");
   RuleSet rules = builtin_rules();
   IssuePolicy policy;
   if (!args.config.empty()) apply_user_config(args.config, rules, policy);
@@ -98,6 +121,31 @@ int run(const ValidateArgs& args) {
   }
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
+  std::optional<ResultCache> cache;
+  if (!args.cache.empty()) cache.emplace(args.cache);
+  const std::string settings = cache ? run_settings(args, options) : "";
+  // A file's report from the cache when it holds one, else validated and stored.
+  const auto report_of = [&](const InputFile& file, const ValidateOptions& file_options) {
+    const std::string name = file.file.string();
+    const std::optional<std::string> key =
+        cache
+            ? cache->key(file.file, settings + "\ninput " + file.file.extension().string(), options.allow_outside_uris)
+            : std::nullopt;
+    if (key)
+      if (const std::optional<nlohmann::json> entry = cache->restore(*key, {})) try {
+          Report report = report_from_json(nlohmann::ordered_json::parse(entry->at("report").get<std::string>()));
+          report.uri = name;
+          report.material_names = entry->at("materialNames").get<std::vector<std::string>>();
+          return report;
+        } catch (const std::exception&) {
+          // an entry of another shape: validated again below
+        }
+    Report report = validate_file(file.file, name, rules, policy, file_options);
+    if (key)
+      // As text: the entry is a JSON object of sorted keys, and the report's keep their order.
+      cache->store(*key, {{"report", report_to_json(report).dump()}, {"materialNames", report.material_names}}, {});
+    return report;
+  };
   Progress progress(files.size(), "validating");
   const auto validate_one = [&](std::int64_t index) {
     const auto i = static_cast<std::size_t>(index);
@@ -105,7 +153,7 @@ int run(const ValidateArgs& args) {
     ValidateOptions file_options = options;
     if (!options.heatmaps_dir.empty())
       file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
-    reports[i] = validate_file(files[i].file, files[i].file.string(), rules, policy, file_options);
+    reports[i] = report_of(files[i], file_options);
     const Report& report = reports[i];
     std::ostringstream line;
     if (!args.quiet || fails(report, fail_on))
@@ -116,7 +164,11 @@ int run(const ValidateArgs& args) {
   };
   ThreadPool::shared().run(static_cast<std::int64_t>(files.size()), validate_one, args.jobs);
 
-  const nlohmann::ordered_json summary = summary_json(reports, fail_on);
+  nlohmann::ordered_json summary = summary_json(reports, fail_on);
+  if (cache) {
+    summary["cache"] = cache->stats_json();
+    summary["cache"]["assetsLoaded"] = work_counters().assets_loaded.load();
+  }
   if (args.format == "sarif") {
     write_output(args.output, json_text(sarif_log(reports, rules)));
   } else if (args.format == "json") {
@@ -143,7 +195,8 @@ int run(const ValidateArgs& args) {
     write_output(args.output, text);
   }
   if (!args.quiet)
-    std::fprintf(stderr, "%s: %zu with issues at or above %s\n", counted(reports.size(), "file").c_str(),
+    std::fprintf(stderr, "%s%s: %zu with issues at or above %s\n", counted(reports.size(), "file").c_str(),
+                 cache ? (" (" + std::to_string(cache->hits()) + " from the cache)").c_str() : "",
                  summary["failing"].get<std::size_t>(), severity_name(fail_on));
   return summary["failing"].get<std::size_t>() > 0 ? kSomeFilesFailed : kAllDone;
 }
@@ -182,6 +235,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_flag("--no-self-intersections", args->no_self_intersections,
                 "skip the self-intersection mesh check (the costliest)");
   add_batch_options(*cmd, "validated", args->jobs, args->allow_outside);
+  add_cache_option(*cmd, args->cache);
   cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
   return [cmd, args]() -> int {
     if (!cmd->parsed()) return -1;

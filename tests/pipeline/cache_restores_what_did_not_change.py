@@ -1,9 +1,11 @@
 """convert --cache: a rerun restores every file's outputs and report entry without loading one asset,
-byte-identical to a run without the cache and at least 50 times faster than the run that filled it;
+byte-identical to a run without the cache and at least MIN_SPEEDUP times faster than the run that
+filled it;
 a changed texture redoes exactly the asset that names it; two processes sharing one cache folder
-at once both finish with the right outputs; and a damaged entry is computed again, never trusted.
+at once both finish with the right outputs; a damaged entry is computed again, never trusted; and
+validate --cache gives back the reports, byte for byte, that validating gives.
 
-    python3 cache_restores_what_did_not_change.py CLI SAMPLES_DIR SHARED_DIR"""
+    python3 cache_restores_what_did_not_change.py CLI SAMPLES_DIR SHARED_DIR MIN_SPEEDUP"""
 import hashlib
 import json
 import pathlib
@@ -14,6 +16,7 @@ import tempfile
 import time
 
 cli, samples, shared = sys.argv[1:4]
+min_speedup = float(sys.argv[4])
 here = pathlib.Path(__file__).parent
 work = pathlib.Path(tempfile.mkdtemp())
 
@@ -77,7 +80,7 @@ try:
     assert contents(work / "out") == contents(work / "reference"), "a rerun changed the outputs"
     speedup = first_seconds / rerun_seconds
     print(f"first run {first_seconds:.2f} s, cached rerun {rerun_seconds:.3f} s: {speedup:.0f}x")
-    assert speedup >= 50, f"a cached rerun is only {speedup:.1f}x faster than the run that filled the cache"
+    assert speedup >= min_speedup, f"a cached rerun is only {speedup:.1f}x faster than the run that filled the cache"
 
     # Into an empty folder, every output comes from the cache.
     fresh, _ = convert(library, work / "elsewhere", "--cache", cache)
@@ -122,6 +125,20 @@ try:
     assert damaged["cache"]["misses"] == 1 and damaged["cache"]["hits"] == 299, damaged["cache"]
     assert contents(work / "mixed-damaged") == contents(work / "mixed-reference")
     assert not (work / "escape").exists()
-    print("cache: reruns restore, changes redo, shared folders hold")
+
+    # validate --cache: the same reports from the cache as from validating, and no asset loaded.
+    def validate(output, *options):
+        run = subprocess.run([cli, "validate", str(library), "-f", "json", "-o", str(output), "-q", "--no-self-intersections",
+                              *map(str, options)], capture_output=True)
+        assert run.returncode in (0, 1), f"validate failed to run: exit {run.returncode}"  # 1: files with errors
+        summary = json.loads((output / "summary.json").read_text())
+        return {k: v for k, v in contents(output).items() if k != "summary.json"}, summary
+    validated, _ = validate(work / "validated")
+    validate(work / "validated-filling", "--cache", work / "validate-cache")
+    time.sleep(1.5)
+    restored, summary = validate(work / "validated-cached", "--cache", work / "validate-cache")
+    assert summary["cache"]["hits"] == count and summary["cache"]["assetsLoaded"] == 0, summary["cache"]
+    assert restored == validated, "validate --cache gave other reports"
+    print("cache: reruns restore, changes redo, shared folders hold, validation reports return")
 finally:
     shutil.rmtree(work, ignore_errors=True)

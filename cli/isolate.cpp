@@ -1,0 +1,155 @@
+#include "cli/isolate.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "core/files.hpp"
+
+extern char** environ;
+
+namespace gltf_pbr::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::uint64_t resident_bytes(pid_t pid) {
+  std::ifstream statm("/proc/" + std::to_string(pid) + "/statm");
+  std::uint64_t size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+// The last non-empty line a child wrote to its standard error: its own account of what went wrong.
+std::string last_line(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string seconds_text(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", seconds);
+  return text;
+}
+
+std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+}  // namespace
+
+FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string>& options, const ChildLimits& limits,
+                            const std::filesystem::path& scratch, std::size_t index, nlohmann::json* child_cache) {
+  const auto start = Clock::now();
+  FileResult result;
+  result.input = job.input.string();
+  result.output = job.output.string();
+  const auto finish = [&](std::string failure) {
+    result.failure = std::move(failure);
+    result.total_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return result;
+  };
+  const std::filesystem::path report = scratch / (std::to_string(index) + ".json");
+  const std::filesystem::path errors = scratch / (std::to_string(index) + ".err");
+
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return finish("cannot find this executable to start a child process: " + error.message());
+  std::vector<std::string> arguments{self.string(), "convert", job.input.string(), "-q",
+                                     "-j",          "1",       "--report",         report.string()};
+  if (job.output == job.input) {
+    arguments.push_back("--in-place");
+  } else {
+    arguments.insert(arguments.end(), {"-o", job.output.string()});
+  }
+  // The child names a file's preview folder after the file, inside the folder it is given.
+  if (!job.preview_dir.empty())
+    arguments.insert(arguments.end(), {"--preview", job.preview_dir.parent_path().string()});
+  arguments.insert(arguments.end(), options.begin(), options.end());
+  std::vector<char*> argv;
+  for (std::string& argument : arguments) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  pid_t pid = 0;
+  const int spawned = ::posix_spawn(&pid, argv[0], &files, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (spawned != 0) return finish(std::string("cannot start a child process: ") + std::strerror(spawned));
+
+  // The pidfd wakes the wait the moment the child ends; the 20 ms timeout samples its memory.
+  const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  int status = 0;
+  std::string stopped;
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) return finish(std::string("lost the child process: ") + std::strerror(errno));
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (limits.seconds > 0 && seconds > limits.seconds)
+      stopped = "took longer than " + seconds_text(limits.seconds) + " s (--file-timeout): stopped";
+    else if (const std::uint64_t resident = limits.bytes ? resident_bytes(pid) : 0; resident > limits.bytes)
+      stopped = "used " + mib(resident) + " of memory, above " + mib(limits.bytes) + " (--file-memory): stopped";
+    if (!stopped.empty()) {
+      ::kill(pid, SIGKILL);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      break;
+    }
+    if (pidfd >= 0) {
+      pollfd wait{pidfd, POLLIN, 0};
+      ::poll(&wait, 1, 20);
+    } else {
+      ::usleep(20'000);
+    }
+  }
+  if (pidfd >= 0) ::close(pidfd);
+  const std::string said = last_line(errors);
+  std::filesystem::remove(errors, error);
+  if (!stopped.empty()) return finish(stopped);
+  if (WIFSIGNALED(status))
+    return finish("the child process converting it crashed: signal " + std::to_string(WTERMSIG(status)) + " (" +
+                  ::strsignal(WTERMSIG(status)) + ")");
+  const int code = WEXITSTATUS(status);
+  if (code != 0 && code != 1)
+    return finish("the child process converting it exited with code " + std::to_string(code) +
+                  (said.empty() ? "" : ": " + said));
+  try {
+    const std::optional<Bytes> text = read_file(report);
+    if (!text)
+      return finish("the child process converting it exited with code " + std::to_string(code) + " and no report" +
+                    (said.empty() ? "" : ": " + said));
+    nlohmann::json written = nlohmann::json::parse(text->begin(), text->end());
+    std::filesystem::remove(report, error);
+    nlohmann::json& entry = written.at("files").at(0);
+    result.status = file_status_from_name(entry.at("status").get<std::string>()).value_or(FileStatus::Failed);
+    result.cached = entry.value("cached", false);
+    if (child_cache && written.contains("cache")) *child_cache = written["cache"];
+    std::string failure;
+    if (result.status == FileStatus::Failed) {
+      const nlohmann::json& what = entry.at("error");
+      const std::string pointer = what.value("pointer", "");
+      failure = (pointer.empty() ? "" : pointer + ": ") + what.value("reason", "failed");
+    }
+    result.entry = std::move(entry);
+    if (result.cached) result.entry->erase("cached");  // file_json marks it again
+    return finish(failure);
+  } catch (const nlohmann::json::exception& e) {
+    return finish(std::string("the child process wrote a report this run cannot read: ") + e.what());
+  }
+}
+
+}  // namespace gltf_pbr::cli
