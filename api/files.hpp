@@ -66,6 +66,7 @@ nlohmann::json conversion_totals(const nlohmann::json& files);
 struct DrawnPreview {
   preview::PreviewResult result;
   nlohmann::json report;
+  std::vector<fs::path> written;  // the files of out_dir
 };
 DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,
                          bool allow_outside_uris);

@@ -14,8 +14,8 @@ DrawnPreview finish_preview(preview::PreviewResult result, const preview::Previe
   nlohmann::json report = preview::preview_report(result, options);
   report["input"] = name;
   if (extra.is_object()) report.update(extra);
-  preview::write_preview(result, report, out_dir);
-  return {std::move(result), std::move(report)};
+  std::vector<fs::path> written = preview::write_preview(result, report, out_dir);
+  return {std::move(result), std::move(report), std::move(written)};
 }
 
 DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,

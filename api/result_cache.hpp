@@ -53,14 +53,16 @@ class ResultCache {
   // written costs the next run time, not this run its result, and is counted as not stored.
   void store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs);
 
+  // XXH3-128 of the file's bytes, as key() takes it for the files an input names: for inputs a
+  // command takes besides the file (an environment map). Read only when the file's device, inode,
+  // size or times differ from those recorded with its last digest; std::nullopt when unreadable.
+  std::optional<std::string> digest(const std::filesystem::path& file) const;
+
   // {"folder", "hits", "misses", "stored", "notStored"} for the run's report.
   nlohmann::json stats_json() const;
   std::size_t hits() const { return hits_; }
 
  private:
-  // XXH3-128 of the file's bytes, read only when its device, inode, size and times differ from
-  // those recorded with its last digest; std::nullopt when it cannot be read.
-  std::optional<std::string> digest(const std::filesystem::path& file) const;
   void remember(const std::filesystem::path& file, const std::string& digest) const;
   std::filesystem::path digest_record(const std::filesystem::path& file) const;
 

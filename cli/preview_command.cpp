@@ -2,12 +2,18 @@
 // (the renderer is preview/).
 #include <algorithm>
 #include <cstdio>
+#include <optional>
+#include <sstream>
 
 #include "api/files.hpp"
+#include "api/result_cache.hpp"
 #include "cli/commands.hpp"
 #include "cli/inputs.hpp"
+#include "cli/pipeline.hpp"
 #include "core/error.hpp"
+#include "core/image.hpp"
 #include "core/text.hpp"
+#include "core/version.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -24,9 +30,26 @@ struct PreviewArgs {
   double yaw = 35, pitch = 20, fov = 40;
   float exposure = 1.0f;
   bool no_sun = false, grid = false, allow_outside = false, quiet = false;
+  std::string cache;
   std::vector<float> albedo{0.9f, 0.6f, 0.2f};
   int grid_count = 5;
 };
+
+// What a file's preview depends on besides the file and those it names (ResultCache::key): every
+// option, the environment map's bytes, the image limit, the version and the input's name, which
+// the report holds.
+std::string settings(const PreviewArgs& args, const preview::PreviewOptions& options, const ResultCache& cache) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "preview " << tool_version() << " size " << options.width << "x" << options.height << " yaw " << args.yaw
+       << " pitch " << args.pitch << " fov " << args.fov << " camera " << args.camera << " brdf " << args.brdf
+       << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
+       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " max-image-pixels "
+       << max_image_pixels() << " allow-outside " << args.allow_outside << " env ";
+  if (!args.environment.empty()) text << cache.digest(args.environment).value_or("unreadable");
+  text << "\ninput " << args.input;
+  return text.str();
+}
 
 int run(const PreviewArgs& args) {
   preview::PreviewOptions options;
@@ -61,7 +84,24 @@ int run(const PreviewArgs& args) {
     std::fprintf(stderr, "gltf-pbr preview: give an input file, or --grid\n");
     return kBadUsage;
   }
+  if (!args.cache.empty() && args.grid) {
+    std::fprintf(stderr, "gltf-pbr preview: --cache keeps files' previews; --grid draws none\n");
+    return kBadUsage;
+  }
   try {
+    std::optional<ResultCache> cache;
+    std::optional<std::string> key;
+    if (!args.cache.empty()) {
+      cache.emplace(args.cache);
+      key = cache->key(args.input, settings(args, options, *cache), args.allow_outside);
+      const fs::path roots[] = {args.output};
+      if (key && cache->restore(*key, roots)) {
+        if (!args.quiet)
+          std::fprintf(stderr, "%s: restored from the cache into %s\n", printable(args.input).c_str(),
+                       printable(args.output).c_str());
+        return kAllDone;
+      }
+    }
     DrawnPreview drawn;
     if (args.grid) {
       preview::GridOptions grid;
@@ -73,6 +113,10 @@ int run(const PreviewArgs& args) {
       drawn = finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
     } else {
       drawn = preview_one(args.input, args.output, options, args.allow_outside);
+      if (key) {
+        const ResultCache::Outputs outputs[] = {{args.output, drawn.written}};
+        cache->store(*key, {{"report", drawn.report}}, outputs);
+      }
     }
     const preview::PreviewResult& result = drawn.result;
     const nlohmann::json& report = drawn.report;
@@ -121,11 +165,12 @@ std::function<int()> add_preview_command(CLI::App& app) {
   cmd->add_option("--env", args->environment, "environment .hdr or .exr (equirectangular); default: built-in sky")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-sun", args->no_sun, "light by the environment only");
-  cmd->add_option("--brdf", args->brdf, "specular lobe: ggx (glTF Appendix B) or blinn-phong (normalized, (n+2)/8 form)")
+  cmd->add_option("--brdf", args->brdf,
+                  "specular lobe: ggx (glTF Appendix B) or blinn-phong (normalized, (n+2)/8 form)")
       ->check(CLI::IsMember({"ggx", "blinn-phong"}))
       ->capture_default_str();
   cmd->add_option("--legacy-reading", args->legacy_reading,
-                 "before side: a = diffuse (1 - max specular); b = also (1 - F) weighted")
+                  "before side: a = diffuse (1 - max specular); b = also (1 - F) weighted")
       ->check(CLI::IsMember({"a", "b"}))
       ->capture_default_str();
   cmd->add_option("--tone-map", args->tone_map, "neutral (Khronos PBR Neutral), aces or clamp")
@@ -147,6 +192,7 @@ std::function<int()> add_preview_command(CLI::App& app) {
       ->capture_default_str();
   add_image_limit_option(*cmd);
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  add_cache_option(*cmd, args->cache);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
 }

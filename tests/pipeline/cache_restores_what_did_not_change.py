@@ -2,8 +2,9 @@
 byte-identical to a run without the cache and at least MIN_SPEEDUP times faster than the run that
 filled it;
 a changed texture redoes exactly the asset that names it; two processes sharing one cache folder
-at once both finish with the right outputs; a damaged entry is computed again, never trusted; and
-validate --cache gives back the reports, byte for byte, that validating gives.
+at once both finish with the right outputs; a damaged entry is computed again, never trusted;
+validate --cache gives back the reports, byte for byte, that validating gives; and preview --cache
+gives back the folder it drew.
 
     python3 cache_restores_what_did_not_change.py CLI SAMPLES_DIR SHARED_DIR MIN_SPEEDUP"""
 import hashlib
@@ -139,6 +140,17 @@ try:
     restored, summary = validate(work / "validated-cached", "--cache", work / "validate-cache")
     assert summary["cache"]["hits"] == count and summary["cache"]["assetsLoaded"] == 0, summary["cache"]
     assert restored == validated, "validate --cache gave other reports"
-    print("cache: reruns restore, changes redo, shared folders hold, validation reports return")
+
+    # preview --cache: the second preview of a file is the first one's folder, restored.
+    def preview(output):
+        return subprocess.run([cli, "preview", str(solo / "Duck.gltf"), "-o", str(output), "--size", "64",
+                               "--cache", str(work / "preview-cache")], check=True, capture_output=True, text=True)
+    preview(work / "preview-first")
+    again = preview(work / "preview-again")
+    assert "restored from the cache" in again.stderr, again.stderr
+    assert contents(work / "preview-again") == contents(work / "preview-first")  # times and all: not redrawn
+    assert set(contents(work / "preview-first")) == {"before.png", "after.png", "difference.png", "sheet.png",
+                                                     "report.json"}
+    print("cache: reruns restore, changes redo, shared folders hold, validation reports and previews return")
 finally:
     shutil.rmtree(work, ignore_errors=True)
