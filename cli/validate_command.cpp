@@ -28,7 +28,8 @@ namespace {
 
 struct ValidateArgs {
   std::vector<std::string> inputs;
-  std::string output, format = "text", config, fail_on = "error", heatmaps, cache;
+  std::string output, format = "text", config, fail_on = "error", heatmaps;
+  PipelineArgs pipeline;
   std::vector<std::string> only;
   bool allow_outside = false, quiet = false, no_self_intersections = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
@@ -47,19 +48,23 @@ bool fails(const Report& report, Severity fail_on) {
   return false;
 }
 
+// A file's line in the summary (and in --results).
+nlohmann::ordered_json summary_entry(const Report& report, Severity fail_on) {
+  return {{"uri", report.uri},
+          {"numErrors", report.count(Severity::Error)},
+          {"numWarnings", report.count(Severity::Warning)},
+          {"numInfos", report.count(Severity::Information)},
+          {"numHints", report.count(Severity::Hint)},
+          {"failed", fails(report, fail_on)}};
+}
+
 nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity fail_on) {
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   std::size_t totals[4] = {0, 0, 0, 0}, failing = 0;
   for (const Report& report : reports) {
-    nlohmann::ordered_json entry{{"uri", report.uri}};
     for (int s = 0; s < 4; ++s) totals[s] += report.count(static_cast<Severity>(s));
-    entry["numErrors"] = report.count(Severity::Error);
-    entry["numWarnings"] = report.count(Severity::Warning);
-    entry["numInfos"] = report.count(Severity::Information);
-    entry["numHints"] = report.count(Severity::Hint);
-    entry["failed"] = fails(report, fail_on);
     failing += fails(report, fail_on);
-    files.push_back(std::move(entry));
+    files.push_back(summary_entry(report, fail_on));
   }
   return {{"tool", "gltf-pbr"},
           {"version", tool_version()},
@@ -80,7 +85,7 @@ std::string run_settings(const ValidateArgs& args, const ValidateOptions& option
   text += std::string(" self-intersections ") + (options.self_intersections ? "on" : "off") + " allow-outside " +
           (options.allow_outside_uris ? "on" : "off") + " max-image-pixels " + std::to_string(max_image_pixels()) +
           "\n" + builtin_rules_text();
-  if (!args.config.empty()) {
+  if (!args.config.empty()) {  // its text, not its name: an edited config is another run
     const std::optional<Bytes> config = read_file(args.config);
     if (!config) throw InputError(args.config, "", "cannot read the config file");
     text += "\nconfig\n" + std::string(config->begin(), config->end());
@@ -89,7 +94,7 @@ std::string run_settings(const ValidateArgs& args, const ValidateOptions& option
 }
 
 int run(const ValidateArgs& args) {
-  if (!args.cache.empty() && !args.heatmaps.empty())
+  if (!args.pipeline.cache.empty() && !args.heatmaps.empty())
     throw CLI::ValidationError("--cache", "the cache does not keep heat maps: give --cache or --heatmaps");
   RuleSet rules = builtin_rules();
   IssuePolicy policy;
@@ -110,7 +115,22 @@ int run(const ValidateArgs& args) {
   options.self_intersections = !args.no_self_intersections;
   const Severity fail_on = parse_fail_on(args.fail_on);
 
-  const std::vector<InputFile> files = find_gltf_files(args.inputs).files;
+  std::vector<std::string> inputs = args.inputs;
+  if (!args.pipeline.inputs_from.empty())
+    for (std::string& listed : read_input_list(args.pipeline.inputs_from)) inputs.push_back(std::move(listed));
+  if (inputs.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
+  // As convert does: the whole run is found first, then a shard takes its part, each file keeping
+  // its position in the whole.
+  const bool sharded = !args.pipeline.shard.empty();
+  const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
+  const std::vector<InputFile> found = find_gltf_files(inputs).files;
+  std::vector<InputFile> files;
+  std::vector<std::size_t> positions;
+  for (std::size_t i = 0; i < found.size(); ++i)
+    if (!sharded || shard_of(found[i], shard.count) == shard.index) {
+      files.push_back(found[i]);
+      positions.push_back(i);
+    }
   const bool report_folder = args.format == "json" && !args.output.empty();
   std::vector<fs::path> report_paths;
   if (report_folder) {
@@ -122,7 +142,8 @@ int run(const ValidateArgs& args) {
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
   std::optional<ResultCache> cache;
-  if (!args.cache.empty()) cache.emplace(args.cache);
+  if (!args.pipeline.cache.empty()) cache.emplace(args.pipeline.cache);
+  ResultsLog results_log(args.pipeline.results);
   const std::string settings = cache ? run_settings(args, options) : "";
   // A file's report from the cache when it holds one, else validated and stored.
   const auto report_of = [&](const InputFile& file, const ValidateOptions& file_options) {
@@ -155,6 +176,9 @@ int run(const ValidateArgs& args) {
       file_options.heatmaps_dir = options.heatmaps_dir / files[i].relative.parent_path();
     reports[i] = report_of(files[i], file_options);
     const Report& report = reports[i];
+    nlohmann::ordered_json line_entry = summary_entry(report, fail_on);
+    line_entry["position"] = positions[i];
+    results_log.write(line_entry.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     std::ostringstream line;
     if (!args.quiet || fails(report, fail_on))
       line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
@@ -165,6 +189,10 @@ int run(const ValidateArgs& args) {
   ThreadPool::shared().run(static_cast<std::int64_t>(files.size()), validate_one, args.jobs);
 
   nlohmann::ordered_json summary = summary_json(reports, fail_on);
+  if (sharded) {  // where each file stands in the whole run, as convert's shard reports say
+    summary["shard"] = {{"index", shard.index}, {"count", shard.count}, {"files", found.size()}};
+    for (std::size_t i = 0; i < positions.size(); ++i) summary["reports"][i]["position"] = positions[i];
+  }
   if (cache) {
     summary["cache"] = cache->stats_json();
     summary["cache"]["assetsLoaded"] = work_counters().assets_loaded.load();
@@ -186,7 +214,10 @@ int run(const ValidateArgs& args) {
     } else {
       for (std::size_t i = 0; i < files.size(); ++i)
         write_atomically(report_paths[i], json_text(report_to_json(reports[i])));
-      write_atomically(fs::path(args.output) / "summary.json", json_text(summary));
+      // Shards writing into one folder keep a summary each.
+      write_atomically(fs::path(args.output) / (sharded ? "summary-shard" + std::to_string(shard.index) + ".json"
+                                                        : std::string("summary.json")),
+                       json_text(summary));
     }
   } else {
     std::string text;  // -q: only the files that fail
@@ -211,7 +242,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
       "materials (PBR_*: F0, albedo, metalness, from factors and texel by texel), textures (IMAGE_*) and\n"
       "meshes (MESH_*, CGAL; Draco meshes included). Rules are data (rules/*.json, built in); --config\n"
       "overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage.");
-  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)")->required();
+  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)");
   cmd->add_option("-f,--format", args->format,
                   "text: for people, grouped by material; json: the Khronos validator's report schema; sarif: "
                   "SARIF 2.1.0 for code scanning")
@@ -235,7 +266,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_flag("--no-self-intersections", args->no_self_intersections,
                 "skip the self-intersection mesh check (the costliest)");
   add_batch_options(*cmd, "validated", args->jobs, args->allow_outside);
-  add_cache_option(*cmd, args->cache);
+  add_pipeline_options(*cmd, args->pipeline);
   cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
   return [cmd, args]() -> int {
     if (!cmd->parsed()) return -1;

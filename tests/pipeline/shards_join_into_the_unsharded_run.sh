@@ -112,4 +112,26 @@ printf 'a.gltf\0b\n' >"$work/list-nul.txt"
 status=0
 "$cli" convert --inputs-from "$work/list-nul.txt" -o "$work/nul" -q 2>"$work/nul.txt" || status=$?
 [ "$status" -eq 2 ] && grep -q "line 1 holds a NUL byte" "$work/nul.txt" || fail "a NUL in a list: status $status"
-echo "1,000 files: 4 shards byte-identical to one run, reports merged; --inputs-from converted its list"
+
+# validate shards the same way: the per-file reports of 3 shards in one folder are the unsharded
+# run's, and merge-reports joins the shards' summaries into its summary.json byte for byte.
+validate() { "$cli" validate "$@" -f json -q --no-self-intersections 2>/dev/null || [ $? -eq 1 ]; }
+validate "$work/library/group000" "$work/library/group001" -o "$work/validated" ||
+  fail "the unsharded validate failed"
+for shard in 0 1 2; do
+  validate "$work/library/group000" "$work/library/group001" -o "$work/validated-shards" --shard "$shard/3" \
+    --results "$work/validated$shard.jsonl" || fail "validate shard $shard/3 failed"
+done
+diff -r -x 'summary*' "$work/validated" "$work/validated-shards" >/dev/null ||
+  fail "the validate shards' reports differ from the unsharded run's"
+"$cli" merge-reports "$work"/validated-shards/summary-shard*.json -o "$work/validated-merged.json" ||
+  fail "merge-reports of validate summaries failed"
+cmp -s "$work/validated/summary.json" "$work/validated-merged.json" ||
+  fail "the merged validate summary differs from the unsharded summary.json"
+[ "$(cat "$work"/validated?.jsonl | wc -l)" -eq 200 ] || fail "the validate shards' --results do not hold 200 lines"
+status=0
+"$cli" merge-reports "$work/shard1.json" "$work/validated-shards/summary-shard0.json" 2>"$work/mixed.txt" ||
+  status=$?
+[ "$status" -eq 2 ] && grep -q "a different kind of report" "$work/mixed.txt" || fail "mixed kinds: status $status"
+echo "1,000 files: 4 shards byte-identical to one run, reports merged; --inputs-from converted its list;"
+echo "validate shards: reports identical, summaries merged byte for byte"
