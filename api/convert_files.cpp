@@ -100,17 +100,25 @@ std::string job_settings(const std::string& run, const ConvertJob& job) {
 FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& options, const std::string& run,
                           ResultCache& cache) {
   const auto start = Clock::now();
-  const std::optional<std::string> key = cache.key(job.input, job_settings(run, job), options.allow_outside_uris);
+  const std::optional<std::string> key =
+      cache.key(job.input, job_settings(run, job), options.allow_outside_uris, folder_of(job.output));
   const fs::path roots[] = {folder_of(job.output), job.preview_dir};
+  // Only what store() below keeps: an entry of a file converted or copied.
+  const auto stored_here = [](const nlohmann::json& entry) {
+    const auto status = entry.is_object() && entry.contains("status") && entry["status"].is_string()
+                            ? file_status_from_name(entry["status"].get<std::string>())
+                            : std::nullopt;
+    return status == FileStatus::Converted || status == FileStatus::Copied;
+  };
   if (key) {
     try {
-      if (std::optional<nlohmann::json> entry = cache.restore(*key, roots)) {
+      if (std::optional<nlohmann::json> entry = cache.restore(*key, roots, stored_here)) {
         FileResult hit = result_of(job);
-        hit.status = file_status_from_name(entry->value("status", "")).value_or(FileStatus::Failed);
+        hit.status = *file_status_from_name((*entry)["status"].get<std::string>());
         hit.entry = std::move(*entry);
         hit.cached = true;
         hit.total_ms = ms_between(start, Clock::now());
-        if (hit.status != FileStatus::Failed) return hit;  // a stored failure is not one we wrote
+        return hit;
       }
     } catch (const OutputError& e) {
       FileResult failed = result_of(job);
@@ -120,7 +128,8 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
     }
   }
   FileResult result = convert_one(job, options);
-  if (key && result.status != FileStatus::Failed) {
+  // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
+  if (key && result.status != FileStatus::Failed && result.preview_complete) {
     const ResultCache::Outputs outputs[] = {{roots[0], result.written}, {roots[1], result.preview_written}};
     cache.store(*key, file_json(result), outputs);
   }
@@ -169,6 +178,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     preview::PreviewOptions preview_options;
     preview_options.convert = converter;
     const preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
+    result.preview_complete = drawn.scene.warnings.empty();
     result.preview_written =
         preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview_dir);
   }

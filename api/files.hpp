@@ -24,6 +24,7 @@ struct FileResult {
   ConversionReport report;
   double load_ms = 0, save_ms = 0, total_ms = 0;
   std::vector<fs::path> written, preview_written;  // the files this run wrote: outputs, preview
+  bool preview_complete = true;                    // no texture left out of the preview
   // The report entry as JSON when it was not computed here: restored by --cache (`cached`), or
   // written by the child process that converted the file (--isolate). `report` is then empty.
   std::optional<nlohmann::json> entry;

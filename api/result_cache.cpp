@@ -77,8 +77,10 @@ std::optional<std::string> hash_file(const fs::path& file) {
   return digest;
 }
 
-// The URIs an input names, from the index when an earlier run listed them, else from its JSON.
-std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input) {
+// The URIs an input names, from the index when an earlier run listed them, else from its JSON,
+// read again here: listed (and indexed) only when those bytes are the ones `input_hash` is of.
+std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input,
+                                                const std::string& input_hash) {
   if (const std::optional<Bytes> listed = read_file(index)) {
     try {
       return nlohmann::json::parse(listed->begin(), listed->end()).get<std::vector<std::string>>();
@@ -87,7 +89,8 @@ std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs:
     }
   }
   const std::optional<Bytes> bytes = read_file(input);
-  std::optional<std::vector<std::string>> uris = bytes ? external_uris(*bytes) : std::nullopt;
+  if (!bytes || hex(XXH3_128bits(bytes->data(), bytes->size())) != input_hash) return std::nullopt;  // changed
+  std::optional<std::vector<std::string>> uris = external_uris(*bytes);
   if (uris) try {
       AtomicWriteSet file;
       file.stage(index, bytes_of(nlohmann::json(*uris).dump()));
@@ -96,6 +99,14 @@ std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs:
       // an index not written is listed again next time
     }
   return uris;
+}
+
+bool is_inside(const fs::path& file, const fs::path& folder, fs::path* relative) {
+  std::error_code error;
+  const fs::path canonical = fs::weakly_canonical(file, error);
+  if (error) return false;
+  *relative = canonical.lexically_relative(folder);
+  return is_plain_relative(*relative);
 }
 
 }  // namespace
@@ -110,6 +121,17 @@ ResultCache::ResultCache(fs::path folder) : folder_(std::move(folder)) {
 fs::path ResultCache::digest_record(const fs::path& file) const {
   const std::string name = hex(hash_of(fs::absolute(file).lexically_normal().string()));
   return folder_ / kFormat / "digests" / name.substr(0, 2) / name;
+}
+
+fs::path ResultCache::entry_folder(const std::string& key) const {
+  return folder_ / kFormat / "entries" / key.substr(0, 2) / key;
+}
+
+fs::path ResultCache::temporary_folder() const {
+  // mkdtemp's random name: unique across the processes and machines that share the folder.
+  std::string name = (folder_ / kFormat / "tmp" / "entry-XXXXXX").string();
+  if (!::mkdtemp(name.data())) throw std::system_error(errno, std::generic_category(), "mkdtemp");
+  return name;
 }
 
 std::optional<std::string> ResultCache::digest(const fs::path& file) const {
@@ -144,14 +166,18 @@ void ResultCache::remember(const fs::path& file, const std::string& hash) const 
   }
 }
 
-std::optional<std::string> ResultCache::key(const fs::path& input, std::string_view settings,
-                                            bool allow_outside) const {
+std::optional<std::string> ResultCache::key(const fs::path& input, std::string_view settings, bool allow_outside,
+                                            const fs::path& output_folder) const {
   const std::optional<std::string> input_hash = digest(input);
-  if (!input_hash) return std::nullopt;
   const std::optional<std::vector<std::string>> uris =
-      uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input);
-  if (!uris) return std::nullopt;
-
+      input_hash ? uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input, *input_hash) : std::nullopt;
+  if (!uris) {
+    ++misses_;
+    return std::nullopt;
+  }
+  std::error_code error;
+  const fs::path outputs = output_folder.empty() ? fs::path() : fs::weakly_canonical(output_folder, error);
+  std::vector<std::pair<fs::path, std::string>> sources;  // (file, signature) of what the key is of
   XXH3_state_t* state = XXH3_createState();
   if (!state) throw std::bad_alloc();
   XXH3_128bits_reset(state);
@@ -159,10 +185,17 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
     XXH3_128bits_update(state, text.data(), text.size());
     XXH3_128bits_update(state, "", 1);  // a separator no text holds
   };
+  const auto add_place = [&](const fs::path& file) {  // where an output could take its name
+    fs::path relative;
+    if (!outputs.empty() && is_inside(file, outputs, &relative))
+      add("inside the output folder: " + relative.generic_string());
+  };
   add("gltf-pbr results cache");
   add(kFormat);
   add(settings);
   add(*input_hash);
+  sources.emplace_back(input, signature(input).value_or(""));
+  add_place(input);
   const fs::path folder = input.parent_path().empty() ? fs::path(".") : input.parent_path();
   for (const std::string& uri : *uris) {
     add(uri);
@@ -173,16 +206,37 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
         : resolved.status == UriStatus::Refused  ? "refused"
         : resolved.status == UriStatus::NotFound ? "missing"
                                                  : "unreadable");
+    if (hash) {
+      sources.emplace_back(resolved.path, signature(resolved.path).value_or(""));
+      add_place(resolved.path);
+    }
   }
   const std::string key = hex(XXH3_128bits_digest(state));
   XXH3_freeState(state);
+  std::lock_guard lock(sources_mutex_);
+  sources_[key] = std::move(sources);
   return key;
 }
 
-std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::span<const fs::path> roots) {
-  const fs::path entry_folder = folder_ / kFormat / "entries" / key.substr(0, 2) / key;
-  const std::optional<Bytes> text = read_file(entry_folder / "entry.json");
+void ResultCache::discard(const std::string& key) {
+  std::error_code error;
+  try {
+    const fs::path aside = temporary_folder();
+    // A rename, so no reader sees the entry half gone; then it goes.
+    fs::rename(entry_folder(key), aside / "discarded", error);
+    fs::remove_all(aside, error);
+  } catch (const std::exception&) {
+    // left in place: the next run meets it again
+  }
+}
+
+std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::span<const fs::path> roots,
+                                                   const Acceptance& accept) {
+  const fs::path folder = entry_folder(key);
+  const std::optional<Bytes> text = read_file(folder / "entry.json");
   if (!text) {
+    std::error_code error;
+    if (fs::exists(folder, error)) discard(key);  // a folder without its entry: never whole
     ++misses_;
     return std::nullopt;
   }
@@ -193,31 +247,27 @@ std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::
   try {
     const nlohmann::json stored = nlohmann::json::parse(text->begin(), text->end());
     entry = stored.at("entry");
+    if (accept && !accept(entry)) throw std::invalid_argument("an entry its command does not take");
     const nlohmann::json& listed = stored.at("files");
     for (std::size_t i = 0; i < listed.size(); ++i) {
       const auto root = listed[i].at("root").get<std::size_t>();
       const fs::path path = listed[i].at("path").get<std::string>();
       const std::string hash = listed[i].at("digest").get<std::string>();
-      if (root >= roots.size() || !is_plain_relative(path)) throw std::invalid_argument("file outside its root");
+      if (root >= roots.size() || roots[root].empty() || !is_plain_relative(path))
+        throw std::invalid_argument("a file outside its root");
       const fs::path destination = roots[root] / path;
       if (digest(destination) == hash) continue;  // already there, as a rerun into the same folder finds it
-      std::optional<MappedFile> blob = MappedFile::open(entry_folder / std::to_string(i));
-      if (!blob) throw std::invalid_argument("file missing");
+      std::optional<MappedFile> blob = MappedFile::open(folder / std::to_string(i));
+      if (!blob || hex(XXH3_128bits(blob->bytes().data(), blob->bytes().size())) != hash)
+        throw std::invalid_argument("a file missing or changed");
       blobs.push_back(std::move(*blob));
       files.stage(destination, blobs.back().bytes());
       restored.emplace_back(destination, hash);
     }
   } catch (const OutputError&) {
     throw;
-  } catch (const std::exception&) {
-    // Damaged or foreign: never trusted. Moved aside whole (a rename, so no reader sees it half
-    // gone), so the result computed instead can take its place.
-    static std::atomic<std::uint64_t> serial{0};
-    const fs::path aside =
-        folder_ / kFormat / "tmp" / (std::to_string(::getpid()) + "-damaged-" + std::to_string(serial++) + "-" + key);
-    std::error_code error;
-    fs::rename(entry_folder, aside, error);
-    fs::remove_all(aside, error);
+  } catch (const std::exception&) {  // damaged or foreign: never trusted, and replaced
+    discard(key);
     ++misses_;
     return std::nullopt;
   }
@@ -228,13 +278,22 @@ std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::
 }
 
 void ResultCache::store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs) {
-  static std::atomic<std::uint64_t> serial{0};
-  const fs::path entries = folder_ / kFormat / "entries" / key.substr(0, 2);
-  const fs::path temporary =
-      folder_ / kFormat / "tmp" / (std::to_string(::getpid()) + "-" + std::to_string(serial++) + "-" + key);
+  std::vector<std::pair<fs::path, std::string>> sources;
+  {
+    std::lock_guard lock(sources_mutex_);
+    if (const auto it = sources_.find(key); it != sources_.end()) sources = std::move(it->second), sources_.erase(it);
+  }
+  // A file that changed since its key was taken may have been read as other bytes: not kept.
+  if (sources.empty() || std::any_of(sources.begin(), sources.end(), [](const auto& source) {
+        return signature(source.first).value_or("gone") != source.second;
+      })) {
+    ++not_stored_;
+    return;
+  }
   std::error_code error;
+  fs::path temporary;
   try {
-    fs::create_directories(temporary);
+    temporary = temporary_folder();
     nlohmann::json files = nlohmann::json::array();
     for (std::size_t root = 0; root < outputs.size(); ++root)
       for (const fs::path& file : outputs[root].files) {
@@ -252,14 +311,17 @@ void ResultCache::store(const std::string& key, const nlohmann::json& entry, std
     AtomicWriteSet written;
     written.stage(temporary / "entry.json", bytes_of(text));
     written.commit();
-    fs::create_directories(entries);
+    fs::create_directories(entry_folder(key).parent_path());
     // rename(2) of a folder onto a non-empty one fails: another process stored the same result first.
-    if (std::rename(temporary.c_str(), (entries / key).c_str()) != 0 && errno != EEXIST && errno != ENOTEMPTY)
+    if (std::rename(temporary.c_str(), entry_folder(key).c_str()) == 0)
+      ++stored_;
+    else if (errno == EEXIST || errno == ENOTEMPTY)
+      ++not_stored_;
+    else
       throw std::system_error(errno, std::generic_category());
     fs::remove_all(temporary, error);
-    ++stored_;
   } catch (const std::exception&) {
-    fs::remove_all(temporary, error);
+    if (!temporary.empty()) fs::remove_all(temporary, error);
     ++not_stored_;
   }
 }

@@ -15,6 +15,9 @@
 #pragma once
 #include <atomic>
 #include <filesystem>
+#include <functional>
+#include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -33,9 +36,11 @@ class ResultCache {
   // depends on, as text) computes from `input`: XXH3-128 of the settings, the input's bytes and each
   // external file it names, resolved with the loader's path policy. A URI that is missing, or
   // outside the input's folder without `allow_outside`, enters the key as such and is not opened.
-  // std::nullopt when the input cannot be read or its URIs listed: that file is computed, not kept.
-  std::optional<std::string> key(const std::filesystem::path& input, std::string_view settings,
-                                 bool allow_outside) const;
+  // With `output_folder`, the input and each file it names that lie inside that folder enter the
+  // key with their place in it: the names of a result's outputs avoid them. std::nullopt (counted
+  // as a miss) when the input cannot be read or its URIs listed: that file is computed, not kept.
+  std::optional<std::string> key(const std::filesystem::path& input, std::string_view settings, bool allow_outside,
+                                 const std::filesystem::path& output_folder = {}) const;
 
   // Files a result wrote, each under `root`: an output folder, a preview folder.
   struct Outputs {
@@ -46,11 +51,19 @@ class ResultCache {
   // The report entry stored under `key`, with its files written again under `roots` (the same
   // kinds of folder, in the same order, as when it was stored) in one atomic set; a file already
   // holding the same bytes is left alone. std::nullopt (a miss) when there is no entry or it is
-  // damaged. Throws OutputError when a file cannot be written.
-  std::optional<nlohmann::json> restore(const std::string& key, std::span<const std::filesystem::path> roots);
+  // damaged: unreadable, a file whose bytes no longer match their digest, a path outside its
+  // root, or an entry `accept` refuses. A damaged entry is moved aside, so the result computed
+  // instead takes its place. Throws OutputError when a file cannot be written.
+  using Acceptance = std::function<bool(const nlohmann::json& entry)>;
+  std::optional<nlohmann::json> restore(const std::string& key, std::span<const std::filesystem::path> roots,
+                                        const Acceptance& accept = {});
 
-  // Keeps `entry` and a copy of every output under `key`. Never throws: a cache that cannot be
-  // written costs the next run time, not this run its result, and is counted as not stored.
+  // Moves the entry under `key` aside: one restore() accepted that its caller could not use.
+  void discard(const std::string& key);
+
+  // Keeps `entry` and a copy of every output under `key`, unless a file the key was taken from
+  // changed since (the result may be of other bytes). Never throws: a cache that cannot be written
+  // costs the next run time, not this run its result, and is counted as not stored.
   void store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs);
 
   // XXH3-128 of the file's bytes, as key() takes it for the files an input names: for inputs a
@@ -65,9 +78,14 @@ class ResultCache {
  private:
   void remember(const std::filesystem::path& file, const std::string& digest) const;
   std::filesystem::path digest_record(const std::filesystem::path& file) const;
+  std::filesystem::path entry_folder(const std::string& key) const;
+  std::filesystem::path temporary_folder() const;  // a new, empty folder of its own in tmp/
 
   std::filesystem::path folder_;
-  std::atomic<std::size_t> hits_{0}, misses_{0}, stored_{0}, not_stored_{0};
+  mutable std::atomic<std::size_t> hits_{0}, misses_{0}, stored_{0}, not_stored_{0};
+  // The files each key of this run was taken from, with their signatures: rechecked before a store.
+  mutable std::mutex sources_mutex_;
+  mutable std::map<std::string, std::vector<std::pair<std::filesystem::path, std::string>>> sources_;
 };
 
 }  // namespace gltf_pbr

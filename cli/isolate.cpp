@@ -4,14 +4,17 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 
 #include "core/files.hpp"
 
@@ -46,7 +49,17 @@ std::string seconds_text(double seconds) {
 
 std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
+constexpr char kParentVariable[] = "GLTF_PBR_ISOLATED_BY";
+
 }  // namespace
+
+void become_child_of_isolated_run() {
+  const char* parent = std::getenv(kParentVariable);
+  if (!parent) return;
+  // Killed when the run that started it ends, however it ends: a hung child never outlives it.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (std::to_string(::getppid()) != parent) std::_Exit(128 + SIGKILL);  // it ended before prctl
+}
 
 FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string>& options, const ChildLimits& limits,
                             const std::filesystem::path& scratch, std::size_t index, nlohmann::json* child_cache) {
@@ -63,10 +76,8 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
   const std::filesystem::path errors = scratch / (std::to_string(index) + ".err");
 
   std::error_code error;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) return finish("cannot find this executable to start a child process: " + error.message());
-  std::vector<std::string> arguments{self.string(), "convert", job.input.string(), "-q",
-                                     "-j",          "1",       "--report",         report.string()};
+  // Options first and the input after "--", so a file named "-x.gltf" stays a file.
+  std::vector<std::string> arguments{"gltf-pbr", "convert", "-q", "-j", "1", "--report", report.string()};
   if (job.output == job.input) {
     arguments.push_back("--in-place");
   } else {
@@ -76,9 +87,18 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
   if (!job.preview_dir.empty())
     arguments.insert(arguments.end(), {"--preview", job.preview_dir.parent_path().string()});
   arguments.insert(arguments.end(), options.begin(), options.end());
+  arguments.insert(arguments.end(), {"--", job.input.string()});
   std::vector<char*> argv;
   for (std::string& argument : arguments) argv.push_back(argument.data());
   argv.push_back(nullptr);
+  // The child is told its parent, so it dies with it (become_child_of_isolated_run).
+  std::vector<std::string> environment{std::string(kParentVariable) + "=" + std::to_string(::getpid())};
+  for (char** variable = environ; *variable; ++variable)
+    if (!std::string_view(*variable).starts_with(std::string(kParentVariable) + "="))
+      environment.emplace_back(*variable);
+  std::vector<char*> envp;
+  for (std::string& variable : environment) envp.push_back(variable.data());
+  envp.push_back(nullptr);
 
   posix_spawn_file_actions_t files;
   posix_spawn_file_actions_init(&files);
@@ -86,7 +106,8 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
   posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&files, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   pid_t pid = 0;
-  const int spawned = ::posix_spawn(&pid, argv[0], &files, nullptr, argv.data(), environ);
+  // /proc/self/exe, not the path it links to: a binary replaced during a long run still starts.
+  const int spawned = ::posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&files);
   if (spawned != 0) return finish(std::string("cannot start a child process: ") + std::strerror(spawned));
 
@@ -97,7 +118,10 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
   for (;;) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
     if (done == pid) break;
-    if (done < 0 && errno != EINTR) return finish(std::string("lost the child process: ") + std::strerror(errno));
+    if (done < 0 && errno != EINTR) {
+      if (pidfd >= 0) ::close(pidfd);
+      return finish(std::string("lost the child process: ") + std::strerror(errno));
+    }
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (limits.seconds > 0 && seconds > limits.seconds)
       stopped = "took longer than " + seconds_text(limits.seconds) + " s (--file-timeout): stopped";

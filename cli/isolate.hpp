@@ -21,6 +21,9 @@ struct ChildLimits {
 // above the memory limit (its resident set, sampled every 20 ms, so it holds under the sanitizers
 // that reserve terabytes of address space) is killed, and the result is a failure saying which.
 // `child_cache` receives the child's report's "cache" block when it has one.
+// First thing in main: a process started by convert_in_child dies with the run that started it.
+void become_child_of_isolated_run();
+
 FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string>& options, const ChildLimits& limits,
                             const std::filesystem::path& scratch, std::size_t index, nlohmann::json* child_cache);
 

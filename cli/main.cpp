@@ -4,11 +4,13 @@
 #include <string_view>
 
 #include "cli/commands.hpp"
+#include "cli/isolate.hpp"
 #include "core/files.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
 
 int main(int argc, char** argv) {
+  gltf_pbr::cli::become_child_of_isolated_run();
   gltf_pbr::install_signal_cleanup();  // before any worker thread: they inherit its signal mask
   CLI::App app{
       "gltf-pbr: turns legacy KHR_materials_pbrSpecularGlossiness glTF materials into physically based\n"

@@ -58,7 +58,7 @@ std::vector<std::string> read_input_list(const std::string& source) {
 
 ResultsLog::ResultsLog(const std::filesystem::path& path) : path_(path) {
   if (path.empty()) return;
-  file_ = std::fopen(path.c_str(), "w");
+  file_ = std::fopen(path.c_str(), "we");  // e: close-on-exec, not inherited by --isolate's children
   if (!file_) throw OutputError(path.string() + ": " + std::strerror(errno));
 }
 

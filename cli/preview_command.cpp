@@ -46,7 +46,9 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
        << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " max-image-pixels "
        << max_image_pixels() << " allow-outside " << args.allow_outside << " env ";
-  if (!args.environment.empty()) text << cache.digest(args.environment).value_or("unreadable");
+  // The path too: the report names it.
+  if (!args.environment.empty())
+    text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
   text << "\ninput " << args.input;
   return text.str();
 }
@@ -113,7 +115,8 @@ int run(const PreviewArgs& args) {
       drawn = finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
     } else {
       drawn = preview_one(args.input, args.output, options, args.allow_outside);
-      if (key) {
+      // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
+      if (key && drawn.result.scene.warnings.empty()) {
         const ResultCache::Outputs outputs[] = {{args.output, drawn.written}};
         cache->store(*key, {{"report", drawn.report}}, outputs);
       }

@@ -152,17 +152,24 @@ int run(const ValidateArgs& args) {
         cache
             ? cache->key(file.file, settings + "\ninput " + file.file.extension().string(), options.allow_outside_uris)
             : std::nullopt;
+    const auto readable = [](const nlohmann::json& entry) {
+      return entry.is_object() && entry.contains("report") && entry["report"].is_string() &&
+             entry.contains("materialNames") && entry["materialNames"].is_array();
+    };
     if (key)
-      if (const std::optional<nlohmann::json> entry = cache->restore(*key, {})) try {
+      if (const std::optional<nlohmann::json> entry = cache->restore(*key, {}, readable)) try {
           Report report = report_from_json(nlohmann::ordered_json::parse(entry->at("report").get<std::string>()));
           report.uri = name;
           report.material_names = entry->at("materialNames").get<std::vector<std::string>>();
           return report;
         } catch (const std::exception&) {
-          // an entry of another shape: validated again below
+          cache->discard(*key);  // not a report this version wrote: validated again below
         }
     Report report = validate_file(file.file, name, rules, policy, file_options);
-    if (key)
+    // A report with IO_ERROR may say a step ran out of memory or time: kept only without one.
+    const bool complete = std::none_of(report.messages.begin(), report.messages.end(),
+                                       [](const Issue& issue) { return issue.code == "IO_ERROR"; });
+    if (key && complete)
       // As text: the entry is a JSON object of sorted keys, and the report's keep their order.
       cache->store(*key, {{"report", report_to_json(report).dump()}, {"materialNames", report.material_names}}, {});
     return report;

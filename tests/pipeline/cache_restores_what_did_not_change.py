@@ -122,8 +122,15 @@ try:
     (victim / "0").write_bytes(b"not what was stored")
     (victim / "entry.json").write_text(json.dumps({"entry": {}, "files": [{"root": 0, "path": "../../escape",
                                                                           "digest": "0"}]}))
+    # and one whose entry is not what convert stores (its files intact): refused before any is written.
+    other = next(entry for entry in entries if entry != victim)
+    stored = json.loads((other / "entry.json").read_text())
+    stored["entry"] = {"status": 5}
+    (other / "entry.json").write_text(json.dumps(stored))
     damaged, _ = convert(mixed, work / "mixed-damaged", "--cache", shared_cache)
-    assert damaged["cache"]["misses"] == 1 and damaged["cache"]["hits"] == 299, damaged["cache"]
+    assert damaged["cache"]["misses"] == 2 and damaged["cache"]["hits"] == 298, damaged["cache"]
+    again, _ = convert(mixed, work / "mixed-healed", "--cache", shared_cache)
+    assert again["cache"]["hits"] == 300, ("damaged entries were not replaced", again["cache"])
     assert contents(work / "mixed-damaged") == contents(work / "mixed-reference")
     assert not (work / "escape").exists()
 
