@@ -258,15 +258,19 @@ std::function<int()> add_convert_command(CLI::App& app) {
                   "texels sampled per texture for the error statistics (0: all)")
       ->capture_default_str();
   add_batch_options(*cmd, "converted", args->jobs, args->allow_outside);
-  cmd->add_flag("--isolate", args->isolate,
-                "convert each file in a child process: a crash, a hang (--file-timeout) or a runaway allocation "
-                "(--file-memory) fails that file and the run goes on (about 20 ms more per file)");
+  CLI::Option* isolate =
+      cmd->add_flag("--isolate", args->isolate,
+                    "convert each file in a child process: a crash, a hang (--file-timeout) or a runaway allocation "
+                    "(--file-memory) fails that file and the run goes on (about 20 ms more per file)");
+  // Limits only a child process can be held to: refused without --isolate rather than ignored.
   cmd->add_option("--file-timeout", args->file_timeout, "with --isolate: seconds a file may take (0: no limit)")
       ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(isolate);
   cmd->add_option("--file-memory", args->file_memory,
                   "with --isolate: MiB of resident memory a file's child may use (0: no limit)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(isolate);
   add_pipeline_options(*cmd, args->pipeline);
   cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
   cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
