@@ -43,10 +43,7 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
                                   std::vector<InputFile>& files) {
   const fs::path output = args.output;
   const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
-  std::vector<std::string> inputs = args.inputs;
-  if (!args.pipeline.inputs_from.empty())
-    for (std::string& listed : read_input_list(args.pipeline.inputs_from)) inputs.push_back(std::move(listed));
-  if (inputs.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
+  const std::vector<std::string> inputs = all_inputs(args.inputs, args.pipeline);
   // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
   FoundInputs found = find_gltf_files(inputs, args.in_place ? fs::path() : output);
   skipped_under_output = found.skipped_under_output;
@@ -151,13 +148,9 @@ int run(const ConvertArgs& args) {
   if (skipped && !args.quiet)
     std::fprintf(stderr, "skipped %zu .gltf/.glb files inside the output folder %s (earlier outputs)\n", skipped,
                  printable(args.output).c_str());
+  const std::vector<std::size_t> positions = positions_in_shard(inputs, args.pipeline);
   std::vector<ConvertJob> jobs;
-  std::vector<std::size_t> positions;
-  for (std::size_t i = 0; i < planned.size(); ++i)
-    if (!sharded || shard_of(inputs[i], shard.count) == shard.index) {
-      jobs.push_back(planned[i]);
-      positions.push_back(i);
-    }
+  for (const std::size_t position : positions) jobs.push_back(planned[position]);
 
   ResultsLog results_log(args.pipeline.results);
   std::optional<ResultCache> cache;  // with --isolate, each child keeps its file in the cache

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "core/error.hpp"
 
@@ -71,6 +72,21 @@ void ResultsLog::write(const std::string& line) {
   std::lock_guard lock(mutex_);
   if (std::fputs(line.c_str(), file_) < 0 || std::fputc('\n', file_) < 0 || std::fflush(file_) != 0)
     throw OutputError(path_.string() + ": " + std::strerror(errno));
+}
+
+std::vector<std::string> all_inputs(std::vector<std::string> given, const PipelineArgs& args) {
+  if (!args.inputs_from.empty())
+    for (std::string& listed : read_input_list(args.inputs_from)) given.push_back(std::move(listed));
+  if (given.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
+  return given;
+}
+
+std::vector<std::size_t> positions_in_shard(const std::vector<InputFile>& files, const PipelineArgs& args) {
+  const std::optional<Shard> shard = args.shard.empty() ? std::nullopt : std::optional(parse_shard(args.shard));
+  std::vector<std::size_t> positions;
+  for (std::size_t i = 0; i < files.size(); ++i)
+    if (!shard || shard_of(files[i], shard->count) == shard->index) positions.push_back(i);
+  return positions;
 }
 
 nlohmann::json sum_of_counts(const std::vector<nlohmann::json>& blocks) {

@@ -61,6 +61,14 @@ nlohmann::json sum_of_counts(const std::vector<nlohmann::json>& blocks);
 struct PipelineArgs {
   std::string inputs_from, shard, results, cache;
 };
+
+// The inputs given on the command line and those --inputs-from lists; throws
+// CLI::ValidationError when there are none.
+std::vector<std::string> all_inputs(std::vector<std::string> given, const PipelineArgs& args);
+
+// The positions in the whole run of the files this run takes: all of them, or --shard's part.
+// The whole run is found first, so every shard sees the same run and a file keeps its place in it.
+std::vector<std::size_t> positions_in_shard(const std::vector<InputFile>& files, const PipelineArgs& args);
 void add_pipeline_options(CLI::App& command, PipelineArgs& args);
 // --cache alone, for a command that takes no other pipeline option yet.
 void add_cache_option(CLI::App& command, std::string& folder);

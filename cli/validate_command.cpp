@@ -115,22 +115,12 @@ int run(const ValidateArgs& args) {
   options.self_intersections = !args.no_self_intersections;
   const Severity fail_on = parse_fail_on(args.fail_on);
 
-  std::vector<std::string> inputs = args.inputs;
-  if (!args.pipeline.inputs_from.empty())
-    for (std::string& listed : read_input_list(args.pipeline.inputs_from)) inputs.push_back(std::move(listed));
-  if (inputs.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
-  // As convert does: the whole run is found first, then a shard takes its part, each file keeping
-  // its position in the whole.
   const bool sharded = !args.pipeline.shard.empty();
   const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
-  const std::vector<InputFile> found = find_gltf_files(inputs).files;
+  const std::vector<InputFile> found = find_gltf_files(all_inputs(args.inputs, args.pipeline)).files;
+  const std::vector<std::size_t> positions = positions_in_shard(found, args.pipeline);
   std::vector<InputFile> files;
-  std::vector<std::size_t> positions;
-  for (std::size_t i = 0; i < found.size(); ++i)
-    if (!sharded || shard_of(found[i], shard.count) == shard.index) {
-      files.push_back(found[i]);
-      positions.push_back(i);
-    }
+  for (const std::size_t position : positions) files.push_back(found[position]);
   const bool report_folder = args.format == "json" && !args.output.empty();
   std::vector<fs::path> report_paths;
   if (report_folder) {
