@@ -6,7 +6,8 @@
 # alternating, RUNS times each; and validated by one `gltf-pbr validate -j 2` process. Then the
 # same with --cache: the run that fills a cache (cold) once, and RUNS reruns restoring from it, for
 # one process, the Dask driver and validate. Prints markdown: median files per second, the Dask
-# run's overhead against one process, and the per-file convert cost (median, p99) from --results.
+# run's overhead against one process, and the per-file convert and validate costs (median, p99,
+# max) from their --results lines.
 #   bench/pipeline.sh [SHARED_DIR]    (FILES=2000 TEXTURED_EVERY=50 RUNS=3 by default)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -36,7 +37,8 @@ for run in $(seq "$runs"); do
   one+=("$(seconds "$tool" convert "$work/library" -o "$work/one" -q -j 2 --results "$work/one.jsonl")")
   dask+=("$(seconds "$python" "$root/dist/dask_convert.py" "$work/library" -o "$work/dask" --report "$work/dask.json" \
     --tool "$tool" --local-workers 2 --shards 8 --work "$work/shards")")
-  validate+=("$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated")")
+  validate+=("$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated" \
+    --results "$work/validated.jsonl")")
 done
 rm -rf "$work/one" "$work/dask" "$work/shards" "$work/validated"
 cold_one="$(seconds "$tool" convert "$work/library" -o "$work/one" -q -j 2 --cache "$work/cache")"
@@ -54,13 +56,13 @@ for run in $(seq "$runs"); do
   cached_validate+=("$(seconds "$tool" validate "$work/library" -q -j 2 --format json -o "$work/validated" \
     --cache "$work/validate-cache")")
 done
-"$python" - "$files" "$work/one.jsonl" "${one[*]}" "${dask[*]}" "${validate[*]}" "$cold_one" "$cold_dask" \
+"$python" - "$files" "$work/one.jsonl" "$work/validated.jsonl" "${one[*]}" "${dask[*]}" "${validate[*]}" "$cold_one" "$cold_dask" \
   "$cold_validate" "${cached_one[*]}" "${cached_dask[*]}" "${cached_validate[*]}" <<'PY'
 import json, statistics, sys
 files = int(sys.argv[1])
-lines = [json.loads(line) for line in open(sys.argv[2])]
+convert_lines, validate_lines = ([json.loads(line) for line in open(path)] for path in sys.argv[2:4])
 one, dask, validate, cold_one, cold_dask, cold_validate, cached_one, cached_dask, cached_validate = (
-    [float(x) for x in arg.split()] for arg in sys.argv[3:12])
+    [float(x) for x in arg.split()] for arg in sys.argv[4:13])
 def row(name, times):
     m = statistics.median(times)
     print(f"| {name} | {m:.2f} s | {files / m:.0f} | {', '.join(f'{t:.2f}' for t in times)} |")
@@ -79,8 +81,9 @@ print(f"\ncached rerun against the run without a cache: convert {statistics.medi
       f"Dask {statistics.median(dask) / statistics.median(cached_dask):.1f}x, "
       f"validate {statistics.median(validate) / statistics.median(cached_validate):.0f}x faster")
 print(f"\nDask against one process: {statistics.median(dask) / statistics.median(one):.2f}x the wall time")
-costs = sorted(l["timeMs"]["total"] for l in lines)
-p99 = costs[min(len(costs) - 1, int(0.99 * len(costs)))]
-print(f"per-file convert cost (one process, --results timeMs.total): median {statistics.median(costs):.1f} ms, "
-      f"p99 {p99:.1f} ms, max {costs[-1]:.1f} ms")
+for name, lines in (("convert", convert_lines), ("validate", validate_lines)):
+    costs = sorted(line["timeMs"]["total"] for line in lines)
+    p99 = costs[min(len(costs) - 1, int(0.99 * len(costs)))]
+    print(f"per-file {name} cost (one process -j 2, last run's --results timeMs.total): "
+          f"median {statistics.median(costs):.1f} ms, p99 {p99:.1f} ms, max {costs[-1]:.1f} ms")
 PY

@@ -144,8 +144,12 @@ try:
     validated, _ = validate(work / "validated")
     validate(work / "validated-filling", "--cache", work / "validate-cache")
     time.sleep(1.5)
-    restored, summary = validate(work / "validated-cached", "--cache", work / "validate-cache")
+    restored, summary = validate(work / "validated-cached", "--cache", work / "validate-cache",
+                                 "--results", work / "validated-cached.jsonl")
     assert summary["cache"]["hits"] == count and summary["cache"]["assetsLoaded"] == 0, summary["cache"]
+    lines = [json.loads(line) for line in (work / "validated-cached.jsonl").read_text().splitlines()]
+    assert len(lines) == count and all(line["cached"] and line["timeMs"]["total"] > 0 for line in lines), \
+        "validate --results lines do not say each report was restored and what it cost"
     assert restored == validated, "validate --cache gave other reports"
 
     # preview --cache: the second preview of a file is the first one's folder, restored.
