@@ -12,7 +12,9 @@ json stats_json(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95},
 // null where nothing was measured (a material left as spec-gloss): never a 0 that reads as "exact".
 json error_json(const std::optional<ReflectanceError>& e) {
   if (!e) return nullptr;
-  return {{"diffuse", stats_json(e->diffuse)}, {"f0", stats_json(e->f0)}};
+  return {{"diffuse", stats_json(e->diffuse)},
+          {"f0", stats_json(e->f0)},
+          {"appearance", e->appearance ? stats_json(*e->appearance) : json(nullptr)}};
 }
 json times_json(const StageTimes& t) {
   return {{"decode", t.decode_ms}, {"solve", t.solve_ms}, {"encode", t.encode_ms}, {"total", t.total()}};
@@ -92,7 +94,7 @@ json conversion_totals(const json& files) {
 }
 
 json run_json(std::span<const FileResult> results, const ConvertFileOptions& options) {
-  const SolverSettings solver = solver_preset(options.solver);
+  const SolverSettings solver = solver_preset(options.solver, options.error_model);
   json files = json::array();
   for (const FileResult& r : results) files.push_back(file_json(r));
   json totals = conversion_totals(files);
@@ -102,11 +104,16 @@ json run_json(std::span<const FileResult> results, const ConvertFileOptions& opt
           {"solver",
            {{"name", solver_effort_name(options.solver)},
             {"gridSteps", solver.grid_steps},
-            {"refineIterations", solver.refine_iterations}}},
+            {"refineIterations", solver.refine_iterations},
+            {"errorModel", error_model_name(options.error_model)}}},
           {"errorModel",
-           "CIEDE2000 between legacy and converted reflectance at normal incidence, per texel (linear sRGB, D65): "
-           "diffuse weight and F0. Legacy reading A: c_diff = diffuse*(1-max(specular)); reading B also weights "
-           "by (1-specular). Core: diffuse = base*(1-m)*0.96, F0 = mix(0.04, base, m) (glTF 2.0 Appendix B)."},
+           "CIEDE2000 between legacy and converted materials per texel (linear sRGB, D65). diffuse, f0: the "
+           "reflectance at normal incidence, diffuse weight and F0. Legacy reading A: c_diff = "
+           "diffuse*(1-max(specular)); reading B also weights by (1-specular). Core: diffuse = base*(1-m)*0.96, "
+           "F0 = mix(0.04, base, m) (glTF 2.0 Appendix B). appearance: the radiance seen at four view angles (n.v = sqrt((k+0.5)/4), equal shares of a sphere's projected area), "
+           "diffuse and specular lobes by the split sum (GGX, height-correlated Smith) under the built-in sky's "
+           "balance of diffuse light to mirrored radiance (1.94), the legacy diffuse under the dielectric "
+           "layer's (1-F) normalised to reading A; the mean over the four angles."},
           {"files", std::move(files)},
           {"totals", std::move(totals)}};
 }

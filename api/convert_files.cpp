@@ -80,7 +80,8 @@ std::string run_settings(const ConvertFileOptions& options) {
   std::ostringstream text;
   text.precision(17);
   text << "convert " << tool_version() << " target " << target_name(options.target) << " solver "
-       << solver_effort_name(options.solver) << " specular-tolerance " << options.specular_tolerance << " png "
+       << solver_effort_name(options.solver) << " error-model " << error_model_name(options.error_model)
+       << " specular-tolerance " << options.specular_tolerance << " png "
        << options.png_compression << " jpeg " << options.jpeg_quality << " error-samples " << options.error_samples
        << " allow-outside " << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << '\n'
        << builtin_rules_text();
@@ -141,7 +142,7 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
 ConvertOptions conversion_options(const ConvertFileOptions& options) {
   ConvertOptions converter;
   converter.target = options.target;
-  converter.solver = solver_preset(options.solver);
+  converter.solver = solver_preset(options.solver, options.error_model);
   converter.specular_tolerance = options.specular_tolerance;
   converter.png_compression = options.png_compression;
   converter.jpeg_quality = options.jpeg_quality;

@@ -20,6 +20,10 @@ constexpr std::array<std::pair<SolverEffort, const char*>, 4> kEfforts{{
     {SolverEffort::Exact, "exact"},
     {SolverEffort::Reference, "reference"},
 }};
+constexpr std::array<std::pair<ErrorModel, const char*>, 2> kErrorModels{{
+    {ErrorModel::NormalIncidence, "normal-incidence"},
+    {ErrorModel::Appearance, "appearance"},
+}};
 constexpr std::array<std::pair<FileStatus, const char*>, 3> kStatuses{{
     {FileStatus::Converted, "converted"},
     {FileStatus::Copied, "copied"},
@@ -53,6 +57,8 @@ std::optional<Target> target_from_name(std::string_view name) { return from_name
 std::optional<SolverEffort> solver_effort_from_name(std::string_view name) { return from_name(kEfforts, name); }
 const char* target_name(Target target) { return name_of(kTargets, target); }
 const char* solver_effort_name(SolverEffort effort) { return name_of(kEfforts, effort); }
+std::optional<ErrorModel> error_model_from_name(std::string_view name) { return from_name(kErrorModels, name); }
+const char* error_model_name(ErrorModel model) { return name_of(kErrorModels, model); }
 std::optional<ValidationStep> validation_step_from_name(std::string_view name) { return from_name(kSteps, name); }
 const char* validation_step_name(ValidationStep step) { return name_of(kSteps, step); }
 const char* file_status_name(FileStatus status) { return name_of(kStatuses, status); }

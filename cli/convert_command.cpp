@@ -25,6 +25,7 @@ namespace {
 struct ConvertArgs {
   std::vector<std::string> inputs;
   std::string output, format, report, target = "metalness", solver = "balanced", preview;
+  std::string error_model = "normal-incidence";
   bool in_place = false, allow_outside = false, quiet = false, verbose = false, isolate = false;
   double file_timeout = 0;        // seconds, with --isolate; 0: none
   std::uint64_t file_memory = 0;  // MiB, with --isolate; 0: none
@@ -89,6 +90,8 @@ std::vector<std::string> child_options(const ConvertArgs& args) {
                                    args.target,
                                    "--solver",
                                    args.solver,
+                                   "--error-model",
+                                   args.error_model,
                                    "--specular-tolerance",
                                    exact_text(args.specular_tolerance),
                                    "--png-compression",
@@ -131,6 +134,7 @@ int run(const ConvertArgs& args) {
   ConvertFileOptions options;
   options.target = *target_from_name(args.target);  // CLI::IsMember checked the names
   options.solver = *solver_effort_from_name(args.solver);
+  options.error_model = *error_model_from_name(args.error_model);
   options.specular_tolerance = args.specular_tolerance;
   options.png_compression = args.png_compression;
   options.jpeg_quality = args.jpeg_quality;
@@ -233,6 +237,11 @@ std::function<int()> add_convert_command(CLI::App& app) {
                   "fast | balanced | exact: metalness search effort (error against run time); reference: the archived "
                   "extension's brightness formula, for comparison")
       ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
+      ->capture_default_str();
+  cmd->add_option("--error-model", args->error_model,
+                  "normal-incidence: match diffuse weight and F0 at normal incidence; appearance: match the look "
+                  "over view angles, both lobes together (closer on some assets, farther on others: see README)")
+      ->check(CLI::IsMember({"appearance", "normal-incidence"}))
       ->capture_default_str();
   cmd->add_option("--specular-tolerance", args->specular_tolerance, "ΔE2000 (p95) the metalness fit may miss by")
       ->check(CLI::NonNegativeNumber)

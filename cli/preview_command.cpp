@@ -25,7 +25,7 @@ std::string peak_text(const nlohmann::json& bytes) {
 
 struct PreviewArgs {
   std::string input, output, environment, camera = "auto", brdf = "ggx", legacy_reading = "a", tone_map = "neutral";
-  std::string target = "metalness", solver = "balanced";
+  std::string target = "metalness", solver = "balanced", error_model = "normal-incidence";
   int size = 512, width = 0, height = 0;
   double yaw = 35, pitch = 20, fov = 40;
   float exposure = 1.0f;
@@ -44,7 +44,7 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
   text << "preview " << tool_version() << " size " << options.width << "x" << options.height << " yaw " << args.yaw
        << " pitch " << args.pitch << " fov " << args.fov << " camera " << args.camera << " brdf " << args.brdf
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
-       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " max-image-pixels "
+       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " error-model " << args.error_model << " max-image-pixels "
        << max_image_pixels() << " allow-outside " << args.allow_outside << " env ";
   // The path too: the report names it.
   if (!args.environment.empty())
@@ -61,7 +61,7 @@ int run(const PreviewArgs& args) {
   options.pitch_degrees = args.pitch;
   options.fov_y_degrees = args.fov;
   options.environment = args.environment;
-  options.lighting.lobe = args.brdf == "blinn-phong" ? preview::SpecularLobe::BlinnPhong : preview::SpecularLobe::Ggx;
+  options.lighting.lobe = args.brdf == "blinn-phong" ? SpecularLobe::BlinnPhong : SpecularLobe::Ggx;
   options.lighting.legacy_reading_b = args.legacy_reading == "b";
   options.lighting.tone_map = args.tone_map == "aces"    ? preview::ToneMap::Aces
                               : args.tone_map == "clamp" ? preview::ToneMap::Clamp
@@ -69,7 +69,7 @@ int run(const PreviewArgs& args) {
   options.lighting.exposure = args.exposure;
   options.lighting.sun = !args.no_sun;
   options.convert.target = *target_from_name(args.target);  // CLI::IsMember checked the names
-  options.convert.solver = solver_preset(*solver_effort_from_name(args.solver));
+  options.convert.solver = solver_preset(*solver_effort_from_name(args.solver), *error_model_from_name(args.error_model));
   if (args.camera != "auto") {
     if (args.camera == "gltf") {
       options.gltf_camera = 0;
@@ -173,7 +173,7 @@ std::function<int()> add_preview_command(CLI::App& app) {
       ->check(CLI::IsMember({"ggx", "blinn-phong"}))
       ->capture_default_str();
   cmd->add_option("--legacy-reading", args->legacy_reading,
-                  "before side: a = diffuse (1 - max specular); b = also (1 - F) weighted")
+                  "before side: a = diffuse (1 - max specular) under the dielectric layer's (1 - F), normalised at normal incidence; b = weighted by (1 - F) of the specular")
       ->check(CLI::IsMember({"a", "b"}))
       ->capture_default_str();
   cmd->add_option("--tone-map", args->tone_map, "neutral (Khronos PBR Neutral), aces or clamp")
@@ -187,6 +187,9 @@ std::function<int()> add_preview_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--solver", args->solver, "conversion solver preset (as gltf-pbr convert)")
       ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
+      ->capture_default_str();
+  cmd->add_option("--error-model", args->error_model, "what the conversion matches (as gltf-pbr convert)")
+      ->check(CLI::IsMember({"appearance", "normal-incidence"}))
       ->capture_default_str();
   cmd->add_flag("--grid", args->grid, "draw a metalness (rows) x roughness (columns) sphere array instead of IN");
   cmd->add_option("--albedo", args->albedo, "--grid: linear albedo R G B")->expected(3)->check(CLI::Range(0.0, 1.0));

@@ -28,12 +28,12 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
 
-// How the bake reads texel i: its legacy material, and the key its solve is cached by (the solve
-// depends on diffuse and specular only; roughness is 1 - glossiness).
+// How the bake reads texel i: its legacy material, and the key its solve is cached by (diffuse,
+// specular and glossiness: the appearance model weighs the lobes by the roughness).
 //
 // Any inputs: the key is the legacy colours' float bits.
 struct FloatTexels {
-  using Key = std::array<std::uint32_t, 6>;
+  using Key = std::array<std::uint32_t, 7>;
   const BakeInputs& in;
 
   SpecGloss legacy(size_t i) const {
@@ -54,6 +54,7 @@ struct FloatTexels {
     Key key;
     std::memcpy(key.data(), &l.diffuse, sizeof(float) * 3);
     std::memcpy(key.data() + 3, &l.specular, sizeof(float) * 3);
+    std::memcpy(key.data() + 6, &l.glossiness, sizeof(float));
     return key;
   }
   static std::uint64_t hash(const Key& key) {
@@ -83,6 +84,8 @@ struct ByteTexels {
       const std::uint8_t* t = bytes + i * step;
       return t[offset[0]] | std::uint64_t{t[offset[1]]} << 8 | std::uint64_t{t[offset[2]]} << 16;
     }
+    // The alpha byte (glossiness of a specularGlossiness texture); 255 without an alpha channel.
+    std::uint64_t alpha(size_t i) const { return step == 2 || step == 4 ? bytes[i * step + step - 1] : 255; }
   };
   Source diffuse{in.diffuse}, specular{in.spec_gloss};
 
@@ -91,7 +94,8 @@ struct ByteTexels {
     return bytes(in.diffuse) && bytes(in.spec_gloss);
   }
   Key key(size_t i) const {
-    return (diffuse.bytes ? diffuse.rgb(i) : 0) | (specular.bytes ? specular.rgb(i) << 24 : 0);
+    return (diffuse.bytes ? diffuse.rgb(i) : 0) |
+           (specular.bytes ? specular.rgb(i) << 24 | specular.alpha(i) << 48 : 0);
   }
   SpecGloss legacy(size_t i) const {
     const std::array<float, 256>& linear = srgb8_to_linear_table();
@@ -125,7 +129,7 @@ class SolveCache {
     Key key{};
     std::uint8_t base_srgb[3];
     std::uint8_t metalness;
-    float delta_e[4];  // diffuse A, F0 A, diffuse B, F0 B; valid when has_error
+    float delta_e[5];  // diffuse A, F0 A, diffuse B, F0 B, appearance A; valid when has_error
     bool filled = false, queued = false, has_error = false;
     std::int32_t error_job = -1;   // the waiting error job for this entry's contents, or -1
     std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
@@ -223,32 +227,40 @@ class SolveCache {
   }
 
   // The waiting error jobs, in one batch: the stored texels read back as a viewer reads them
-  // (core_reflectance of the 8-bit sRGB base and metalness) against legacy readings A and B,
-  // each colour pair in CIELAB and ΔE2000 lanes. F0 is the specular colour under either reading.
+  // (core_reflectance and core_appearance of the 8-bit sRGB base and metalness, at the texel's
+  // roughness) against legacy readings A and B, each colour pair in CIELAB and ΔE2000 lanes. F0
+  // is the specular colour under either reading.
   template <class Set>
   void measure_errors(Set&& set) {
+    constexpr size_t kPairs = 3 + kAppearanceRings;  // diffuse A, F0, diffuse B, the rings
     const size_t jobs = error_jobs_.size();
     if (jobs == 0) return;
-    linear_.resize(6 * jobs), lab_.resize(6 * jobs), delta_e_.resize(3 * jobs);
+    linear_.resize(2 * kPairs * jobs), lab_.resize(2 * kPairs * jobs), delta_e_.resize(kPairs * jobs);
     for (size_t j = 0; j < jobs; ++j) {
       const ErrorJob& job = error_jobs_[j];
       MetalRough stored;
       for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(job.stored.base_srgb[c]);
       stored.metalness = static_cast<float>(job.stored.metalness) / 255.0f;
+      stored.roughness = std::clamp(1.0f - job.legacy.glossiness, 0.0f, 1.0f);
       const Reflectance converted = core_reflectance(stored);
       const Reflectance a = legacy_reflectance(job.legacy, LegacyReading::A),
                         b = legacy_reflectance(job.legacy, LegacyReading::B);
-      glm::vec3* expected = &linear_[3 * j];  // the first half: legacy; the second: converted
-      glm::vec3* actual = &linear_[3 * (jobs + j)];
+      const Appearance seen = legacy_appearance(job.legacy), shown = core_appearance(stored);
+      glm::vec3* expected = &linear_[kPairs * j];  // the first half: legacy; the second: converted
+      glm::vec3* actual = &linear_[kPairs * (jobs + j)];
       expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
       actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
+      for (int k = 0; k < kAppearanceRings; ++k) expected[3 + k] = seen.ring[k], actual[3 + k] = shown.ring[k];
     }
     linear_srgb_to_lab(linear_, lab_);
-    delta_e_2000(std::span(lab_).first(3 * jobs), std::span(lab_).subspan(3 * jobs), delta_e_);
+    delta_e_2000(std::span(lab_).first(kPairs * jobs), std::span(lab_).subspan(kPairs * jobs), delta_e_);
     for (size_t j = 0; j < jobs; ++j) {
       ErrorJob& job = error_jobs_[j];
-      const float* d = &delta_e_[3 * j];
+      const float* d = &delta_e_[kPairs * j];
+      float rings = 0.0f;  // the mean over the rings, as appearance_delta_e
+      for (int k = 0; k < kAppearanceRings; ++k) rings += d[3 + k];
       job.delta_e[0] = d[0], job.delta_e[1] = d[1], job.delta_e[2] = d[2], job.delta_e[3] = d[1];
+      job.delta_e[4] = rings / kAppearanceRings;
       Entry& entry = *job.entry;
       if (entry.error_job == static_cast<std::int32_t>(j)) {  // still holding what the job measured
         std::memcpy(entry.delta_e, job.delta_e, sizeof entry.delta_e);
@@ -288,7 +300,7 @@ class SolveCache {
       std::uint8_t base_srgb[3];
       std::uint8_t metalness;
     } stored;
-    float delta_e[4] = {};
+    float delta_e[5] = {};
   };
   std::vector<ErrorJob> error_jobs_;
   std::vector<std::pair<size_t, size_t>> error_waiting_;  // (sample, job)
@@ -327,7 +339,8 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // Every stride-th texel is a sample, in texel order.
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   const size_t samples = (texels + stride - 1) / stride;
-  out.error_a = out.error_b = ErrorAccumulator(samples);
+  out.error_a = ErrorAccumulator(samples, true);
+  out.error_b = ErrorAccumulator(samples);
   if (in.measure_extension_route) out.extension_a = out.extension_b = ErrorAccumulator(samples);
 
   // Alpha (linear, times the factor) and roughness (1 - glossiness, glossiness linear in the
@@ -351,6 +364,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // all before its base bytes are written (they may be the diffuse's).
   const auto set_error = [&](size_t sample, const float* delta_e) {
     out.error_a.set(sample, delta_e[0], delta_e[1]);
+    out.error_a.set_appearance(sample, delta_e[4]);
     out.error_b.set(sample, delta_e[2], delta_e[3]);
   };
   const auto write = [&](size_t i, auto& solved, auto& cache, bool& equal) {

@@ -42,6 +42,20 @@ void ErrorAccumulator::set(size_t sample, float diffuse_delta_e, float f0_delta_
   f0_[sample] = f0_delta_e;
 }
 
-ReflectanceError ErrorAccumulator::finish() { return {summarise(diffuse_), summarise(f0_)}; }
+void ErrorAccumulator::add(const Appearance& expected, const Appearance& actual) {
+  appearance_.push_back(appearance_delta_e(expected, actual));
+}
+
+ReflectanceError ErrorAccumulator::finish() {
+  ReflectanceError error{summarise(diffuse_), summarise(f0_), std::nullopt};
+  if (!appearance_.empty()) error.appearance = summarise(appearance_);
+  return error;
+}
+
+float appearance_delta_e(const Appearance& expected, const Appearance& actual) {
+  double sum = 0.0;
+  for (int k = 0; k < kAppearanceRings; ++k) sum += delta_e(expected.ring[k], actual.ring[k]);
+  return static_cast<float>(sum / kAppearanceRings);
+}
 
 }  // namespace gltf_pbr

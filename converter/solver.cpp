@@ -9,10 +9,12 @@
 #include <glm/matrix.hpp>
 #include <glm/vector_relational.hpp>
 #include <limits>
+#include <mutex>
 #include <span>
 #include <vector>
 
 #include "core/lanes.hpp"
+#include "core/split_sum.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -50,6 +52,8 @@ constexpr float kBlendWidthRelative = 0.5f;
 constexpr float kBlendWidthAbsolute = 1.0f;
 
 float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
 
 float smoothstep01(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
@@ -102,37 +106,111 @@ glm::mat3 lab_metric(glm::vec3 t) {
 
 float quadratic_form(const glm::mat3& q, glm::vec3 r) { return glm::dot(r, q * r); }
 
-// What one solve minimises, fixed for all m: targets, their metrics and the prior.
+// The split-sum terms (A, B) of the appearance model's rings (solver.hpp) at a roughness: a table
+// over roughness in kRoughnessSteps steps, linear between, each row integrated on first use (a
+// factor-only material needs two of them, not the 65).
+constexpr int kRoughnessSteps = 64;
+constexpr int kDfgSamples = 1024;
+struct RingSplitSums {
+  glm::vec2 ring[kAppearanceRings];  // (A, B)
+};
+RingSplitSums ring_split_sums(float roughness) {
+  static std::once_flag filled[kRoughnessSteps + 1];
+  static RingSplitSums rows[kRoughnessSteps + 1];
+  const auto row = [](int i) -> const RingSplitSums& {
+    std::call_once(filled[i], [i] {
+      for (int k = 0; k < kAppearanceRings; ++k)
+        rows[i].ring[k] = integrate_dfg(appearance_ring_cosine(k), static_cast<float>(i) / kRoughnessSteps, kDfgSamples);
+    });
+    return rows[i];
+  };
+  const float x = (roughness > 0.0f ? std::min(roughness, 1.0f) : 0.0f) * kRoughnessSteps;  // NaN: 0
+  const int i = std::min(static_cast<int>(x), kRoughnessSteps - 1);
+  const float f = x - static_cast<float>(i);
+  const RingSplitSums &lo = row(i), &hi = row(i + 1);
+  RingSplitSums out;
+  for (int k = 0; k < kAppearanceRings; ++k) out.ring[k] = lo.ring[k] + f * (hi.ring[k] - lo.ring[k]);
+  return out;
+}
+
+// The dielectric layer's (1 - F) over the hemisphere at a ring: w = 1 - (0.04 A + B).
+float dielectric_transmission(glm::vec2 split_sum) { return 1.0f - (kDielectricF0 * split_sum.x + split_sum.y); }
+
+// One term of the objective (solver.hpp): the core quantity a(m) b + c(m) (1, 1, 1) against the
+// legacy target, a(m) = a0 + m a1, c(m) = c0 + m c1, in the metric of the target.
+struct Term {
+  float a0, a1, c0, c1, weight;
+  glm::vec3 target;
+};
+constexpr int kMaxTerms = 2 * kAppearanceRings;
+// A legacy radiance above this (a specular far above 1, which no material has) enters the fit
+// scaled down to it, hue kept: no core material reaches past about 1 anyway, and the squared
+// residuals of 1e30 would overflow.
+constexpr float kBrightestTarget = 4.0f;
+glm::vec3 bounded(glm::vec3 target) {
+  const float largest = max3(target);
+  return largest > kBrightestTarget ? target * (kBrightestTarget / largest) : target;
+}
+
+// The terms of `model` for one legacy material: the same numbers solve() and the lanes use.
+int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
+  const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
+  if (model == ErrorModel::NormalIncidence) {
+    terms[0] = {kDielectricDiffuse, -kDielectricDiffuse, 0.0f, 0.0f, 1.0f, r.diffuse};
+    terms[1] = {0.0f, 1.0f, kDielectricF0, -kDielectricF0, 1.0f, r.f0};
+    return 2;
+  }
+  const RingSplitSums split = ring_split_sums(roughness_of(legacy));
+  const Appearance seen = legacy_appearance(legacy);
+  constexpr float kWeight = 1.0f / kAppearanceRings;
+  for (int k = 0; k < kAppearanceRings; ++k) {
+    const glm::vec2 ab = split.ring[k];
+    const float w = dielectric_transmission(ab);
+    // Under the uniform light: diffuse and specular together.
+    const float lit = kAppearanceDiffuseLight * w;
+    terms[2 * k] = {lit, ab.x - lit, kDielectricF0 * ab.x + ab.y, -kDielectricF0 * ab.x, kWeight, bounded(seen.ring[k])};
+    // What reflects the environment's detail: the specular lobe alone.
+    terms[2 * k + 1] = {0.0f, ab.x, kDielectricF0 * ab.x + ab.y, -kDielectricF0 * ab.x, kWeight,
+                        bounded(legacy.specular * ab.x + ab.y)};
+  }
+  return 2 * kAppearanceRings;
+}
+
+// What one solve minimises, fixed for all m: the terms with their metrics, the normal equations
+// as polynomials in m (H(m) = h[0] + m h[1] + m^2 h[2], likewise g), and the prior.
 struct Objective {
-  Reflectance target;
-  glm::mat3 diffuse_metric, f0_metric;               // Qd, Qf
-  glm::vec3 diffuse_pull, f0_pull, dielectric_pull;  // Qd D, Qf F, Qf (1, 1, 1)
+  int terms = 0;
+  Term term[kMaxTerms];
+  glm::mat3 metric[kMaxTerms];  // weight J^T J of each term's target
+  glm::mat3 h[3];
+  glm::vec3 g[3];
   float prior_m, prior_weight;
 };
 
 // `previous`, when given, is another input's objective whose metrics are reused where a target
 // is the same colour: the same numbers, and a texture with a specular factor (most of them) has
 // one F0 for every texel.
-Objective objective_for(const SpecGloss& legacy, const Objective* previous = nullptr) {
+Objective objective_for(const SpecGloss& legacy, ErrorModel model, const Objective* previous = nullptr) {
   Objective o;
-  o.target = legacy_reflectance(legacy, LegacyReading::A);
-  if (previous && previous->target.diffuse == o.target.diffuse) {
-    o.diffuse_metric = previous->diffuse_metric, o.diffuse_pull = previous->diffuse_pull;
-  } else {
-    o.diffuse_metric = lab_metric(o.target.diffuse);
-    o.diffuse_pull = o.diffuse_metric * o.target.diffuse;
+  o.terms = terms_of(legacy, model, o.term);
+  for (int i = 0; i < 3; ++i) o.h[i] = glm::mat3(0.0f), o.g[i] = glm::vec3(0.0f);
+  for (int t = 0; t < o.terms; ++t) {
+    const Term& term = o.term[t];
+    const bool same = previous && previous->terms == o.terms && previous->term[t].target == term.target &&
+                      previous->term[t].weight == term.weight;
+    const glm::mat3 q = o.metric[t] = same ? previous->metric[t] : term.weight * lab_metric(term.target);
+    // sum (a0 + m a1)^2 Q and sum (a0 + m a1) Q (T - (c0 + m c1) 1), expanded in m.
+    const glm::vec3 pull = q * term.target, grey_pull = q * glm::vec3(1.0f);
+    o.h[0] += (term.a0 * term.a0) * q, o.h[1] += (2.0f * term.a0 * term.a1) * q, o.h[2] += (term.a1 * term.a1) * q;
+    o.g[0] += term.a0 * (pull - term.c0 * grey_pull);
+    o.g[1] += term.a1 * (pull - term.c0 * grey_pull) - (term.a0 * term.c1) * grey_pull;
+    o.g[2] -= (term.a1 * term.c1) * grey_pull;
   }
-  if (previous && previous->target.f0 == o.target.f0) {
-    o.f0_metric = previous->f0_metric, o.f0_pull = previous->f0_pull, o.dielectric_pull = previous->dielectric_pull;
-  } else {
-    o.f0_metric = lab_metric(o.target.f0);
-    o.f0_pull = o.f0_metric * o.target.f0;
-    o.dielectric_pull = o.f0_metric * glm::vec3(1.0f);
-  }
-  const float mean_f0 = (o.target.f0.x + o.target.f0.y + o.target.f0.z) / 3.0f;
+  const float mean_f0 = (legacy.specular.x + legacy.specular.y + legacy.specular.z) / 3.0f;
+  const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
   o.prior_m = smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
   o.prior_weight = kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
-                                              (1.0f - smoothstep01(max3(o.target.diffuse) / kBrightDiffuse));
+                                              (1.0f - smoothstep01(max3(r.diffuse) / kBrightDiffuse));
   return o;
 }
 
@@ -169,33 +247,30 @@ glm::vec3 nonnegative_minimiser(const glm::mat3& h, glm::vec3 g) {
   return glm::max(b, glm::vec3(0.0f));
 }
 
-// The base for metalness m: the best non-negative base for
-//   |Jd (k (1-m) b - D)|^2 + |Jf (0.04 (1-m) + m b - F)|^2,   k = 0.96,
-// whose normal equations are H b = g with
-//   H = k^2 (1-m)^2 Qd + m^2 Qf,   g = k (1-m) Qd D + m Qf (F - 0.04 (1-m)),
-// then brought into [0, 1] by scaling the whole colour when a channel exceeds 1 (a saturated
-// diffuse of 1.0 needs 1/0.96; gold's red F0 is 1.022). Clipping that channel alone would shift
-// the hue; the scale is 1 at the gamut edge, so the result stays continuous. Qd and Qf are
-// positive definite (J is a product of invertible matrices) and the two scales are never both 0
-// on [0, 1], so H is invertible: no epsilon is needed.
+// The base for metalness m: the best non-negative base for the terms at m, whose normal
+// equations are H(m) b = g(m), then brought into [0, 1] by scaling the whole colour when a channel
+// exceeds 1 (a saturated diffuse of 1.0 needs 1/0.96; gold's red F0 is 1.022). Clipping that
+// channel alone would shift the hue; the scale is 1 at the gamut edge, so the result stays
+// continuous. Each metric is positive definite (J is a product of invertible matrices) and the
+// terms' scales a(m) never all vanish on [0, 1], so H is invertible: no epsilon is needed.
 glm::vec3 base_at(float m, const Objective& o) {
-  const float k = kDielectricDiffuse, one_minus = 1.0f - m;
-  const glm::mat3 h = (k * k * one_minus * one_minus) * o.diffuse_metric + (m * m) * o.f0_metric;
-  const glm::vec3 g =
-      (k * one_minus) * o.diffuse_pull + m * (o.f0_pull - kDielectricF0 * one_minus * o.dielectric_pull);
+  const glm::mat3 h = o.h[0] + m * o.h[1] + (m * m) * o.h[2];
+  const glm::vec3 g = o.g[0] + m * o.g[1] + (m * m) * o.g[2];
   const glm::vec3 base = nonnegative_minimiser(h, g);
   const float largest = max3(base);
   return largest > 1.0f ? base / largest : base;
 }
 
-// The objective at m, for the base that m is given.
+// The objective at m, for the base that m is given: each term's residual in its metric.
 float error_at(float m, const Objective& o) {
-  const float k = kDielectricDiffuse, one_minus = 1.0f - m;
   const glm::vec3 b = base_at(m, o);
-  const glm::vec3 diffuse_error = (k * one_minus) * b - o.target.diffuse;
-  const glm::vec3 f0_error = glm::vec3(kDielectricF0 * one_minus) + m * b - o.target.f0;
-  return quadratic_form(o.diffuse_metric, diffuse_error) + quadratic_form(o.f0_metric, f0_error) +
-         o.prior_weight * (m - o.prior_m) * (m - o.prior_m);
+  float error = o.prior_weight * (m - o.prior_m) * (m - o.prior_m);
+  for (int t = 0; t < o.terms; ++t) {
+    const Term& term = o.term[t];
+    const glm::vec3 residual = (term.a0 + m * term.a1) * b + glm::vec3(term.c0 + m * term.c1) - term.target;
+    error += quadratic_form(o.metric[t], residual);
+  }
+  return error;
 }
 
 struct Minimum {
@@ -288,8 +363,6 @@ float blended_metalness(std::span<const Minimum> minima) {
   return weight_sum > 0.0f ? weighted_m / weight_sum : lowest_m;
 }
 
-float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
-
 // The batch solver: kLanes solves side by side in SIMD lanes (GCC/Clang vector extensions; each
 // lane is an independent solve, so a lane's answer never depends on its neighbours). Same
 // objective, grid, refinement and blending as solve(); the 3×3 systems are solved by cofactors
@@ -308,10 +381,14 @@ struct Vec {
   Floats c[3];
 };
 
-// What solve() builds per input, as structure of arrays.
+// What solve() builds per input, as structure of arrays. Every lane has the same number of terms
+// (the error model is the batch's).
 struct Objectives {
-  Vec target_diffuse, target_f0, diffuse_pull, f0_pull, dielectric_pull;
-  Symmetric diffuse_metric, f0_metric;
+  int terms;
+  Floats a0[kMaxTerms], a1[kMaxTerms], c0[kMaxTerms], c1[kMaxTerms];
+  Vec target[kMaxTerms];
+  Symmetric metric[kMaxTerms], h[3];
+  Vec g[3];
   Floats prior_m, prior_weight;
 };
 
@@ -370,15 +447,11 @@ GLTF_PBR_INLINE Vec nonnegative_minimiser(const Symmetric& h, const Vec& g, Vec 
 
 // base_at() of every lane.
 GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) {
-  const float k = kDielectricDiffuse;
-  const Floats one_minus = 1.0f - m;
-  const Floats a = (k * k) * one_minus * one_minus, c = m * m;
+  const Floats m2 = m * m;
   Symmetric h;
-  for (int i = 0; i < 6; ++i) h.e[i] = a * o.diffuse_metric.e[i] + c * o.f0_metric.e[i];
+  for (int i = 0; i < 6; ++i) h.e[i] = o.h[0].e[i] + m * o.h[1].e[i] + m2 * o.h[2].e[i];
   Vec g;
-  for (int i = 0; i < 3; ++i)
-    g.c[i] = (k * one_minus) * o.diffuse_pull.c[i] +
-             m * (o.f0_pull.c[i] - kDielectricF0 * one_minus * o.dielectric_pull.c[i]);
+  for (int i = 0; i < 3; ++i) g.c[i] = o.g[0].c[i] + m * o.g[1].c[i] + m2 * o.g[2].c[i];
   // H⁻¹ g by cofactors (H is symmetric, so is its adjugate).
   const Floats xx = h.e[0], yy = h.e[1], zz = h.e[2], xy = h.e[3], xz = h.e[4], yz = h.e[5];
   const Floats c00 = yy * zz - yz * yz, c01 = xz * yz - xy * zz, c02 = xy * yz - xz * yy;
@@ -399,33 +472,36 @@ GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) {
 // error_at() of every lane.
 GLTF_PBR_INLINE Floats error_at(Floats m, const Objectives& o) {
   const Vec b = base_at(m, o);
-  const Floats one_minus = 1.0f - m;
-  Vec diffuse_error, f0_error;
-  for (int i = 0; i < 3; ++i) {
-    diffuse_error.c[i] = (kDielectricDiffuse * one_minus) * b.c[i] - o.target_diffuse.c[i];
-    f0_error.c[i] = kDielectricF0 * one_minus + m * b.c[i] - o.target_f0.c[i];
-  }
   const Floats prior = m - o.prior_m;
-  return quadratic_form(o.diffuse_metric, diffuse_error) + quadratic_form(o.f0_metric, f0_error) +
-         o.prior_weight * prior * prior;
+  Floats error = o.prior_weight * prior * prior;
+  for (int t = 0; t < o.terms; ++t) {
+    const Floats a = o.a0[t] + m * o.a1[t], c = o.c0[t] + m * o.c1[t];
+    Vec residual;
+    for (int i = 0; i < 3; ++i) residual.c[i] = a * b.c[i] + c - o.target[t].c[i];
+    error += quadratic_form(o.metric[t], residual);
+  }
+  return error;
 }
 
-Objectives objectives_for(const SpecGloss* legacy) {
+Objectives objectives_for(const SpecGloss* legacy, ErrorModel model) {
   Objectives o;
   Objective one;
+  constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
+  const auto put = [&](Symmetric& into, const glm::mat3& from, int l) {
+    for (int i = 0; i < 6; ++i) into.e[i][l] = from[kColumn[i]][kRow[i]];
+  };
   for (int l = 0; l < kLanes; ++l) {
-    one = objective_for(legacy[l], l > 0 ? &one : nullptr);
-    for (int i = 0; i < 3; ++i) {
-      o.target_diffuse.c[i][l] = one.target.diffuse[i];
-      o.target_f0.c[i][l] = one.target.f0[i];
-      o.diffuse_pull.c[i][l] = one.diffuse_pull[i];
-      o.f0_pull.c[i][l] = one.f0_pull[i];
-      o.dielectric_pull.c[i][l] = one.dielectric_pull[i];
+    one = objective_for(legacy[l], model, l > 0 ? &one : nullptr);
+    o.terms = one.terms;
+    for (int t = 0; t < one.terms; ++t) {
+      const Term& term = one.term[t];
+      o.a0[t][l] = term.a0, o.a1[t][l] = term.a1, o.c0[t][l] = term.c0, o.c1[t][l] = term.c1;
+      for (int i = 0; i < 3; ++i) o.target[t].c[i][l] = term.target[i];
+      put(o.metric[t], one.metric[t], l);
     }
-    constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
-    for (int i = 0; i < 6; ++i) {
-      o.diffuse_metric.e[i][l] = one.diffuse_metric[kColumn[i]][kRow[i]];
-      o.f0_metric.e[i][l] = one.f0_metric[kColumn[i]][kRow[i]];
+    for (int k = 0; k < 3; ++k) {
+      put(o.h[k], one.h[k], l);
+      for (int i = 0; i < 3; ++i) o.g[k].c[i][l] = one.g[k][i];
     }
     o.prior_m[l] = one.prior_m;
     o.prior_weight[l] = one.prior_weight;
@@ -458,7 +534,7 @@ GLTF_PBR_INLINE void refine(Floats lo, Floats hi, Floats& m, Floats& error, int 
 
 GLTF_PBR_LANE_CLONES
 void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& settings) {
-  const Objectives o = objectives_for(legacy);
+  const Objectives o = objectives_for(legacy, settings.error_model);
   const int steps = std::max(1, settings.grid_steps);
   const size_t count = static_cast<size_t>(steps) + 1;
   // Each lane's sampled errors and minima, on the stack (a container of vectors would be code
@@ -509,6 +585,34 @@ Reflectance legacy_reflectance(const SpecGloss& legacy, LegacyReading reading) {
   return r;
 }
 
+float appearance_ring_cosine(int ring) {
+  return std::sqrt((static_cast<float>(ring) + 0.5f) / static_cast<float>(kAppearanceRings));
+}
+
+Appearance legacy_appearance(const SpecGloss& legacy) {
+  const glm::vec3 c_a = legacy_reflectance(legacy, LegacyReading::A).diffuse;
+  const RingSplitSums split = ring_split_sums(roughness_of(legacy));
+  Appearance seen;
+  for (int k = 0; k < kAppearanceRings; ++k) {
+    const glm::vec2 ab = split.ring[k];
+    seen.ring[k] = c_a * (kAppearanceDiffuseLight * dielectric_transmission(ab) / kDielectricDiffuse) +
+                   legacy.specular * ab.x + ab.y;
+  }
+  return seen;
+}
+
+Appearance core_appearance(const MetalRough& core) {
+  const float m = core.metalness;
+  const glm::vec3 f0 = glm::mix(glm::vec3(kDielectricF0), core.base, m);
+  const RingSplitSums split = ring_split_sums(core.roughness);
+  Appearance seen;
+  for (int k = 0; k < kAppearanceRings; ++k) {
+    const glm::vec2 ab = split.ring[k];
+    seen.ring[k] = core.base * (kAppearanceDiffuseLight * (1.0f - m) * dielectric_transmission(ab)) + f0 * ab.x + ab.y;
+  }
+  return seen;
+}
+
 Reflectance core_reflectance(const MetalRough& core) {
   const float m = core.metalness;
   return {core.base * (1.0f - m) * kDielectricDiffuse, glm::mix(glm::vec3(kDielectricF0), core.base, m)};
@@ -519,23 +623,25 @@ Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 f0) {
   return {base * std::max(0.0f, 1.0f - max3(f0)), f0};
 }
 
-SolverSettings solver_preset(SolverEffort effort) {
+SolverSettings solver_preset(SolverEffort effort, ErrorModel model) {
   switch (effort) {
     case SolverEffort::Fast:
-      return {8, 0};
+      return {8, 0, false, model};
     case SolverEffort::Exact:
-      return {64, 40};
+      return {64, 40, false, model};
     case SolverEffort::Reference:
-      return {0, 0, true};
+      return {0, 0, true, model};
     case SolverEffort::Balanced:
       break;
   }
-  return {};
+  SolverSettings settings;
+  settings.error_model = model;
+  return settings;
 }
 
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   if (settings.reference_formula) return solve_reference(legacy);
-  const Objective objective = objective_for(legacy);
+  const Objective objective = objective_for(legacy, settings.error_model);
 
   // Coarse grid over m, then golden-section search around each local minimum of the samples.
   const int steps = std::max(1, settings.grid_steps);

@@ -9,6 +9,8 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "core/split_sum.hpp"  // dfg_lookup, which the lighting reads beside the maps
+
 namespace gltf_pbr::preview {
 
 // Equirectangular (latitude-longitude) radiance, +Y up; u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
@@ -53,14 +55,5 @@ Environment uniform_environment(glm::vec3 radiance);
 // std::runtime_error naming the file.
 Environment load_environment(const std::filesystem::path& path);
 EquirectMap read_radiance_hdr(const std::vector<std::uint8_t>& bytes, const std::string& name);
-
-// Split-sum scale and bias (A, B): the specular reflectance is F0 * A + B (Karis 2013, eq. 8),
-// for GGX with height-correlated Smith visibility. dfg_lookup reads a 64 x 64 table built once;
-// integrate_dfg is the Monte Carlo reference that fills it.
-glm::vec2 dfg_lookup(float n_dot_v, float roughness);
-glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples);
-
-// Low-discrepancy point i of n (Hammersley set with the radical inverse in base 2).
-glm::vec2 hammersley(std::uint32_t i, std::uint32_t n);
 
 }  // namespace gltf_pbr::preview

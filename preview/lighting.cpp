@@ -42,10 +42,10 @@ glm::vec3 shade_prepared(const SurfaceLobes& lobes, float roughness, const Pixel
   const glm::vec3 specular = env.prefiltered_radiance_uv(g.reflected_uv, roughness) * (lobes.f0 * dfg.x + dfg.y);
   // Diffuse: Lambert on SH irradiance, E / pi; the (1 - F) weighting of glTF Appendix B is
   // averaged over the hemisphere by the split-sum term of the layer it sits under, 1 - (F0_d A + B)
-  // (F0_d = 0.04 for metal-rough, the specular colour for legacy reading B), which makes a white
-  // non-absorbing dielectric reflect a uniform environment exactly (white furnace).
-  glm::vec3 diffuse = lobes.diffuse_color * g.irradiance / kPi;
-  if (lobes.diffuse_times_one_minus_f) diffuse *= glm::vec3(1.0f) - (lobes.diffuse_fresnel_f0 * dfg.x + dfg.y);
+  // (F0_d = 0.04 for metal-rough and legacy reading A, the specular colour for reading B), which
+  // makes a white non-absorbing dielectric reflect a uniform environment exactly (white furnace).
+  const glm::vec3 diffuse = lobes.diffuse_color * g.irradiance / kPi * lobes.diffuse_fresnel_scale *
+                            (glm::vec3(1.0f) - (lobes.diffuse_fresnel_f0 * dfg.x + dfg.y));
   // glTF 2.0 section 3.9.4: occlusion darkens indirect light only.
   color += (diffuse + specular) * occlusion + emissive;
   return std::isfinite(color.x + color.y + color.z) ? color : glm::vec3(0.0f);

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "preview/brdf.hpp"
+#include "core/brdf.hpp"
 #include "preview/environment.hpp"
 #include "preview/gbuffer.hpp"
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -72,7 +73,13 @@ PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options
 PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const Environment& env,
                                 const PreviewOptions& options);
 
-// Analytic spheres for --grid and tests: `after` materials per cell, "before" from to_spec_gloss.
+// Analytic spheres, one (before, after) material pair per cell of `cell` pixels, `columns` to a row,
+// seen orthographically down -Z; for --grid (before = to_spec_gloss(after)) and tests.
+struct SpherePair {
+  SpecGloss before;
+  MetalRough after;
+};
+GBuffers sphere_gbuffers(std::span<const SpherePair> spheres, int columns, int cell, Camera* camera);
 GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera);
 
 // before.png, after.png, difference.png, sheet.png and report.json into `folder`, atomically;

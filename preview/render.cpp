@@ -129,9 +129,10 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
   return result;
 }
 
-GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
+GBuffers sphere_gbuffers(std::span<const SpherePair> spheres, int columns, int cell, Camera* camera) {
   GBuffers out;
-  const int width = grid.columns * grid.cell, height = grid.rows * grid.cell;
+  const int rows = (static_cast<int>(spheres.size()) + columns - 1) / columns;
+  const int width = columns * cell, height = rows * cell;
   const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
   for (GBuffer* g : {&out.before, &out.after}) {
     g->width = width;
@@ -143,20 +144,19 @@ GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
   out.before.diffspec.assign(count, DiffuseSpecular{});
   auto unorm8 = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   auto srgb8 = [](float v) { return encode_srgb8(v); };
-  const float radius = 0.42f * static_cast<float>(grid.cell);
+  const float radius = 0.42f * static_cast<float>(cell);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const int row = y / grid.cell, column = x / grid.cell;
-      const float lx = (static_cast<float>(x % grid.cell) + 0.5f - 0.5f * static_cast<float>(grid.cell)) / radius;
-      const float ly = (static_cast<float>(y % grid.cell) + 0.5f - 0.5f * static_cast<float>(grid.cell)) / radius;
+      const size_t sphere = static_cast<size_t>((y / cell) * columns + x / cell);
+      if (sphere >= spheres.size()) continue;
+      const float lx = (static_cast<float>(x % cell) + 0.5f - 0.5f * static_cast<float>(cell)) / radius;
+      const float ly = (static_cast<float>(y % cell) + 0.5f - 0.5f * static_cast<float>(cell)) / radius;
       const float r2 = lx * lx + ly * ly;
       if (r2 >= 1.0f) continue;
       // Orthographic view down -Z: the visible hemisphere's normal is (x, y, sqrt(1 - x^2 - y^2)).
       const glm::vec3 normal(lx, -ly, std::sqrt(1.0f - r2));
-      const MetalRough core{
-          grid.albedo, grid.rows > 1 ? static_cast<float>(row) / static_cast<float>(grid.rows - 1) : 0.0f,
-          grid.columns > 1 ? static_cast<float>(column) / static_cast<float>(grid.columns - 1) : 0.5f};
-      const SpecGloss legacy = to_spec_gloss(core);
+      const SpecGloss& legacy = spheres[sphere].before;
+      const MetalRough& core = spheres[sphere].after;
       const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
       out.after.depth[i] = out.before.depth[i] = 1.0f;
       out.after.normal[i] = pack_normal_and_scalar(normal, core.roughness);
@@ -172,6 +172,18 @@ GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
     camera->aspect = static_cast<double>(width) / height;
   }
   return out;
+}
+
+GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
+  std::vector<SpherePair> spheres;
+  for (int row = 0; row < grid.rows; ++row)
+    for (int column = 0; column < grid.columns; ++column) {
+      const MetalRough core{
+          grid.albedo, grid.rows > 1 ? static_cast<float>(row) / static_cast<float>(grid.rows - 1) : 0.0f,
+          grid.columns > 1 ? static_cast<float>(column) / static_cast<float>(grid.columns - 1) : 0.5f};
+      spheres.push_back({to_spec_gloss(core), core});
+    }
+  return sphere_gbuffers(spheres, grid.columns, grid.cell, camera);
 }
 
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options) {

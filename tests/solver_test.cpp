@@ -37,38 +37,75 @@ double worst_delta_e(const SpecGloss& legacy, const MetalRough& core) {
   return error.finish().worst();
 }
 
-TEST(Solver, DielectricAt004BecomesMetalnessZeroWithBaseEqualToDiffuse) {
+// The error a model minimises, as the report gives it: the worse of diffuse and F0 at normal
+// incidence, or the appearance error.
+double model_delta_e(ErrorModel model, const SpecGloss& legacy, const MetalRough& core) {
+  return model == ErrorModel::NormalIncidence ? worst_delta_e(legacy, core)
+                                              : appearance_delta_e(legacy_appearance(legacy), core_appearance(core));
+}
+
+const ErrorModel kModels[] = {ErrorModel::Appearance, ErrorModel::NormalIncidence};
+SolverSettings settings_of(ErrorModel model, SolverEffort effort = SolverEffort::Balanced) {
+  return solver_preset(effort, model);
+}
+
+// The properties every error model keeps: the tests below run once per model.
+ErrorModel g_model = ErrorModel::NormalIncidence;
+SolverSettings model_settings() { return solver_preset(SolverEffort::Balanced, g_model); }
+MetalRough solve_model(const SpecGloss& legacy) { return solve(legacy, model_settings()); }
+class SolverUnderEachModel : public ::testing::TestWithParam<ErrorModel> {
+ protected:
+  void SetUp() override { g_model = GetParam(); }
+  void TearDown() override { g_model = ErrorModel::NormalIncidence; }
+};
+using SolverBatchUnderEachModel = SolverUnderEachModel;
+std::string model_test_name(const ::testing::TestParamInfo<ErrorModel>& info) {
+  return info.param == ErrorModel::NormalIncidence ? "NormalIncidence" : "Appearance";
+}
+INSTANTIATE_TEST_SUITE_P(Models, SolverUnderEachModel, ::testing::ValuesIn(kModels), model_test_name);
+INSTANTIATE_TEST_SUITE_P(Models, SolverBatchUnderEachModel, ::testing::ValuesIn(kModels), model_test_name);
+
+TEST_P(SolverUnderEachModel, DielectricAt004BecomesMetalnessZeroWithBaseEqualToDiffuse) {
   for (glm::vec3 diffuse :
        {glm::vec3(0.0f), glm::vec3(1.0f), glm::vec3(0.8f, 0.2f, 0.1f), glm::vec3(0.05f, 0.5f, 0.9f)}) {
-    const MetalRough r = solve({diffuse, glm::vec3(0.04f), 0.5f});
+    const MetalRough r = solve_model({diffuse, glm::vec3(0.04f), 0.5f});
     EXPECT_EQ(r.metalness, 0.0f);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], diffuse[c], 1e-5f);
     EXPECT_FLOAT_EQ(r.roughness, 0.5f);
   }
 }
 
-TEST(Solver, EveryMetalOfTheF0TableBecomesMetalnessOneWithBaseF0) {
+TEST_P(SolverUnderEachModel, EveryMetalOfTheF0TableBecomesMetalnessOneWithBaseF0) {
   for (const Metal& metal : kMetals) {
-    const MetalRough r = solve({glm::vec3(0.0f), metal.f0, 0.8f});
+    const MetalRough r = solve_model({glm::vec3(0.0f), metal.f0, 0.8f});
     EXPECT_EQ(r.metalness, 1.0f) << metal.name;
     // Gold's red above 1 brings the colour into gamut by scaling, keeping its hue.
     const float scale = std::max(1.0f, std::max(metal.f0.r, std::max(metal.f0.g, metal.f0.b)));
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], metal.f0[c] / scale, 1e-5f) << metal.name;
+    // 2e-5: the normal equations are summed as polynomials in m, whose float rounding reaches 1.1e-5.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], metal.f0[c] / scale, 2e-5f) << metal.name;
   }
 }
 
-TEST(Solver, GoldsRedAboveOneIsBroughtIntoGamutWithItsHueNotNaN) {
-  const MetalRough r = solve({glm::vec3(0.0f), {1.022f, 0.782f, 0.344f}, 1.0f});
+TEST_P(SolverUnderEachModel, GoldsRedAboveOneIsBroughtIntoGamutWithItsHueNotNaN) {
+  const MetalRough r = solve_model({glm::vec3(0.0f), {1.022f, 0.782f, 0.344f}, 1.0f});
   EXPECT_TRUE(finite_and_in_unit_range(r));
   EXPECT_EQ(r.base.r, 1.0f);
   EXPECT_NEAR(r.base.g / r.base.r, 0.782f / 1.022f, 1e-5f);
 }
 
 TEST(Solver, SaturatedDiffuseKeepsItsHueWhenItLeavesTheGamut) {
-  // A diffuse of 1.0 over a 0 specular needs base 1/0.96: the colour is scaled, not clipped.
-  const MetalRough r = solve({{1.0f, 0.5f, 0.0f}, glm::vec3(0.0f), 1.0f});
+  // A diffuse of 1.0 over a 0 specular needs base 1/0.96 at normal incidence: the colour is
+  // scaled, not clipped.
+  const SpecGloss orange{{1.0f, 0.5f, 0.0f}, glm::vec3(0.0f), 1.0f};
+  const MetalRough r = solve(orange, settings_of(ErrorModel::NormalIncidence));
   EXPECT_EQ(r.base.r, 1.0f);
   EXPECT_NEAR(r.base.g, 0.5f, 1e-4f);
+  // The appearance model gives back the grey sheen that core's F0 0.04 adds to a 0 specular, so
+  // the base loses a little grey (green falls by under 2%), and is brought into gamut the same way.
+  const MetalRough seen = solve(orange, settings_of(ErrorModel::Appearance));
+  EXPECT_EQ(seen.base.r, 1.0f);
+  EXPECT_EQ(seen.base.b, 0.0f);
+  EXPECT_NEAR(seen.base.g, 0.5f, 0.01f);
 }
 
 // Sweeps specular upwards in small steps; the solution must move in small steps too.
@@ -85,23 +122,22 @@ float largest_step(glm::vec3 diffuse, glm::vec3 tint, float from, float to, floa
   return largest;
 }
 
-MetalRough solve_balanced(const SpecGloss& legacy) { return solve(legacy); }
 
-TEST(Solver, IsContinuousAcrossSpecular004) {
+TEST_P(SolverUnderEachModel, IsContinuousAcrossSpecular004) {
   for (glm::vec3 diffuse :
        {glm::vec3(0.0f), glm::vec3(0.02f), glm::vec3(0.5f), glm::vec3(1.0f), glm::vec3(0.9f, 0.1f, 0.1f)})
-    EXPECT_LT(largest_step(diffuse, glm::vec3(1.0f), 0.035f, 0.045f, 1e-5f, &solve_balanced), 0.002f)
+    EXPECT_LT(largest_step(diffuse, glm::vec3(1.0f), 0.035f, 0.045f, 1e-5f, &solve_model), 0.002f)
         << "diffuse " << diffuse.r << "," << diffuse.g << "," << diffuse.b;
 }
 
-TEST(Solver, IsContinuousOverTheWholeSpecularRange) {
+TEST_P(SolverUnderEachModel, IsContinuousOverTheWholeSpecularRange) {
   // Saturated diffuse colours under specular of another hue have two basins of near-equal error
   // (keep the diffuse, or match the F0): a plain argmin jumped by up to 0.82 in metalness there.
   for (glm::vec3 diffuse :
        {glm::vec3(0.0f), glm::vec3(0.1f), glm::vec3(0.5f), glm::vec3(1.0f), glm::vec3(0.2f, 0.6f, 0.9f),
         glm::vec3(0.8f, 0.2f, 0.1f), glm::vec3(0.1f, 0.3f, 0.9f), glm::vec3(0.8f, 0.0f, 0.0f)})
     for (glm::vec3 tint : {glm::vec3(1.0f), glm::vec3(1.0f, 0.7f, 0.4f), glm::vec3(0.4f, 0.7f, 1.0f)})
-      EXPECT_LT(largest_step(diffuse, tint, 0.0f, 1.1f, 1e-3f, &solve_balanced), 0.03f)
+      EXPECT_LT(largest_step(diffuse, tint, 0.0f, 1.1f, 1e-3f, &solve_model), 0.03f)
           << "diffuse " << diffuse.r << "," << diffuse.g << "," << diffuse.b;
 }
 
@@ -110,17 +146,17 @@ TEST(Solver, ReferenceFormulaJumpsAt004WhereOursDoesNot) {
   EXPECT_GT(largest_step(glm::vec3(0.0f), glm::vec3(1.0f), 0.035f, 0.045f, 1e-5f, &solve_reference), 0.5f);
 }
 
-TEST(Solver, KeepsChroma) {
+TEST_P(SolverUnderEachModel, KeepsChroma) {
   // Coloured diffuse over a 0.04 dielectric keeps its hue exactly; a coloured metal keeps its tint.
-  const MetalRough plastic = solve({{0.8f, 0.2f, 0.1f}, glm::vec3(0.04f), 1.0f});
+  const MetalRough plastic = solve_model({{0.8f, 0.2f, 0.1f}, glm::vec3(0.04f), 1.0f});
   EXPECT_NEAR(plastic.base.r / plastic.base.g, 4.0f, 1e-4f);
-  const MetalRough copper = solve({glm::vec3(0.0f), {0.955f, 0.638f, 0.538f}, 1.0f});
+  const MetalRough copper = solve_model({glm::vec3(0.0f), {0.955f, 0.638f, 0.538f}, 1.0f});
   EXPECT_NEAR(copper.base.g / copper.base.r, 0.638f / 0.955f, 1e-4f);
   // Coloured diffuse under grey specular of any level keeps its hue order in the base and in the
   // diffuse weight; saturation falls as the specular rises (a metal's F0 is tinted by its base).
   for (float s : {0.0f, 0.02f, 0.04f, 0.08f, 0.17f, 0.3f, 0.5f})
     for (glm::vec3 diffuse : {glm::vec3(0.8f, 0.2f, 0.1f), glm::vec3(0.1f, 0.3f, 0.9f)}) {
-      const MetalRough r = solve({diffuse, glm::vec3(s), 1.0f});
+      const MetalRough r = solve_model({diffuse, glm::vec3(s), 1.0f});
       const glm::vec3 d = core_reflectance(r).diffuse;
       const bool red_first = diffuse.r > diffuse.b;
       EXPECT_EQ(r.base.r > r.base.g, red_first) << s;
@@ -134,7 +170,7 @@ TEST(Solver, KeepsChroma) {
 // that glTF-Transform writes (base = diffuse, metallic 0), as a core-only viewer sees it.
 TEST(Solver, GreySpecularOverRedDiffuseFitsBetterInDeltaE2000ThanTheLosslessDielectric) {
   const SpecGloss box{{0.8f, 0.0f, 0.0f}, glm::vec3(0.2f), 1.0f};
-  const MetalRough ours = solve(box);
+  const MetalRough ours = solve(box, settings_of(ErrorModel::NormalIncidence));
   const MetalRough dielectric{box.diffuse, 0.0f, 0.0f};
   const auto mean_delta_e = [&](const MetalRough& core) {
     ErrorAccumulator error;
@@ -145,43 +181,64 @@ TEST(Solver, GreySpecularOverRedDiffuseFitsBetterInDeltaE2000ThanTheLosslessDiel
   EXPECT_LT(mean_delta_e(ours), mean_delta_e(dielectric));
   EXPECT_LT(ours.metalness, 0.1f);
   EXPECT_LT(ours.base.g, 0.01f);
+  // Judged on appearance, the appearance solve beats both: the sheen's light that F0 0.04 cannot
+  // carry goes into the base (lighter, less saturated red), still no red metal.
+  const MetalRough seen = solve(box, settings_of(ErrorModel::Appearance));
+  const auto appearance_error = [&](const MetalRough& core) {
+    return appearance_delta_e(legacy_appearance(box), core_appearance(core));
+  };
+  EXPECT_LT(appearance_error(seen), appearance_error(dielectric));
+  EXPECT_LT(appearance_error(seen), appearance_error(ours));
+  EXPECT_LT(seen.metalness, 0.1f);
+  EXPECT_GT(seen.base.r, seen.base.g);
 }
 
 // Exact idempotence and continuity conflict on the black-diffuse line: there a dark metal
 // (m = 1, base = F0) fits any grey F0 exactly, so an exact-when-possible solver must jump at 0.04.
 // The solver keeps continuity; a second pass may move the look a little (measured over 5000
 // samples: mean 0.54, worst 24 ΔE2000), and dielectrics and plausible metals stay fixed.
+// to_spec_gloss is the exact inverse under both models (its reading-A reflectance is core's, and
+// so is its appearance), so the drift is the solver's alone. Measured over 2000 samples, as the
+// model sees it: normal incidence mean 0.54, worst 24; appearance mean 0.27, worst 3.1.
 TEST(Solver, SecondPassDriftIsBounded) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  ErrorAccumulator drift;
-  for (int i = 0; i < 2000; ++i) {
-    const SpecGloss legacy{
-        {unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)) * glm::vec3(1.0f, unit(rng), 1.0f), unit(rng)};
-    const MetalRough once = solve(legacy);
-    const MetalRough twice = solve(to_spec_gloss(once));
-    EXPECT_FLOAT_EQ(twice.roughness, once.roughness);
-    drift.add(core_reflectance(once), core_reflectance(twice));
+  for (const ErrorModel model : kModels) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    ErrorAccumulator drift(2000, true);
+    for (size_t i = 0; i < 2000; ++i) {
+      const SpecGloss legacy{
+          {unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)) * glm::vec3(1.0f, unit(rng), 1.0f), unit(rng)};
+      const MetalRough once = solve(legacy, settings_of(model));
+      const MetalRough twice = solve(to_spec_gloss(once), settings_of(model));
+      EXPECT_FLOAT_EQ(twice.roughness, once.roughness);
+      drift.set(i, core_reflectance(once), core_reflectance(twice));
+      drift.set_appearance(i, appearance_delta_e(core_appearance(once), core_appearance(twice)));
+    }
+    const ReflectanceError e = drift.finish();
+    if (model == ErrorModel::NormalIncidence) {
+      EXPECT_LT(std::max(e.diffuse.mean, e.f0.mean), 0.7);
+      EXPECT_LT(e.worst(), 26.0);
+    } else {
+      EXPECT_LT(e.appearance->mean, 0.4);
+      EXPECT_LT(e.appearance->max, 5.0);
+    }
   }
-  const ReflectanceError e = drift.finish();
-  EXPECT_LT(std::max(e.diffuse.mean, e.f0.mean), 0.7);
-  EXPECT_LT(e.worst(), 26.0);
 }
 
-TEST(Solver, DielectricsAndMetalsAreFixedPoints) {
+TEST_P(SolverUnderEachModel, DielectricsAndMetalsAreFixedPoints) {
   for (const Metal& metal : kMetals) {
-    const MetalRough once = solve({glm::vec3(0.0f), metal.f0, 0.7f});
-    const MetalRough twice = solve(to_spec_gloss(once));
+    const MetalRough once = solve_model({glm::vec3(0.0f), metal.f0, 0.7f});
+    const MetalRough twice = solve_model(to_spec_gloss(once));
     EXPECT_EQ(twice.metalness, once.metalness) << metal.name;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(twice.base[c], once.base[c], 1e-4f) << metal.name;
   }
-  const MetalRough plastic = solve({{0.6f, 0.3f, 0.1f}, glm::vec3(0.04f), 0.3f});
-  const MetalRough again = solve(to_spec_gloss(plastic));
+  const MetalRough plastic = solve_model({{0.6f, 0.3f, 0.1f}, glm::vec3(0.04f), 0.3f});
+  const MetalRough again = solve_model(to_spec_gloss(plastic));
   EXPECT_EQ(again.metalness, 0.0f);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(again.base[c], plastic.base[c], 1e-4f);
 }
 
-TEST(Solver, MetalRoughToSpecGlossAndBackIsExactForPureClasses) {
+TEST_P(SolverUnderEachModel, MetalRoughToSpecGlossAndBackIsExactForPureClasses) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int i = 0; i < 300; ++i) {
@@ -190,7 +247,7 @@ TEST(Solver, MetalRoughToSpecGlossAndBackIsExactForPureClasses) {
     MetalRough original{metal ? glm::vec3(0.5f) + 0.5f * glm::vec3(unit(rng), unit(rng), unit(rng))
                               : glm::vec3(unit(rng), unit(rng), unit(rng)),
                         metal ? 1.0f : 0.0f, unit(rng)};
-    const MetalRough back = solve(to_spec_gloss(original));
+    const MetalRough back = solve_model(to_spec_gloss(original));
     EXPECT_NEAR(back.metalness, original.metalness, 1e-3f) << i;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.base[c], original.base[c], 2e-3f) << i;
     EXPECT_NEAR(back.roughness, original.roughness, 1e-6f);
@@ -202,44 +259,47 @@ TEST(Solver, MetalRoughToSpecGlossAndBackStaysCloseForPartialMetalness) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   // The prior trades fit for continuity: dark partial metals (implausible, DESIGN.md) are pulled
   // towards dielectrics, so single samples can miss by up to ~47 ΔE2000; on average the look stays
-  // within a couple of ΔE2000 (measured: mean 1.4 over 2000 samples).
-  double sum = 0;
-  const int samples = 2000;
-  for (int i = 0; i < samples; ++i) {
-    const MetalRough original{{unit(rng), unit(rng), unit(rng)}, unit(rng), unit(rng)};
-    const SpecGloss legacy = to_spec_gloss(original);
-    sum += worst_delta_e(legacy, solve(legacy));
+  // within a couple of ΔE2000 in the model's own error (measured over 2000 samples: normal
+  // incidence mean 1.3; appearance mean 0.36).
+  for (const ErrorModel model : kModels) {
+    double sum = 0;
+    const int samples = 2000;
+    for (int i = 0; i < samples; ++i) {
+      const MetalRough original{{unit(rng), unit(rng), unit(rng)}, unit(rng), unit(rng)};
+      const SpecGloss legacy = to_spec_gloss(original);
+      sum += model_delta_e(model, legacy, solve(legacy, settings_of(model)));
+    }
+    EXPECT_LT(sum / samples, model == ErrorModel::NormalIncidence ? 2.0 : 0.6) << error_model_name(model);
   }
-  EXPECT_LT(sum / samples, 2.0);
 }
 
-TEST(Solver, StaysFiniteOnExtremes) {
+TEST_P(SolverUnderEachModel, StaysFiniteOnExtremes) {
   const float denormal = std::numeric_limits<float>::denorm_min();
   const float values[] = {0.0f, denormal, 1e-30f, 0.04f, 0.5f, 1.0f, 1.5f, 1e30f};
   for (float d : values)
     for (float s : values)
       for (float g : {0.0f, denormal, 0.5f, 1.0f}) {
         const SpecGloss legacy{glm::vec3(std::min(d, 1.0f)), glm::vec3(s, s * 0.5f, s), g};
-        for (const SolverSettings& settings : {solver_preset(SolverEffort::Fast), solver_preset(SolverEffort::Balanced),
-                                               solver_preset(SolverEffort::Exact)})
+        for (const SolverSettings& settings : {solver_preset(SolverEffort::Fast, g_model), solver_preset(SolverEffort::Balanced, g_model),
+                                               solver_preset(SolverEffort::Exact, g_model)})
           EXPECT_TRUE(finite_and_in_unit_range(solve(legacy, settings))) << d << " " << s << " " << g;
         EXPECT_TRUE(finite_and_in_unit_range(solve_reference(legacy))) << d << " " << s << " " << g;
       }
 }
 
-TEST(Solver, GlossinessZeroAndOneMapToRoughnessOneAndZero) {
-  EXPECT_EQ(solve({glm::vec3(0.5f), glm::vec3(0.04f), 0.0f}).roughness, 1.0f);
-  EXPECT_EQ(solve({glm::vec3(0.5f), glm::vec3(0.04f), 1.0f}).roughness, 0.0f);
+TEST_P(SolverUnderEachModel, GlossinessZeroAndOneMapToRoughnessOneAndZero) {
+  EXPECT_EQ(solve_model({glm::vec3(0.5f), glm::vec3(0.04f), 0.0f}).roughness, 1.0f);
+  EXPECT_EQ(solve_model({glm::vec3(0.5f), glm::vec3(0.04f), 1.0f}).roughness, 0.0f);
 }
 
-TEST(Solver, MoreEffortNeverFitsWorse) {
+TEST_P(SolverUnderEachModel, MoreEffortNeverFitsWorse) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   double fast = 0, exact = 0;
   for (int i = 0; i < 300; ++i) {
     const SpecGloss legacy{{unit(rng), unit(rng), unit(rng)}, glm::vec3(unit(rng)), 1.0f};
-    fast += worst_delta_e(legacy, solve(legacy, solver_preset(SolverEffort::Fast)));
-    exact += worst_delta_e(legacy, solve(legacy, solver_preset(SolverEffort::Exact)));
+    fast += model_delta_e(g_model, legacy, solve(legacy, solver_preset(SolverEffort::Fast, g_model)));
+    exact += model_delta_e(g_model, legacy, solve(legacy, solver_preset(SolverEffort::Exact, g_model)));
   }
   EXPECT_LE(exact, fast * 1.001);
 }
@@ -263,7 +323,7 @@ std::vector<SpecGloss> varied_materials(int count, unsigned seed) {
   return materials;
 }
 
-TEST(Solver, EveryDiffuseOverTheCoreDielectricF0SolvesToItself) {
+TEST_P(SolverUnderEachModel, EveryDiffuseOverTheCoreDielectricF0SolvesToItself) {
   // The bake takes base = diffuse, m = 0 without a search where solves_to_its_diffuse() says so;
   // the search must agree everywhere in the diffuse cube, not only at a few colours.
   std::mt19937 rng(11);
@@ -275,10 +335,10 @@ TEST(Solver, EveryDiffuseOverTheCoreDielectricF0SolvesToItself) {
     for (float b : {0.0f, 1.0f})
       for (float c : {0.0f, 1.0f}) materials.push_back({{a, b, c}, glm::vec3(kDielectricF0), 1.0f});
   std::vector<MetalRough> batch(materials.size());
-  solve_batch(materials, batch);
+  solve_batch(materials, batch, model_settings());
   for (size_t i = 0; i < materials.size(); ++i) {
     ASSERT_TRUE(solves_to_its_diffuse(materials[i]));
-    for (const MetalRough& r : {solve(materials[i]), batch[i]}) {
+    for (const MetalRough& r : {solve_model(materials[i]), batch[i]}) {
       EXPECT_EQ(r.metalness, 0.0f) << i;
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.base[c], materials[i].diffuse[c], 1e-5f) << i;
     }
@@ -289,9 +349,10 @@ TEST(Solver, EveryDiffuseOverTheCoreDielectricF0SolvesToItself) {
 
 TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
   const std::vector<SpecGloss> materials = varied_materials(20000, 5);
+  for (const ErrorModel model : kModels)
   for (const SolverEffort preset :
        {SolverEffort::Fast, SolverEffort::Balanced, SolverEffort::Exact, SolverEffort::Reference}) {
-    const SolverSettings settings = solver_preset(preset);
+    const SolverSettings settings = solver_preset(preset, model);
     std::vector<MetalRough> batch(materials.size());
     solve_batch(materials, batch, settings);
     double worst = 0.0, sum = 0.0;
@@ -306,31 +367,32 @@ TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
     }
     // The 3×3 systems are solved another way, so the errors differ in the last bits. Without
     // refinement that moves the answer by < 0.001 ΔE2000; with it, a golden-section step whose two
-    // errors tie within rounding may go the other way along a flat minimum (measured worst 0.12).
-    EXPECT_LT(worst, settings.refine_iterations == 0 ? 0.005 : 0.25) << solver_effort_name(preset);
+    // errors tie within rounding may go the other way along a flat minimum (measured worst: normal
+    // incidence 0.17, appearance 0.25, both at means under 0.004).
+    EXPECT_LT(worst, settings.refine_iterations == 0 ? 0.005 : 0.3) << solver_effort_name(preset);
     EXPECT_LT(sum / static_cast<double>(materials.size()), 0.01) << solver_effort_name(preset);  // measured 0.003
   }
 }
 
-TEST(SolverBatch, AnInputsAnswerDoesNotDependOnItsNeighboursInTheBatch) {
+TEST_P(SolverBatchUnderEachModel, AnInputsAnswerDoesNotDependOnItsNeighboursInTheBatch) {
   const std::vector<SpecGloss> materials = varied_materials(64, 9);
   std::vector<MetalRough> together(materials.size());
-  solve_batch(materials, together);
+  solve_batch(materials, together, model_settings());
   for (size_t i = 0; i < materials.size(); ++i) {
     MetalRough alone;
-    solve_batch(std::span(&materials[i], 1), std::span(&alone, 1));
+    solve_batch(std::span(&materials[i], 1), std::span(&alone, 1), model_settings());
     EXPECT_EQ(alone.metalness, together[i].metalness) << i;
     for (int c = 0; c < 3; ++c) EXPECT_EQ(alone.base[c], together[i].base[c]) << i;
   }
 }
 
-TEST(SolverBatch, KeepsTheExactCasesOfTheScalarSolve) {
+TEST_P(SolverBatchUnderEachModel, KeepsTheExactCasesOfTheScalarSolve) {
   std::vector<SpecGloss> materials;
   for (glm::vec3 diffuse : {glm::vec3(0.0f), glm::vec3(1.0f), glm::vec3(0.8f, 0.2f, 0.1f)})
     materials.push_back({diffuse, glm::vec3(0.04f), 0.5f});
   for (const Metal& metal : kMetals) materials.push_back({glm::vec3(0.0f), metal.f0, 0.8f});
   std::vector<MetalRough> out(materials.size());
-  solve_batch(materials, out);
+  solve_batch(materials, out, model_settings());
   for (size_t i = 0; i < 3; ++i) {
     EXPECT_EQ(out[i].metalness, 0.0f);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i].base[c], materials[i].diffuse[c], 1e-5f);
@@ -339,7 +401,7 @@ TEST(SolverBatch, KeepsTheExactCasesOfTheScalarSolve) {
     EXPECT_EQ(out[i].metalness, 1.0f) << i;
     const glm::vec3 f0 = materials[i].specular;
     const float scale = std::max(1.0f, std::max(f0.r, std::max(f0.g, f0.b)));
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i].base[c], f0[c] / scale, 1e-5f) << i;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i].base[c], f0[c] / scale, 2e-5f) << i;  // as above
   }
 }
 

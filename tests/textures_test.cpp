@@ -862,6 +862,7 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
         l.diffuse[c] = srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
         l.specular[c] = specular_factor * srgb8_to_linear(spec_gloss.bytes[static_cast<size_t>(i * 4 + c)]);
       }
+      l.glossiness = static_cast<float>(spec_gloss.bytes[static_cast<size_t>(i * 4 + 3)]) / 255.0f;  // linear alpha
       legacy.push_back(l);
     }
     std::vector<MetalRough> expected(legacy.size());

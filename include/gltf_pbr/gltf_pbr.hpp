@@ -39,16 +39,24 @@ enum class Target {
 // formula, for comparison only.
 enum class SolverEffort { Fast, Balanced, Exact, Reference };
 
+// What the solve matches (converter/solver.hpp): the reflectance at normal incidence (diffuse
+// weight and F0; the default, closer in the preview on most shared assets: bench/RESULTS.md), or
+// the look over view angles, both lobes together.
+enum class ErrorModel { NormalIncidence, Appearance };
+
 // The names the tool's options and the Python module use ("metalness", "specular"; "fast",
 // "balanced", "exact", "reference"); std::nullopt for any other.
 GLTF_PBR_API std::optional<Target> target_from_name(std::string_view name);
 GLTF_PBR_API std::optional<SolverEffort> solver_effort_from_name(std::string_view name);
 GLTF_PBR_API const char* target_name(Target target);
 GLTF_PBR_API const char* solver_effort_name(SolverEffort effort);
+GLTF_PBR_API std::optional<ErrorModel> error_model_from_name(std::string_view name);  // "appearance", "normal-incidence"
+GLTF_PBR_API const char* error_model_name(ErrorModel model);
 
 struct ConvertFileOptions {
   Target target = Target::Metalness;
   SolverEffort solver = SolverEffort::Balanced;
+  ErrorModel error_model = ErrorModel::NormalIncidence;
   double specular_tolerance = 2.0;       // ΔE2000 (p95) a metalness fit may miss by (Target::Specular)
   int png_compression = 3;               // zlib level 0-9 of baked PNG textures
   int jpeg_quality = 90;                 // 1-100, of base colours baked from JPEG diffuse textures
@@ -132,6 +140,7 @@ struct PreviewFileOptions {
   std::filesystem::path environment;                                // .hdr / .exr; empty: the built-in procedural sky
   Target target = Target::Metalness;
   SolverEffort solver = SolverEffort::Balanced;
+  ErrorModel error_model = ErrorModel::NormalIncidence;
   bool allow_outside_uris = false;
 };
 

@@ -1,5 +1,6 @@
-// BRDF terms of both shading models the preview compares, scalar and header-only so that tests
-// integrate exactly what the renderer evaluates.
+// BRDF terms of both shading models, scalar and header-only: the preview renders with them, the
+// solver's appearance error model integrates them (core/split_sum.hpp), and tests integrate
+// exactly what both evaluate.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -7,9 +8,12 @@
 #include <glm/vec3.hpp>
 #include <numbers>
 
-namespace gltf_pbr::preview {
+namespace gltf_pbr {
 
 constexpr float kPi = std::numbers::pi_v<float>;
+
+// glTF 2.0 Appendix B: the F0 of every core dielectric (ior 1.5).
+inline constexpr float kDielectricF0 = 0.04f;
 
 // glTF 2.0 spec, Appendix B.3.5 ("alpha = roughness^2") forbids alpha = 0: a perfect mirror is a
 // Dirac lobe that GGX cannot represent. Clamping keeps D finite (Filament's MIN_PERCEPTUAL_ROUGHNESS).
@@ -66,10 +70,12 @@ enum class SpecularLobe { Ggx, BlinnPhong };
 // The inputs a shading point needs, in a common form for both models.
 struct SurfaceLobes {
   glm::vec3 diffuse_color{0.0f};  // Lambert weight c_diff
-  glm::vec3 f0{0.04f};
+  glm::vec3 f0{kDielectricF0};
   float alpha = 1.0f;
-  bool diffuse_times_one_minus_f = true;  // Appendix B (1 - F) weighting of the diffuse lobe
-  glm::vec3 diffuse_fresnel_f0{0.04f};    // the F0 of that (1 - F): the dielectric layer's
+  // The diffuse lobe sits under a layer whose Fresnel it loses: weighted by
+  // diffuse_fresnel_scale (1 - F(diffuse_fresnel_f0)) (glTF 2.0 Appendix B).
+  glm::vec3 diffuse_fresnel_f0{kDielectricF0};
+  float diffuse_fresnel_scale = 1.0f;
 };
 
 // Core metal-rough (glTF 2.0 Appendix B.3.5): mix(dielectric_brdf, metal_brdf, m). Schlick is
@@ -77,17 +83,21 @@ struct SurfaceLobes {
 // c_diff = lerp(base, 0, m) sits under the dielectric layer and is weighted by (1 - F(0.04)),
 // not by the (1 - F) of the mixed F0. alpha = roughness^2.
 inline SurfaceLobes metal_rough_lobes(glm::vec3 base, float metalness, float roughness) {
-  return {base * (1.0f - metalness), glm::mix(glm::vec3(0.04f), base, metalness), alpha_from_roughness(roughness), true,
-          glm::vec3(0.04f)};
+  return {base * (1.0f - metalness), glm::mix(glm::vec3(kDielectricF0), base, metalness),
+          alpha_from_roughness(roughness), glm::vec3(kDielectricF0), 1.0f};
 }
 
 // Archived KHR_materials_pbrSpecularGlossiness ("Specular - Glossiness" section): c_diff =
 // diffuse * (1 - max(specular)), F0 = specular, alpha = (1 - glossiness)^2. Reading A (the
-// extension's own text) has no further (1 - F) on the diffuse; reading B (its BRDF appendix) has.
+// extension's own text, solver.hpp) takes (1 - max(specular)) for the whole Fresnel loss at
+// normal incidence: its diffuse follows the angular shape of the core dielectric layer's
+// (1 - F), normalised to 1 at normal incidence, so a 0.04 dielectric shades as its core twin and
+// a white one conserves energy. Reading B (the extension's BRDF appendix) also weights the
+// diffuse by the (1 - F) of the specular colour.
 inline SurfaceLobes spec_gloss_lobes(glm::vec3 diffuse, glm::vec3 specular, float glossiness, bool reading_b) {
   const float max_specular = std::max(specular.x, std::max(specular.y, specular.z));
-  return {diffuse * std::max(0.0f, 1.0f - max_specular), specular, alpha_from_roughness(1.0f - glossiness), reading_b,
-          specular};
+  return {diffuse * std::max(0.0f, 1.0f - max_specular), specular, alpha_from_roughness(1.0f - glossiness),
+          reading_b ? specular : glm::vec3(kDielectricF0), reading_b ? 1.0f : 1.0f / (1.0f - kDielectricF0)};
 }
 
 // Radiance reflected towards V from a light of irradiance E (normal incidence) along L:
@@ -103,10 +113,9 @@ inline glm::vec3 shade_direct(const SurfaceLobes& s, glm::vec3 n, glm::vec3 v, g
   const float specular_lobe = lobe == SpecularLobe::Ggx ? distribution_ggx(n_dot_h, s.alpha) *
                                                               visibility_smith_ggx_correlated(n_dot_v, n_dot_l, s.alpha)
                                                         : normalized_blinn_phong(n_dot_h, s.alpha);
-  const glm::vec3 diffuse_weight = s.diffuse_times_one_minus_f
-                                       ? glm::vec3(1.0f) - fresnel_schlick(s.diffuse_fresnel_f0, glm::dot(v, h))
-                                       : glm::vec3(1.0f);
+  const glm::vec3 diffuse_weight =
+      s.diffuse_fresnel_scale * (glm::vec3(1.0f) - fresnel_schlick(s.diffuse_fresnel_f0, glm::dot(v, h)));
   return (diffuse_weight * s.diffuse_color / kPi + f * specular_lobe) * irradiance * n_dot_l;
 }
 
-}  // namespace gltf_pbr::preview
+}  // namespace gltf_pbr

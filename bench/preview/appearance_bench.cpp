@@ -1,0 +1,104 @@
+// Which error model previews closer to the legacy look (issue 12), figures only:
+//   gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE]
+// 1. Every shared spec-gloss asset drawn by the preview (built-in sky and sun, SIZE² pixels) as
+//    its legacy materials and as three conversions: ours with the normal-incidence and with the
+//    appearance error model, and the lossless dielectric route (base = diffuse, metallic 0, the
+//    KHR_materials_specular and _ior extensions dropped: what a core-only viewer shows of
+//    glTF-Transform's metalrough output). ΔE2000 mean and p95 and FLIP mean of before against
+//    after, and the solve time of each model.
+// 2. Grey dielectric spheres (specular 0, 0.02, 0.1, 0.2 over 7 diffuse colours, glossiness 0.2,
+//    0.5, 0.8), before against after for both models: the mean ΔE2000 over each sphere.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "converter/convert.hpp"
+#include "preview/preview.hpp"
+
+using namespace gltf_pbr;
+using namespace gltf_pbr::preview;
+
+namespace {
+
+double solve_ms(const PreviewResult& result) {
+  double ms = 0;
+  if (result.conversion)
+    for (const MaterialReport& m : result.conversion->materials) ms += m.times.solve_ms;
+  return ms;
+}
+
+// The lossless dielectric route as a core-only viewer reads it.
+Asset core_only_dielectric(const Asset& legacy) {
+  Asset copy = legacy;
+  ConvertOptions options;
+  options.target = Target::Specular;
+  options.specular_tolerance = -1.0;  // every material takes the extension route
+  (void)convert(copy, options);
+  for (tinygltf::Material& material : copy.model.materials) {
+    material.extensions.erase("KHR_materials_specular");
+    material.extensions.erase("KHR_materials_ior");
+  }
+  return copy;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const fs::path assets = argc > 1 ? fs::path(argv[1]) : fs::path("/work/shared/assets");
+  const int size = argc > 2 ? std::max(16, std::atoi(argv[2])) : 256;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(assets))
+    if (entry.path().parent_path().filename() == "specgloss" && entry.path().extension() == ".gltf")
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  PreviewOptions options;
+  options.width = options.height = size;
+  std::printf("| asset | normal-incidence ΔE mean / p95 / FLIP | appearance ΔE mean / p95 / FLIP | "
+              "core-only dielectric ΔE mean / p95 / FLIP | solve ms normal-incidence / appearance |\n"
+              "|---|---|---|---|---|\n");
+  for (const fs::path& file : files) {
+    const Asset asset = load_asset(file);
+    PreviewResult by_model[2];
+    for (int k = 0; k < 2; ++k) {
+      options.convert.solver = solver_preset(SolverEffort::Balanced,
+                                             k == 0 ? ErrorModel::NormalIncidence : ErrorModel::Appearance);
+      by_model[k] = render_preview(asset, options);
+    }
+    const PreviewResult dielectric = render_pair(asset, core_only_dielectric(asset), options);
+    const auto figures = [](const PreviewResult& r) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.2f / %.2f / %.4f", r.metrics.delta_e_mean, r.metrics.delta_e_p95,
+                    r.metrics.flip_mean);
+      return std::string(text);
+    };
+    std::printf("| %s | %s | %s | %s | %.1f / %.1f |\n", file.stem().c_str(), figures(by_model[0]).c_str(),
+                figures(by_model[1]).c_str(), figures(dielectric).c_str(), solve_ms(by_model[0]),
+                solve_ms(by_model[1]));
+  }
+
+  const glm::vec3 diffuses[] = {glm::vec3(0.05f), glm::vec3(0.2f), glm::vec3(0.5f),          glm::vec3(0.8f),
+                                {0.8f, 0.05f, 0.05f}, {0.8f, 0.6f, 0.1f}, {0.1f, 0.25f, 0.7f}};
+  std::printf("\n| specular | normal-incidence sphere ΔE mean: mean / worst | appearance: mean / worst |\n"
+              "|---|---|---|\n");
+  for (const float specular : {0.0f, 0.02f, 0.1f, 0.2f}) {
+    double sum[2] = {0, 0}, worst[2] = {0, 0};
+    int count = 0;
+    for (const glm::vec3 diffuse : diffuses)
+      for (const float gloss : {0.2f, 0.5f, 0.8f}) {
+        const SpecGloss legacy{diffuse, glm::vec3(specular), gloss};
+        for (int k = 0; k < 2; ++k) {
+          const SpherePair sphere{legacy, solve(legacy, solver_preset(SolverEffort::Balanced,
+                                                                      k == 0 ? ErrorModel::NormalIncidence
+                                                                             : ErrorModel::Appearance))};
+          Camera camera;
+          const PreviewResult r = light_and_compare(sphere_gbuffers(std::span(&sphere, 1), 1, 96, &camera), camera,
+                                                    default_environment(), options);
+          sum[k] += r.metrics.delta_e_mean, worst[k] = std::max(worst[k], r.metrics.delta_e_mean);
+        }
+        ++count;
+      }
+    std::printf("| %.2f | %.2f / %.2f | %.2f / %.2f |\n", specular, sum[0] / count, worst[0], sum[1] / count,
+                worst[1]);
+  }
+}

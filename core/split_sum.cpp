@@ -1,0 +1,82 @@
+#include "core/split_sum.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <vector>
+
+#include "core/brdf.hpp"
+#include "core/parallel.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+constexpr int kDfgSize = 64;
+
+float square(float x) { return x * x; }
+
+// Columns are spaced in sqrt(N.V): the table changes fastest at grazing angles.
+struct DfgTable {
+  std::vector<glm::vec2> values;  // [roughness][sqrt(n_dot_v)]
+  DfgTable() : values(static_cast<size_t>(kDfgSize * kDfgSize)) {
+    parallel_dynamic(kDfgSize, [&](std::int64_t r) {
+      for (int v = 0; v < kDfgSize; ++v)
+        values[static_cast<size_t>(r * kDfgSize + v)] = integrate_dfg(square((static_cast<float>(v) + 0.5f) / kDfgSize),
+                                                                      (static_cast<float>(r) + 0.5f) / kDfgSize, 2048);
+    });
+  }
+};
+
+}  // namespace
+
+glm::vec3 importance_sample_ggx(glm::vec2 xi, float alpha) {
+  const float phi = 2.0f * kPi * xi.y;
+  const float cos_theta = std::sqrt((1.0f - xi.x) / (1.0f + (alpha * alpha - 1.0f) * xi.x));
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+glm::vec2 hammersley(std::uint32_t i, std::uint32_t n) {
+  std::uint32_t bits = i;
+  bits = (bits << 16u) | (bits >> 16u);
+  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+  return {(static_cast<float>(i) + 0.5f) / static_cast<float>(n), static_cast<float>(bits) * 2.3283064365386963e-10f};
+}
+
+glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples) {
+  n_dot_v = std::clamp(n_dot_v, 1e-4f, 1.0f);
+  const float alpha = alpha_from_roughness(roughness);
+  const glm::vec3 v(std::sqrt(1.0f - n_dot_v * n_dot_v), 0.0f, n_dot_v);
+  glm::vec2 sum(0.0f);
+  for (int i = 0; i < samples; ++i) {
+    const glm::vec3 h =
+        importance_sample_ggx(hammersley(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(samples)), alpha);
+    const float v_dot_h = glm::dot(v, h);
+    const glm::vec3 l = 2.0f * v_dot_h * h - v;
+    const float n_dot_l = l.z;
+    if (n_dot_l <= 0.0f || v_dot_h <= 0.0f) continue;
+    // Estimator of the integral of D V (N.L) over L with pdf D (N.H) / (4 V.H) (Karis 2013, eq. 8).
+    const float g_vis = visibility_smith_ggx_correlated(n_dot_v, n_dot_l, alpha) * 4.0f * n_dot_l * v_dot_h / h.z;
+    const float fc = std::pow(1.0f - v_dot_h, 5.0f);
+    sum += glm::vec2((1.0f - fc) * g_vis, fc * g_vis);
+  }
+  return sum / static_cast<float>(samples);
+}
+
+glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
+  static const DfgTable table;
+  const float fx = std::sqrt(std::clamp(n_dot_v, 0.0f, 1.0f)) * kDfgSize - 0.5f;
+  const float fy = std::clamp(roughness, 0.0f, 1.0f) * kDfgSize - 0.5f;
+  const int x0 = std::clamp(static_cast<int>(fx + 1.0f) - 1, 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
+  const int y0 = std::clamp(static_cast<int>(fy + 1.0f) - 1, 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
+  const float tx = std::clamp(fx - static_cast<float>(x0), 0.0f, 1.0f),
+              ty = std::clamp(fy - static_cast<float>(y0), 0.0f, 1.0f);
+  auto at = [&](int x, int y) { return table.values[static_cast<size_t>(y * kDfgSize + x)]; };
+  return glm::mix(glm::mix(at(x0, y0), at(x1, y0), tx), glm::mix(at(x0, y1), at(x1, y1), tx), ty);
+}
+
+}  // namespace gltf_pbr
