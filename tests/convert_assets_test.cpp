@@ -274,6 +274,33 @@ TEST(Report, TexturedMaterialsReportTexelsAndSampledError) {
   EXPECT_EQ(report.images_decoded, 2);
 }
 
+// Both error models' figures per material, whichever model solved: the normal-incidence ΔE2000
+// under readings A and B and the appearance ΔE2000 under reading A (not measured under B: none,
+// never a 0). Each model lowers its own error on the shared assets it is measured on here: a
+// textured one (Avocado, sampled texels) and a factor-only one (Box, one red material with a grey
+// 0.2 specular).
+TEST(Report, EveryMaterialReportsBothModelsErrorsAndEachModelLowersItsOwn) {
+  for (const char* model_name : {"Avocado", "Box"}) {
+    ConversionReport by_model[2];
+    for (int k = 0; k < 2; ++k) {
+      Asset asset = load_asset(asset_file(model_name));
+      ConvertOptions options;
+      options.solver = solver_preset(SolverEffort::Balanced, k == 0 ? ErrorModel::NormalIncidence : ErrorModel::Appearance);
+      by_model[k] = convert(asset, options);
+      for (const MaterialReport& m : by_model[k].materials) {
+        ASSERT_TRUE(m.error_a && m.error_b) << model_name;
+        ASSERT_TRUE(m.error_a->appearance) << model_name;
+        EXPECT_FALSE(m.error_b->appearance) << model_name;
+        EXPECT_GE(m.error_a->appearance->max, m.error_a->appearance->p95);
+        EXPECT_GE(m.error_a->appearance->p95, 0.0);
+      }
+    }
+    const ReflectanceError &ni = *by_model[0].materials[0].error_a, &seen = *by_model[1].materials[0].error_a;
+    EXPECT_LT(seen.appearance->mean, ni.appearance->mean) << model_name;
+    EXPECT_LE(ni.diffuse.mean + ni.f0.mean, seen.diffuse.mean + seen.f0.mean) << model_name;
+  }
+}
+
 TEST(Report, SaysPerMaterialWhichTexturesWereBakedSharedReusedOrMadeFactors) {
   {  // The truck's diffuse over the core dielectric F0 is its own base colour; metalness 0 everywhere.
     Asset asset = load_asset(asset_file("CesiumMilkTruck"));
