@@ -28,13 +28,15 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
 
-// How the bake reads texel i: its legacy material, and the key its solve is cached by (diffuse,
-// specular and glossiness: the appearance model weighs the lobes by the roughness).
+// How the bake reads texel i: its legacy material, and the key its solve is cached by: diffuse and
+// specular, and glossiness where the solve depends on it (the appearance model weighs the lobes by
+// the roughness; the normal-incidence solve does not, and keying it there tripled Avocado's solve).
 //
 // Any inputs: the key is the legacy colours' float bits.
 struct FloatTexels {
   using Key = std::array<std::uint32_t, 7>;
   const BakeInputs& in;
+  bool key_glossiness;
 
   SpecGloss legacy(size_t i) const {
     SpecGloss legacy;
@@ -54,7 +56,8 @@ struct FloatTexels {
     Key key;
     std::memcpy(key.data(), &l.diffuse, sizeof(float) * 3);
     std::memcpy(key.data() + 3, &l.specular, sizeof(float) * 3);
-    std::memcpy(key.data() + 6, &l.glossiness, sizeof(float));
+    key[6] = 0;
+    if (key_glossiness) std::memcpy(key.data() + 6, &l.glossiness, sizeof(float));
     return key;
   }
   static std::uint64_t hash(const Key& key) {
@@ -69,6 +72,7 @@ struct FloatTexels {
 struct ByteTexels {
   using Key = std::uint64_t;
   const BakeInputs& in;
+  bool key_glossiness;
 
   // Where the R, G and B bytes of texel i sit: grey images repeat their one channel.
   struct Source {
@@ -95,7 +99,7 @@ struct ByteTexels {
   }
   Key key(size_t i) const {
     return (diffuse.bytes ? diffuse.rgb(i) : 0) |
-           (specular.bytes ? specular.rgb(i) << 24 | specular.alpha(i) << 48 : 0);
+           (specular.bytes ? specular.rgb(i) << 24 | (key_glossiness ? specular.alpha(i) << 48 : 0) : 0);
   }
   SpecGloss legacy(size_t i) const {
     const std::array<float, 256>& linear = srgb8_to_linear_table();
@@ -129,7 +133,7 @@ class SolveCache {
     Key key{};
     std::uint8_t base_srgb[3];
     std::uint8_t metalness;
-    float delta_e[5];  // diffuse A, F0 A, diffuse B, F0 B, appearance A; valid when has_error
+    float delta_e[5];  // diffuse A, F0 A, diffuse B, F0 B, appearance A (its model only); valid when has_error
     bool filled = false, queued = false, has_error = false;
     std::int32_t error_job = -1;   // the waiting error job for this entry's contents, or -1
     std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
@@ -209,7 +213,8 @@ class SolveCache {
   }
   Entry& entry(size_t ticket) { return *ticket_entries_[ticket]; }
 
-  // Sample `sample` takes the ΔE2000 of what `entry` stores, against legacy readings A and B:
+  // Sample `sample` takes the ΔE2000 of what `entry` stores, against legacy readings A and B
+  // (and the appearance under the appearance model, whose entries are keyed by glossiness too):
   // at once, through set(sample, delta_e), when the entry knows it; else at the next
   // measure_errors(), which computes it once for every entry waiting. `legacy()` gives the
   // texel's material, asked for only when the entry does not know its error.
@@ -232,7 +237,10 @@ class SolveCache {
   // is the specular colour under either reading.
   template <class Set>
   void measure_errors(Set&& set) {
-    constexpr size_t kPairs = 3 + kAppearanceRings;  // diffuse A, F0, diffuse B, the rings
+    // Diffuse A, F0, diffuse B, and the appearance rings under the appearance model (the
+    // normal-incidence run leaves them unmeasured: its entries are not keyed by glossiness).
+    const bool appearance = settings_->error_model == ErrorModel::Appearance;
+    const size_t kPairs = appearance ? 3 + kAppearanceRings : 3;
     const size_t jobs = error_jobs_.size();
     if (jobs == 0) return;
     linear_.resize(2 * kPairs * jobs), lab_.resize(2 * kPairs * jobs), delta_e_.resize(kPairs * jobs);
@@ -245,11 +253,12 @@ class SolveCache {
       const Reflectance converted = core_reflectance(stored);
       const Reflectance a = legacy_reflectance(job.legacy, LegacyReading::A),
                         b = legacy_reflectance(job.legacy, LegacyReading::B);
-      const Appearance seen = legacy_appearance(job.legacy), shown = core_appearance(stored);
       glm::vec3* expected = &linear_[kPairs * j];  // the first half: legacy; the second: converted
       glm::vec3* actual = &linear_[kPairs * (jobs + j)];
       expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
       actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
+      if (!appearance) continue;
+      const Appearance seen = legacy_appearance(job.legacy), shown = core_appearance(stored);
       for (int k = 0; k < kAppearanceRings; ++k) expected[3 + k] = seen.ring[k], actual[3 + k] = shown.ring[k];
     }
     linear_srgb_to_lab(linear_, lab_);
@@ -258,7 +267,7 @@ class SolveCache {
       ErrorJob& job = error_jobs_[j];
       const float* d = &delta_e_[kPairs * j];
       float rings = 0.0f;  // the mean over the rings, as appearance_delta_e
-      for (int k = 0; k < kAppearanceRings; ++k) rings += d[3 + k];
+      for (int k = 0; appearance && k < kAppearanceRings; ++k) rings += d[3 + k];
       job.delta_e[0] = d[0], job.delta_e[1] = d[1], job.delta_e[2] = d[2], job.delta_e[3] = d[1];
       job.delta_e[4] = rings / kAppearanceRings;
       Entry& entry = *job.entry;
@@ -326,7 +335,7 @@ bool same_layout_as_base(const Pixels* diffuse, const BakedTexels& out) {
 
 template <class Texels>
 void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t max_error_samples, BakedTexels& out) {
-  const Texels texels_of{in};
+  const Texels texels_of{in, settings.error_model == ErrorModel::Appearance};
   const size_t texels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
   const bool alpha_texels = out.base_channels == 4;
   const size_t base_channels = static_cast<size_t>(out.base_channels);
@@ -339,7 +348,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // Every stride-th texel is a sample, in texel order.
   const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
   const size_t samples = (texels + stride - 1) / stride;
-  out.error_a = ErrorAccumulator(samples, true);
+  out.error_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
   out.error_b = ErrorAccumulator(samples);
   if (in.measure_extension_route) out.extension_a = out.extension_b = ErrorAccumulator(samples);
 
@@ -364,7 +373,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // all before its base bytes are written (they may be the diffuse's).
   const auto set_error = [&](size_t sample, const float* delta_e) {
     out.error_a.set(sample, delta_e[0], delta_e[1]);
-    out.error_a.set_appearance(sample, delta_e[4]);
+    if (settings.error_model == ErrorModel::Appearance) out.error_a.set_appearance(sample, delta_e[4]);
     out.error_b.set(sample, delta_e[2], delta_e[3]);
   };
   const auto write = [&](size_t i, auto& solved, auto& cache, bool& equal) {

@@ -245,7 +245,8 @@ class Converter {
       ErrorAccumulator a, b;
       const Reflectance converted = core_reflectance(bake.factor_solution);
       a.add(legacy_reflectance(factors, LegacyReading::A), converted);
-      a.add(legacy_appearance(factors), core_appearance(bake.factor_solution));
+      if (options_.solver.error_model == ErrorModel::Appearance)  // else not measured: null, as in the bake
+        a.add(legacy_appearance(factors), core_appearance(bake.factor_solution));
       b.add(legacy_reflectance(factors, LegacyReading::B), converted);
       bake.texels.error_a = a, bake.texels.error_b = b;
       entry.times.solve_ms += ms_since(start);

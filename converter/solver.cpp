@@ -181,7 +181,8 @@ int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
 struct Objective {
   int terms = 0;
   Term term[kMaxTerms];
-  glm::mat3 metric[kMaxTerms];  // weight J^T J of each term's target
+  glm::mat3 metric[kMaxTerms];               // weight J^T J of each term's target
+  glm::vec3 pull[kMaxTerms], grey[kMaxTerms];  // metric T and metric (1, 1, 1)
   glm::mat3 h[3];
   glm::vec3 g[3];
   float prior_m, prior_weight;
@@ -198,13 +199,23 @@ Objective objective_for(const SpecGloss& legacy, ErrorModel model, const Objecti
     const Term& term = o.term[t];
     const bool same = previous && previous->terms == o.terms && previous->term[t].target == term.target &&
                       previous->term[t].weight == term.weight;
-    const glm::mat3 q = o.metric[t] = same ? previous->metric[t] : term.weight * lab_metric(term.target);
-    // sum (a0 + m a1)^2 Q and sum (a0 + m a1) Q (T - (c0 + m c1) 1), expanded in m.
-    const glm::vec3 pull = q * term.target, grey_pull = q * glm::vec3(1.0f);
-    o.h[0] += (term.a0 * term.a0) * q, o.h[1] += (2.0f * term.a0 * term.a1) * q, o.h[2] += (term.a1 * term.a1) * q;
-    o.g[0] += term.a0 * (pull - term.c0 * grey_pull);
-    o.g[1] += term.a1 * (pull - term.c0 * grey_pull) - (term.a0 * term.c1) * grey_pull;
-    o.g[2] -= (term.a1 * term.c1) * grey_pull;
+    if (same) {
+      o.metric[t] = previous->metric[t], o.pull[t] = previous->pull[t], o.grey[t] = previous->grey[t];
+    } else {
+      o.metric[t] = term.weight * lab_metric(term.target);
+      o.pull[t] = o.metric[t] * term.target, o.grey[t] = o.metric[t] * glm::vec3(1.0f);
+    }
+    const glm::mat3& q = o.metric[t];
+    const glm::vec3 pull = o.pull[t], grey_pull = o.grey[t];
+    // sum (a0 + m a1)^2 Q and sum (a0 + m a1) Q (T - (c0 + m c1) 1), expanded in m. The
+    // normal-incidence terms have a0 = 0 or c = 0: what they leave out costs nothing.
+    if (term.a0 != 0.0f) {
+      o.h[0] += (term.a0 * term.a0) * q, o.h[1] += (2.0f * term.a0 * term.a1) * q;
+      o.g[0] += term.a0 * (pull - term.c0 * grey_pull);
+    }
+    o.h[2] += (term.a1 * term.a1) * q;
+    o.g[1] += term.a1 * (pull - term.c0 * grey_pull);
+    if (term.c1 != 0.0f) o.g[1] -= (term.a0 * term.c1) * grey_pull, o.g[2] -= (term.a1 * term.c1) * grey_pull;
   }
   const float mean_f0 = (legacy.specular.x + legacy.specular.y + legacy.specular.z) / 3.0f;
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
