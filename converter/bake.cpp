@@ -61,14 +61,14 @@ struct FloatTexels {
     return key;
   }
   static std::uint64_t hash(const Key& key) {
-    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the six words
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the seven words
     for (std::uint32_t word : key) hash = (hash ^ word) * 1099511628211ull;
     return hash ^ (hash >> 29);
   }
 };
 
-// 8-bit inputs (PNG and JPEG: nearly every texture): the key is the texel's six sRGB bytes, so a
-// cache hit costs no colour conversion; the material is built from them only on a miss.
+// 8-bit inputs (PNG and JPEG: nearly every texture): the key is the texel's six sRGB bytes (and its glossiness byte
+// when keyed on it), so a cache hit costs no colour conversion; the material is built from them only on a miss.
 struct ByteTexels {
   using Key = std::uint64_t;
   const BakeInputs& in;
@@ -350,7 +350,10 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t samples = (texels + stride - 1) / stride;
   out.error_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
   out.error_b = ErrorAccumulator(samples);
-  if (in.measure_extension_route) out.extension_a = out.extension_b = ErrorAccumulator(samples);
+  if (in.measure_extension_route) {
+    out.extension_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
+    out.extension_b = ErrorAccumulator(samples);
+  }
 
   // Alpha (linear, times the factor) and roughness (1 - glossiness, glossiness linear in the
   // specularGlossiness alpha) of 8-bit texels by table; other precisions channel by channel.
@@ -386,6 +389,9 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
         const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
         out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
         out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
+        if (settings.error_model == ErrorModel::Appearance)
+          out.extension_a.set_appearance(
+              sample, appearance_delta_e(legacy_appearance(legacy), specular_extension_appearance(legacy)));
       }
     }
     if (equal && diffuse_bytes) {

@@ -56,7 +56,7 @@ struct MaterialReport {
   int index = -1;
   std::string name;
   MaterialOutcome outcome = MaterialOutcome::Legacy;
-  std::string note;      // why, for Legacy and Specular
+  std::string note;      // why, for Legacy and Specular, and for Metalness under Target::Specular's appearance test
   long long texels = 0;  // texels solved (1 for a factor-only material)
   size_t error_samples = 0;
   // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt

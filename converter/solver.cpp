@@ -120,7 +120,8 @@ RingSplitSums ring_split_sums(float roughness) {
   const auto row = [](int i) -> const RingSplitSums& {
     std::call_once(filled[i], [i] {
       for (int k = 0; k < kAppearanceRings; ++k)
-        rows[i].ring[k] = integrate_dfg(appearance_ring_cosine(k), static_cast<float>(i) / kRoughnessSteps, kDfgSamples);
+        rows[i].ring[k] =
+            integrate_dfg(appearance_ring_cosine(k), static_cast<float>(i) / kRoughnessSteps, kDfgSamples);
     });
     return rows[i];
   };
@@ -168,9 +169,14 @@ int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
     const float w = dielectric_transmission(ab);
     // Under the uniform light: diffuse and specular together.
     const float lit = kAppearanceDiffuseLight * w;
-    terms[2 * k] = {lit, ab.x - lit, kDielectricF0 * ab.x + ab.y, -kDielectricF0 * ab.x, kWeight, bounded(seen.ring[k])};
+    terms[2 * k] = {lit,     ab.x - lit,           kDielectricF0 * ab.x + ab.y, -kDielectricF0 * ab.x,
+                    kWeight, bounded(seen.ring[k])};
     // What reflects the environment's detail: the specular lobe alone.
-    terms[2 * k + 1] = {0.0f, ab.x, kDielectricF0 * ab.x + ab.y, -kDielectricF0 * ab.x, kWeight,
+    terms[2 * k + 1] = {0.0f,
+                        ab.x,
+                        kDielectricF0 * ab.x + ab.y,
+                        -kDielectricF0 * ab.x,
+                        kWeight,
                         bounded(legacy.specular * ab.x + ab.y)};
   }
   return 2 * kAppearanceRings;
@@ -181,7 +187,7 @@ int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
 struct Objective {
   int terms = 0;
   Term term[kMaxTerms];
-  glm::mat3 metric[kMaxTerms];               // weight J^T J of each term's target
+  glm::mat3 metric[kMaxTerms];                 // weight J^T J of each term's target
   glm::vec3 pull[kMaxTerms], grey[kMaxTerms];  // metric T and metric (1, 1, 1)
   glm::mat3 h[3];
   glm::vec3 g[3];
@@ -620,6 +626,19 @@ Appearance core_appearance(const MetalRough& core) {
   for (int k = 0; k < kAppearanceRings; ++k) {
     const glm::vec2 ab = split.ring[k];
     seen.ring[k] = core.base * (kAppearanceDiffuseLight * (1.0f - m) * dielectric_transmission(ab)) + f0 * ab.x + ab.y;
+  }
+  return seen;
+}
+
+Appearance specular_extension_appearance(const SpecGloss& legacy) {
+  // The extension clamps its F0 to 1 (KHR_materials_specular, "dielectric_f0 = min(..., 1)").
+  const glm::vec3 f0 = glm::clamp(legacy.specular, 0.0f, 1.0f);
+  const float max_f0 = max3(f0);
+  const RingSplitSums split = ring_split_sums(roughness_of(legacy));
+  Appearance seen;
+  for (int k = 0; k < kAppearanceRings; ++k) {
+    const glm::vec2 ab = split.ring[k];
+    seen.ring[k] = legacy.diffuse * (kAppearanceDiffuseLight * (1.0f - (max_f0 * ab.x + ab.y))) + f0 * ab.x + ab.y;
   }
   return seen;
 }

@@ -3,7 +3,7 @@
 #include <glm/vec3.hpp>
 #include <span>
 
-#include "core/brdf.hpp"           // kDielectricF0
+#include "core/brdf.hpp"          // kDielectricF0
 #include "gltf_pbr/gltf_pbr.hpp"  // SolverEffort, ErrorModel
 
 namespace gltf_pbr {
@@ -80,6 +80,14 @@ struct Appearance {
 };
 Appearance legacy_appearance(const SpecGloss& legacy);
 Appearance core_appearance(const MetalRough& core);
+// The KHR_materials_specular route's look (base = diffuse, F0 = specular, roughness 1 - glossiness):
+// the extension's fresnel_mix weights the diffuse by 1 - max(F) over the channels, whose
+// hemisphere average is 1 - (max(specular) A + B) (Schlick is monotone in F0 at every angle):
+//   L = diffuse (1 - (max(F0) A + B)) D + F0 A + B,   F0 = specular clamped to [0, 1] as the
+// extension clamps it. Against the legacy's (reading A) it differs in the diffuse alone, by
+// diffuse D (1 - A - B) (0.04 - max(F0)) / 0.96: exact for a mirror (A + B = 1), for a 0.04
+// specular and for a black diffuse, and off where a rough lobe loses energy (1 - A - B > 0).
+Appearance specular_extension_appearance(const SpecGloss& legacy);
 float appearance_ring_cosine(int ring);  // mu_k
 
 // Minimises, over base in [0,1]^3 and m in [0,1], a sum of squared CIELAB distances plus a prior:

@@ -69,8 +69,10 @@ glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples) {
 
 glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
   static const DfgTable table;
-  const float fx = std::sqrt(std::clamp(n_dot_v, 0.0f, 1.0f)) * kDfgSize - 0.5f;
-  const float fy = std::clamp(roughness, 0.0f, 1.0f) * kDfgSize - 0.5f;
+  // NaN reads as 0 (std::clamp passes NaN through, and a NaN index cast to int is undefined).
+  auto unit = [](float x) { return x > 0.0f ? std::min(x, 1.0f) : 0.0f; };
+  const float fx = std::sqrt(unit(n_dot_v)) * kDfgSize - 0.5f;
+  const float fy = unit(roughness) * kDfgSize - 0.5f;
   const int x0 = std::clamp(static_cast<int>(fx + 1.0f) - 1, 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
   const int y0 = std::clamp(static_cast<int>(fy + 1.0f) - 1, 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
   const float tx = std::clamp(fx - static_cast<float>(x0), 0.0f, 1.0f),

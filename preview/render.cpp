@@ -210,7 +210,11 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
       {"before",
        options.lighting.legacy_reading_b
            ? "KHR_materials_pbrSpecularGlossiness reading B: c_diff = diffuse (1 - max specular), (1 - F) weighted"
-           : "KHR_materials_pbrSpecularGlossiness reading A: c_diff = diffuse (1 - max specular)"},
+           : "KHR_materials_pbrSpecularGlossiness reading A: c_diff = diffuse (1 - max specular), under the "
+             "dielectric layer's (1 - F(0.04)) normalised to 1 at normal incidence"},
+      // What the after side's conversion matched (--error-model; the names of api/names.cpp).
+      {"conversion_error_model", options.convert.solver.error_model == ErrorModel::Appearance ? "appearance"
+                                                                                               : "normal-incidence"},
       {"specular_lobe", options.lighting.lobe == SpecularLobe::Ggx ? "ggx" : "blinn-phong"},
       {"environment", options.environment.empty() ? "built-in procedural sky + sun" : options.environment.string()},
       {"sun", options.lighting.sun},

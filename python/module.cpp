@@ -41,13 +41,19 @@ Enum parse_choice(const std::string& value, std::optional<Enum> (*parse)(std::st
   throw py::value_error(std::string(option) + " must be one of " + choices + ", got '" + value + "'");
 }
 
+gltf_pbr::ErrorModel error_model_of(const std::string& name) {
+  return parse_choice(name, gltf_pbr::error_model_from_name, "error_model", "normal-incidence, appearance");
+}
+
 gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const std::string& solver,
-                                             double specular_tolerance, int png_compression, int jpeg_quality,
-                                             std::size_t error_samples, bool allow_outside_uris, bool replace_input) {
+                                             const std::string& error_model, double specular_tolerance,
+                                             int png_compression, int jpeg_quality, std::size_t error_samples,
+                                             bool allow_outside_uris, bool replace_input) {
   gltf_pbr::ConvertFileOptions options;
   options.target = parse_choice(target, gltf_pbr::target_from_name, "target", "metalness, specular");
   options.solver =
       parse_choice(solver, gltf_pbr::solver_effort_from_name, "solver", "fast, balanced, exact, reference");
+  options.error_model = error_model_of(error_model);
   options.specular_tolerance = specular_tolerance;
   options.png_compression = png_compression;
   options.jpeg_quality = jpeg_quality;
@@ -58,10 +64,10 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
 }
 
 // convert's keywords, shared by convert and convert_many.
-#define GLTF_PBR_CONVERT_KEYWORDS                                                                          \
-  py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "specular_tolerance"_a = 2.0,          \
-                 "png_compression"_a = 3, "jpeg_quality"_a = 90, "error_samples"_a = std::size_t{1} << 16, \
-                 "allow_outside_uris"_a = false, "replace_input"_a = false
+#define GLTF_PBR_CONVERT_KEYWORDS                                                                         \
+  py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence", \
+                 "specular_tolerance"_a = 2.0, "png_compression"_a = 3, "jpeg_quality"_a = 90,            \
+                 "error_samples"_a = std::size_t{1} << 16, "allow_outside_uris"_a = false, "replace_input"_a = false
 
 }  // namespace
 
@@ -91,11 +97,12 @@ PYBIND11_MODULE(gltf_pbr, m) {
   m.def(
       "convert",
       [](const fs::path& src, const fs::path& dst, const std::string& target, const std::string& solver,
-         double specular_tolerance, int png_compression, int jpeg_quality, std::size_t error_samples,
-         bool allow_outside_uris, bool replace_input, const std::optional<fs::path>& preview) {
+         const std::string& error_model, double specular_tolerance, int png_compression, int jpeg_quality,
+         std::size_t error_samples, bool allow_outside_uris, bool replace_input,
+         const std::optional<fs::path>& preview) {
         const gltf_pbr::ConvertFileOptions options =
-            convert_options(target, solver, specular_tolerance, png_compression, jpeg_quality, error_samples,
-                            allow_outside_uris, replace_input);
+            convert_options(target, solver, error_model, specular_tolerance, png_compression, jpeg_quality,
+                            error_samples, allow_outside_uris, replace_input);
         gltf_pbr::FileConversion result;
         {
           py::gil_scoped_release released;
@@ -112,11 +119,11 @@ PYBIND11_MODULE(gltf_pbr, m) {
   m.def(
       "convert_many",
       [](const std::vector<std::tuple<fs::path, fs::path>>& jobs, unsigned threads, const std::string& target,
-         const std::string& solver, double specular_tolerance, int png_compression, int jpeg_quality,
-         std::size_t error_samples, bool allow_outside_uris, bool replace_input) {
+         const std::string& solver, const std::string& error_model, double specular_tolerance, int png_compression,
+         int jpeg_quality, std::size_t error_samples, bool allow_outside_uris, bool replace_input) {
         const gltf_pbr::ConvertFileOptions options =
-            convert_options(target, solver, specular_tolerance, png_compression, jpeg_quality, error_samples,
-                            allow_outside_uris, replace_input);
+            convert_options(target, solver, error_model, specular_tolerance, png_compression, jpeg_quality,
+                            error_samples, allow_outside_uris, replace_input);
         std::vector<gltf_pbr::ConvertJob> files;
         for (const auto& [src, dst] : jobs) files.push_back({src, dst, {}});
         std::vector<gltf_pbr::FileConversion> results;
@@ -163,7 +170,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "preview",
       [](const fs::path& src, const fs::path& out_dir, int size, std::optional<int> width, std::optional<int> height,
          std::optional<int> camera, double yaw, double pitch, double fov, const std::optional<fs::path>& environment,
-         const std::string& target, const std::string& solver, bool allow_outside_uris) {
+         const std::string& target, const std::string& solver, const std::string& error_model,
+         bool allow_outside_uris) {
         gltf_pbr::PreviewFileOptions options;
         options.width = width.value_or(size);
         options.height = height.value_or(size);
@@ -175,6 +183,7 @@ PYBIND11_MODULE(gltf_pbr, m) {
         options.target = parse_choice(target, gltf_pbr::target_from_name, "target", "metalness, specular");
         options.solver =
             parse_choice(solver, gltf_pbr::solver_effort_from_name, "solver", "fast, balanced, exact, reference");
+        options.error_model = error_model_of(error_model);
         options.allow_outside_uris = allow_outside_uris;
         gltf_pbr::FilePreview result;
         {
@@ -185,7 +194,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
       },
       "src"_a, "out_dir"_a, py::kw_only(), "size"_a = 512, "width"_a = py::none(), "height"_a = py::none(),
       "camera"_a = py::none(), "yaw"_a = 35.0, "pitch"_a = 20.0, "fov"_a = 40.0, "environment"_a = py::none(),
-      "target"_a = "metalness", "solver"_a = "balanced", "allow_outside_uris"_a = false,
+      "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence",
+      "allow_outside_uris"_a = false,
       "Draw src before and after conversion into out_dir (before.png, after.png, difference.png, sheet.png, "
       "report.json); returns report.json as a dict (FLIP, ΔE2000 mean and p95, RMS-dB, times).");
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "converter/solver.hpp"  // kAppearanceDiffuseLight
 #include "preview/environment.hpp"
@@ -74,6 +75,17 @@ TEST(Brdf, SplitSumReflectanceNeverExceedsOneAndMatchesMonteCarlo) {
     }
   // A mirror loses nothing: A + B = 1 at roughness 0 (directional albedo of a white metal).
   EXPECT_NEAR(integrate_dfg(0.9f, 0.0f, 1024).x + integrate_dfg(0.9f, 0.0f, 1024).y, 1.0f, 0.01f);
+}
+
+TEST(Brdf, SplitSumLookupReadsNanAndOutOfRangeInputsAsTheNearestEdge) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const glm::vec2 edge = dfg_lookup(0.0f, 0.0f);
+  for (const glm::vec2 read : {dfg_lookup(nan, 0.0f), dfg_lookup(-3.0f, nan), dfg_lookup(nan, nan)}) {
+    EXPECT_EQ(read.x, edge.x);
+    EXPECT_EQ(read.y, edge.y);
+  }
+  EXPECT_EQ(dfg_lookup(7.0f, 9.0f).x, dfg_lookup(1.0f, 1.0f).x);
+  EXPECT_EQ(dfg_lookup(7.0f, 9.0f).y, dfg_lookup(1.0f, 1.0f).y);
 }
 
 LightingOptions furnace_options() {

@@ -122,7 +122,7 @@ TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {
 // each sphere. A 0.04 specular converts exactly and previews without a difference under both
 // (0.2 ΔE2000 from the G-buffer's 8-bit specular). For
 // the others the appearance model keeps the look closer than the normal-incidence one on average
-// at every specular level (measured at 96 px: 0 -> 1.09 against 1.98, 0.02 -> 0.60 / 0.99, 0.1 ->
+// at every specular level (measured on 96 px spheres; the test draws 64 px ones: 0 -> 1.09 against 1.98, 0.02 -> 0.60 / 0.99, 0.1 ->
 // 0.99 / 1.87, 0.2 -> 1.70 / 3.81), but not within 1 ΔE2000 on every sphere: its worst are 3.1 at
 // specular 0 and 4.5 at 0.2 (glossy spheres, where the sky's mirrored detail differs), the floor
 // a core F0 of 0.04 leaves (bench/RESULTS.md).

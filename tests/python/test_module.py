@@ -52,6 +52,28 @@ def test_convert_reports_and_writes_what_the_tool_does(tmp_path):
         assert (tmp_path / "module" / name).read_bytes() == (tmp_path / "tool" / name).read_bytes()
 
 
+def test_the_error_model_is_the_tools_and_its_appearance_figures_come_with_it(tmp_path):
+    ran = tool("convert", BOX, "-o", tmp_path / "tool/Box.gltf", "--error-model", "appearance",
+               "--report", tmp_path / "tool.json", "-q")
+    assert ran.returncode == 0, ran.stderr
+    by_tool = json.loads((tmp_path / "tool.json").read_text())["files"][0]
+
+    report = gltf_pbr.convert(BOX, tmp_path / "module/Box.gltf", error_model="appearance")
+    plain = gltf_pbr.convert(BOX, tmp_path / "plain/Box.gltf")
+
+    assert report["materials"][0]["deltaE2000"]["readingA"]["appearance"]["mean"] >= 0
+    assert plain["materials"][0]["deltaE2000"]["readingA"]["appearance"] is None
+    for key in ("input", "output"):
+        by_tool.pop(key), report.pop(key)
+    assert without_times(report) == without_times(by_tool)
+    assert (tmp_path / "module/Box.gltf").read_bytes() == (tmp_path / "tool/Box.gltf").read_bytes()
+    assert (tmp_path / "module/Box.gltf").read_bytes() != (tmp_path / "plain/Box.gltf").read_bytes()
+    drawn = gltf_pbr.preview(BOX, tmp_path / "preview", size=32, error_model="appearance")
+    assert drawn["shading"]["conversion_error_model"] == "appearance"
+    with pytest.raises(ValueError, match="error_model must be one of normal-incidence, appearance"):
+        gltf_pbr.convert(BOX, tmp_path / "x/Box.gltf", error_model="visual")
+
+
 def test_validate_returns_the_tools_khronos_report(tmp_path):
     ran = tool("validate", "--format", "json", DUCK)
     assert ran.returncode in (0, 1), ran.stderr
