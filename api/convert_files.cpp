@@ -81,9 +81,10 @@ std::string run_settings(const ConvertFileOptions& options) {
   text.precision(17);
   text << "convert " << tool_version() << " target " << target_name(options.target) << " solver "
        << solver_effort_name(options.solver) << " error-model " << error_model_name(options.error_model)
-       << " specular-tolerance " << options.specular_tolerance << " png "
-       << options.png_compression << " jpeg " << options.jpeg_quality << " error-samples " << options.error_samples
-       << " allow-outside " << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << '\n'
+       << " specular-tolerance " << options.specular_tolerance << " png " << options.png_compression << " jpeg "
+       << options.jpeg_quality << " error-samples " << options.error_samples << " allow-outside "
+       << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << " preview-size "
+       << options.preview_size << '\n'
        << builtin_rules_text();
   return text.str();
 }
@@ -178,7 +179,9 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   if (original) {
     preview::PreviewOptions preview_options;
     preview_options.convert = converter;
-    const preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
+    preview_options.width = preview_options.height = options.preview_size;
+    preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
+    drawn.conversion = result.report;  // the report names each material's outcome, error and time
     result.preview_complete = drawn.scene.warnings.empty();
     result.preview_written =
         preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview_dir);

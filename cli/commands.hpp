@@ -29,6 +29,10 @@ std::string json_text(const Json& document) {
   return document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
+// Writes DIR/index.html, the page comparing every preview under DIR (preview/gallery.hpp), and
+// says so on stderr unless quiet. For preview, convert --preview and gallery.
+void write_gallery_page(const std::filesystem::path& dir, bool quiet);
+
 // Each registers a subcommand; the returned callback runs it after parsing, or returns -1 when
 // another subcommand was given.
 std::function<int()> add_convert_command(CLI::App& app);
@@ -36,5 +40,6 @@ std::function<int()> add_compare_command(CLI::App& app);
 std::function<int()> add_validate_command(CLI::App& app);
 std::function<int()> add_preview_command(CLI::App& app);
 std::function<int()> add_merge_command(CLI::App& app);
+std::function<int()> add_gallery_command(CLI::App& app);
 
 }  // namespace gltf_pbr::cli

@@ -34,6 +34,8 @@ struct ConvertArgs {
   int png_compression = 3;
   int jpeg_quality = 90;
   size_t error_samples = 1u << 16;
+  int preview_size = 512;
+  bool no_gallery = false;
   PipelineArgs pipeline;
 };
 
@@ -101,7 +103,10 @@ std::vector<std::string> child_options(const ConvertArgs& args) {
                                    "--error-samples",
                                    std::to_string(args.error_samples),
                                    "--max-image-pixels",
-                                   std::to_string(max_image_pixels())};
+                                   std::to_string(max_image_pixels()),
+                                   "--preview-size",
+                                   std::to_string(args.preview_size),
+                                   "--no-gallery"};  // the run writes the page once, at its end
   if (args.allow_outside) options.push_back("--allow-outside-uris");
   if (!args.pipeline.cache.empty()) options.insert(options.end(), {"--cache", args.pipeline.cache});
   return options;
@@ -141,6 +146,7 @@ int run(const ConvertArgs& args) {
   options.error_samples = args.error_samples;
   options.allow_outside_uris = args.allow_outside;
   options.replace_input = args.in_place;
+  options.preview_size = args.preview_size;
   // Given or not: a --shard 0/1 run is the whole input, and still writes what merge-reports reads.
   const bool sharded = !args.pipeline.shard.empty();
   const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
@@ -196,6 +202,7 @@ int run(const ConvertArgs& args) {
     }
     write_atomically(args.report, json_text(report));
   }
+  if (!args.preview.empty() && !args.no_gallery) write_gallery_page(args.preview, args.quiet);
   if (!args.quiet)
     std::fprintf(
         stderr, "%s: %zu converted or copied%s, %zu failed\n", counted(results.size(), "file").c_str(),
@@ -247,7 +254,12 @@ std::function<int()> add_convert_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--preview", args->preview,
-                  "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/");
+                  "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/, "
+                  "and write DIR/index.html, a page comparing them all (gltf-pbr gallery)");
+  cmd->add_option("--preview-size", args->preview_size, "--preview: image width and height in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  cmd->add_flag("--no-gallery", args->no_gallery, "--preview: leave DIR/index.html as it is");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")
       ->check(CLI::Range(0, 9))

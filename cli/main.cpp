@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   const auto run_validate = gltf_pbr::cli::add_validate_command(app);
   const auto run_preview = gltf_pbr::cli::add_preview_command(app);
   const auto run_merge = gltf_pbr::cli::add_merge_command(app);
+  const auto run_gallery = gltf_pbr::cli::add_gallery_command(app);
   // CLI11 would call an unknown first word "A subcommand is required"; name it instead.
   if (argc > 1 && argv[1][0] != '-') {
     const std::string_view word = argv[1];
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : gltf_pbr::cli::kBadUsage;
   }
   // Each runner returns -1 unless its subcommand was the one given.
-  for (const auto& run : {run_convert, run_compare, run_validate, run_preview, run_merge})
+  for (const auto& run : {run_convert, run_compare, run_validate, run_preview, run_merge, run_gallery})
     if (const int code = run(); code >= 0) return code;
   return gltf_pbr::cli::kBadUsage;
 }

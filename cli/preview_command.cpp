@@ -14,6 +14,7 @@
 #include "core/image.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
+#include "preview/gallery.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
@@ -29,7 +30,7 @@ struct PreviewArgs {
   int size = 512, width = 0, height = 0;
   double yaw = 35, pitch = 20, fov = 40;
   float exposure = 1.0f;
-  bool no_sun = false, grid = false, allow_outside = false, quiet = false;
+  bool no_sun = false, grid = false, allow_outside = false, quiet = false, no_gallery = false;
   std::string cache;
   std::vector<float> albedo{0.9f, 0.6f, 0.2f};
   int grid_count = 5;
@@ -44,8 +45,9 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
   text << "preview " << tool_version() << " size " << options.width << "x" << options.height << " yaw " << args.yaw
        << " pitch " << args.pitch << " fov " << args.fov << " camera " << args.camera << " brdf " << args.brdf
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
-       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " error-model " << args.error_model << " max-image-pixels "
-       << max_image_pixels() << " allow-outside " << args.allow_outside << " env ";
+       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " error-model "
+       << args.error_model << " max-image-pixels " << max_image_pixels() << " allow-outside " << args.allow_outside
+       << " env ";
   // The path too: the report names it.
   if (!args.environment.empty())
     text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
@@ -69,7 +71,8 @@ int run(const PreviewArgs& args) {
   options.lighting.exposure = args.exposure;
   options.lighting.sun = !args.no_sun;
   options.convert.target = *target_from_name(args.target);  // CLI::IsMember checked the names
-  options.convert.solver = solver_preset(*solver_effort_from_name(args.solver), *error_model_from_name(args.error_model));
+  options.convert.solver =
+      solver_preset(*solver_effort_from_name(args.solver), *error_model_from_name(args.error_model));
   if (args.camera != "auto") {
     if (args.camera == "gltf") {
       options.gltf_camera = 0;
@@ -101,6 +104,7 @@ int run(const PreviewArgs& args) {
         if (!args.quiet)
           std::fprintf(stderr, "%s: restored from the cache into %s\n", printable(args.input).c_str(),
                        printable(args.output).c_str());
+        if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
         return kAllDone;
       }
     }
@@ -132,6 +136,7 @@ int run(const PreviewArgs& args) {
                    report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
                    report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(),
                    peak_text(report["memory"]["process_peak_rss_bytes"]).c_str(), printable(args.output).c_str());
+    if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
     return kAllDone;
   } catch (const std::exception& e) {  // bad input (InputError) or an unreadable environment
     std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
@@ -150,7 +155,7 @@ std::function<int()> add_preview_command(CLI::App& app) {
       "(ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).\n"
       "Exit codes: 0 done, 1 the input could not be drawn, 2 bad usage.");
   cmd->add_option("input", args->input, ".gltf or .glb file");
-  cmd->add_option("-o,--output", args->output, "output folder")->required();
+  cmd->add_option("-o,--output", args->output, "output folder (also gets index.html, the gallery page)")->required();
   cmd->add_option("--size", args->size, "image width and height in pixels")
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
@@ -173,7 +178,8 @@ std::function<int()> add_preview_command(CLI::App& app) {
       ->check(CLI::IsMember({"ggx", "blinn-phong"}))
       ->capture_default_str();
   cmd->add_option("--legacy-reading", args->legacy_reading,
-                  "before side: a = diffuse (1 - max specular) under the dielectric layer's (1 - F), normalised at normal incidence; b = weighted by (1 - F) of the specular")
+                  "before side: a = diffuse (1 - max specular) under the dielectric layer's (1 - F), normalised at "
+                  "normal incidence; b = weighted by (1 - F) of the specular")
       ->check(CLI::IsMember({"a", "b"}))
       ->capture_default_str();
   cmd->add_option("--tone-map", args->tone_map, "neutral (Khronos PBR Neutral), aces or clamp")
@@ -198,9 +204,42 @@ std::function<int()> add_preview_command(CLI::App& app) {
       ->capture_default_str();
   add_image_limit_option(*cmd);
   cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  cmd->add_flag("--no-gallery", args->no_gallery, "leave DIR/index.html (the page gltf-pbr gallery writes) as it is");
   add_cache_option(*cmd, args->cache);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
   return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
+}
+
+void write_gallery_page(const fs::path& dir, bool quiet) {
+  const preview::GalleryPage page = preview::write_gallery(dir);
+  if (quiet) return;
+  std::fprintf(stderr, "%s: a page comparing %s%s\n", printable(page.written.string()).c_str(),
+               counted(static_cast<std::size_t>(page.entries), "preview").c_str(),
+               page.skipped
+                   ? (", " + counted(static_cast<std::size_t>(page.skipped), "unreadable report") + " left out").c_str()
+                   : "");
+}
+
+std::function<int()> add_gallery_command(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  auto quiet = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand(
+      "gallery",
+      "Write DIR/index.html: one self-contained page (no server or network; opens from file://) comparing\n"
+      "every preview under DIR (the folders gltf-pbr preview -o and convert --preview write): before and\n"
+      "after with a slider, the difference map with its scale, the figures and each material's outcome,\n"
+      "sortable and filterable, worst first. preview and convert --preview write it themselves; this\n"
+      "rebuilds it, for example once after sharded runs into one folder.\n"
+      "Exit codes: 0 written, 2 bad usage, 3 the page cannot be written.");
+  cmd->add_option("dir", *dir, "a folder of previews")->required()->check(CLI::ExistingDirectory);
+  cmd->add_flag("-q,--quiet", *quiet, "print nothing but errors");
+  return [cmd, dir, quiet]() -> int {
+    if (!cmd->parsed()) return -1;
+    return run_command("gallery", [&] {
+      write_gallery_page(*dir, *quiet);
+      return kAllDone;
+    });
+  };
 }
 
 }  // namespace gltf_pbr::cli

@@ -64,7 +64,7 @@ struct PreviewResult {
 // bad input and std::runtime_error for an unreadable environment.
 PreviewResult render_preview(const Asset& asset, const PreviewOptions& options);
 // The same for a conversion already made (gltf-pbr convert --preview): `asset` drawn as "before",
-// `converted` as "after"; result.conversion stays empty.
+// `converted` as "after"; result.conversion stays empty (convert --preview sets it to its report).
 PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options);
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options);
 

@@ -213,8 +213,8 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
            : "KHR_materials_pbrSpecularGlossiness reading A: c_diff = diffuse (1 - max specular), under the "
              "dielectric layer's (1 - F(0.04)) normalised to 1 at normal incidence"},
       // What the after side's conversion matched (--error-model; the names of api/names.cpp).
-      {"conversion_error_model", options.convert.solver.error_model == ErrorModel::Appearance ? "appearance"
-                                                                                               : "normal-incidence"},
+      {"conversion_error_model",
+       options.convert.solver.error_model == ErrorModel::Appearance ? "appearance" : "normal-incidence"},
       {"specular_lobe", options.lighting.lobe == SpecularLobe::Ggx ? "ggx" : "blinn-phong"},
       {"environment", options.environment.empty() ? "built-in procedural sky + sun" : options.environment.string()},
       {"sun", options.lighting.sun},
@@ -265,13 +265,19 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
                      {"warnings", r.scene.warnings}};
   if (r.conversion) {
     nlohmann::json materials = nlohmann::json::array();
-    for (const auto& m : r.conversion->materials)
+    for (const auto& m : r.conversion->materials) {
+      nlohmann::json error_a = nullptr;
+      if (m.error_a)
+        error_a = {{"diffuse_p95", m.error_a->diffuse.p95},
+                   {"f0_p95", m.error_a->f0.p95},
+                   {"appearance_p95", m.error_a->appearance ? nlohmann::json(m.error_a->appearance->p95) : nullptr}};
       materials.push_back({{"index", m.index},
                            {"name", m.name},
                            {"outcome", material_outcome_name(m.outcome)},
-                           {"texel_delta_e_2000_a", m.error_a ? nlohmann::json{{"diffuse_p95", m.error_a->diffuse.p95},
-                                                                               {"f0_p95", m.error_a->f0.p95}}
-                                                              : nlohmann::json(nullptr)}});
+                           {"note", m.note},
+                           {"texel_delta_e_2000_a", std::move(error_a)},
+                           {"time_ms", m.times.total()}});
+    }
     report["conversion"] = {{"materials", materials}, {"warnings", r.conversion->warnings}};
   }
   report["images"] = {{"before", "before.png"},

@@ -10,7 +10,7 @@
 
 namespace gltf_pbr {
 
-const std::vector<std::pair<std::string, std::string>>& embedded_rule_files();  // rules/embed.cmake
+const std::vector<std::pair<std::string, std::string>>& embedded_rule_files();  // cmake/embed.cmake
 
 namespace {
 

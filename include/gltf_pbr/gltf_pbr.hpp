@@ -50,7 +50,8 @@ GLTF_PBR_API std::optional<Target> target_from_name(std::string_view name);
 GLTF_PBR_API std::optional<SolverEffort> solver_effort_from_name(std::string_view name);
 GLTF_PBR_API const char* target_name(Target target);
 GLTF_PBR_API const char* solver_effort_name(SolverEffort effort);
-GLTF_PBR_API std::optional<ErrorModel> error_model_from_name(std::string_view name);  // "appearance", "normal-incidence"
+GLTF_PBR_API std::optional<ErrorModel> error_model_from_name(
+    std::string_view name);  // "appearance", "normal-incidence"
 GLTF_PBR_API const char* error_model_name(ErrorModel model);
 
 struct ConvertFileOptions {
@@ -63,6 +64,7 @@ struct ConvertFileOptions {
   std::size_t error_samples = 1u << 16;  // texels sampled per texture for the error statistics (0: all)
   bool allow_outside_uris = false;       // read absolute or "../" resource URIs
   bool replace_input = false;            // output == input replaces it (atomically); else refused
+  int preview_size = 512;                // width and height of a ConvertJob's preview images
 };
 
 struct ConvertJob {

@@ -1,0 +1,134 @@
+#include "preview/gallery.hpp"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "core/files.hpp"
+
+namespace gltf_pbr {
+// preview/gallery.html, embedded by the build (cmake/embed.cmake).
+const std::vector<std::pair<std::string, std::string>>& embedded_gallery_files();
+}  // namespace gltf_pbr
+
+namespace gltf_pbr::preview {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A preview's report.json is a few KiB; a larger one is not ours and is not read into memory.
+constexpr std::uintmax_t kLargestReport = 4u << 20;
+constexpr const char* kImages[] = {"before.png", "after.png", "difference.png"};
+
+nlohmann::json number_at(const nlohmann::json& report, const char* pointer) {
+  const nlohmann::json::json_pointer at(pointer);
+  return report.contains(at) && report[at].is_number() ? report[at] : nlohmann::json(nullptr);
+}
+
+std::string string_at(const nlohmann::json& report, const char* key) {
+  return report.contains(key) && report[key].is_string() ? report[key].get<std::string>() : std::string();
+}
+
+// One material of the report's conversion block, in the page's terms.
+nlohmann::json material_of(const nlohmann::json& m) {
+  return {{"index", m.value("index", -1)},
+          {"name", m.contains("name") && m["name"].is_string() ? m["name"] : nlohmann::json("")},
+          {"outcome", m.contains("outcome") && m["outcome"].is_string() ? m["outcome"] : nlohmann::json("legacy")},
+          {"diffuseP95", number_at(m, "/texel_delta_e_2000_a/diffuse_p95")},
+          {"f0P95", number_at(m, "/texel_delta_e_2000_a/f0_p95")},
+          {"appearanceP95", number_at(m, "/texel_delta_e_2000_a/appearance_p95")},
+          {"timeMs", number_at(m, "/time_ms")},
+          {"note", m.contains("note") && m["note"].is_string() ? m["note"] : nlohmann::json("")}};
+}
+
+// The page's entry for the preview in `folder` (`path` relative to the root), or null when its
+// report is not a preview's.
+nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
+  std::error_code ec;
+  const fs::path file = folder / "report.json";
+  if (fs::file_size(file, ec) > kLargestReport || ec) return nullptr;
+  const std::optional<Bytes> bytes = read_file(file);
+  if (!bytes) return nullptr;
+  const nlohmann::json report = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
+  if (!report.is_object() || !report.contains("difference")) return nullptr;
+  const std::string input = string_at(report, "input");
+  nlohmann::json materials = nlohmann::json::array();
+  const nlohmann::json::json_pointer listed("/conversion/materials");
+  if (report.contains(listed) && report[listed].is_array())
+    for (const nlohmann::json& m : report[listed])
+      if (m.is_object()) materials.push_back(material_of(m));
+  return {{"path", path},
+          {"name", input.empty() ? path : fs::path(input).filename().string()},
+          {"input", input},
+          {"width", number_at(report, "/width")},
+          {"height", number_at(report, "/height")},
+          {"flip", number_at(report, "/difference/flip/mean")},
+          {"deltaE", number_at(report, "/difference/delta_e_2000/mean")},
+          {"p95", number_at(report, "/difference/delta_e_2000/p95")},
+          {"rmsDb", number_at(report, "/difference/rms_db")},
+          {"materials", std::move(materials)}};
+}
+
+bool holds_a_preview(const fs::path& folder) {
+  std::error_code ec;
+  return std::all_of(std::begin(kImages), std::end(kImages),
+                     [&](const char* image) { return fs::is_regular_file(folder / image, ec); });
+}
+
+// JSON inside <script>: "</script>" or "<!--" in a name must not end or change the element. The
+// three characters only occur inside strings, where their \u escapes mean the same to JSON.parse.
+std::string script_safe(const std::string& json) {
+  std::string out;
+  out.reserve(json.size());
+  for (const char c : json) {
+    if (c == '<')
+      out += "\\u003c";
+    else if (c == '>')
+      out += "\\u003e";
+    else if (c == '&')
+      out += "\\u0026";
+    else
+      out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+GalleryPage write_gallery(const fs::path& root) {
+  GalleryPage page;
+  std::vector<std::pair<std::string, fs::path>> folders;  // (path relative to root, folder)
+  std::error_code ec;
+  if (holds_a_preview(root)) folders.emplace_back("", root);
+  for (fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
+    if (!it->is_directory(ec) || it->is_symlink(ec)) continue;
+    if (holds_a_preview(it->path()))
+      folders.emplace_back(it->path().lexically_relative(root).generic_string(), it->path());
+  }
+  std::sort(folders.begin(), folders.end());
+  nlohmann::json entries = nlohmann::json::array();
+  for (const auto& [path, folder] : folders) {
+    nlohmann::json entry = entry_of(folder, path);
+    if (entry.is_null()) {
+      ++page.skipped;
+      continue;
+    }
+    entries.push_back(std::move(entry));
+  }
+  page.entries = static_cast<int>(entries.size());
+  std::string html = embedded_gallery_files().at(0).second;
+  const std::string slot = "/*ENTRIES*/";
+  html.replace(html.find(slot), slot.size(),
+               script_safe(entries.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
+  AtomicWriteSet files;
+  page.written = root / "index.html";
+  files.stage(page.written, std::span(reinterpret_cast<const std::uint8_t*>(html.data()), html.size()));
+  files.commit();
+  return page;
+}
+
+}  // namespace gltf_pbr::preview

@@ -1,0 +1,20 @@
+// The gallery page (GitHub issue 15): one self-contained index.html over every preview under a
+// folder, to compare a library's conversions asset by asset, worst first.
+#pragma once
+#include <filesystem>
+
+namespace gltf_pbr::preview {
+
+struct GalleryPage {
+  std::filesystem::path written;  // root/index.html
+  int entries = 0;                // previews listed
+  int skipped = 0;                // report.json files that could not be read as a preview's
+};
+
+// Writes `root`/index.html atomically, listing every preview folder under `root` (root itself
+// included): a folder with report.json, before.png, after.png and difference.png as
+// write_preview leaves them. Symbolic links are not followed, so nothing outside `root` is
+// read. A rerun over the same folder rewrites the page with what the folder holds then.
+GalleryPage write_gallery(const std::filesystem::path& root);
+
+}  // namespace gltf_pbr::preview

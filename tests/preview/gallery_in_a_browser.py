@@ -1,0 +1,162 @@
+"""The gallery page (issue 15) in a real browser: Debian's headless chromium opens index.html from
+file:// and the test reads the DOM.
+
+    python3 gallery_in_a_browser.py GLTF_PBR SHARED_DIR [SCREENSHOT_DIR]
+
+- convert --preview over the shared assets: one row per preview, its figures equal to its
+  report.json, every image decodes, sorting by a header click and filtering work, no console error;
+  a screenshot is kept in SCREENSHOT_DIR (default: the scratch folder) for a person to look at.
+- A material named with markup and an asset file named with quotes, '<' and '&' show as text, run
+  nothing, and their images still load (paths are URL-encoded).
+- `gltf-pbr gallery` over 1,000 previews lists them all and loads only the images on screen; a
+  rerun after a preview is removed drops it; `preview --grid` gets the page too.
+"""
+import json
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from browser import Browser  # noqa: E402
+
+cli, shared = sys.argv[1], pathlib.Path(sys.argv[2])
+work = pathlib.Path(tempfile.mkdtemp(prefix="gltf-pbr-gallery-"))
+screenshots = pathlib.Path(sys.argv[3]) if len(sys.argv) > 3 else work
+failures = []
+
+
+def check(condition, what):
+    if not condition:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+
+
+def run(*args):
+    done = subprocess.run([cli, *map(str, args)], capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        sys.exit(f"{' '.join(map(str, args))} exited {done.returncode}: {done.stderr}")
+    return done
+
+
+ROWS = "[...document.querySelectorAll('#entries tr')]"
+
+
+def column(browser, index):
+    """The raw values (data-value) of one figure column, in row order; None where not measured."""
+    return browser.evaluate(
+        f"{ROWS}.map(tr => {{ const v = tr.children[{index}].dataset.value; return v === undefined ? null : Number(v); }})")
+
+
+def images_decode(browser):
+    """Loads every image (lazy ones too) and returns the natural widths; 0 for one that failed."""
+    return browser.evaluate("Promise.all([...document.images].map(i => { i.loading = 'eager'; "
+                            "return i.decode().then(() => i.naturalWidth, () => 0); }))")
+
+
+def click(browser, element_id):
+    browser.evaluate(f"document.getElementById('{element_id}').click()")
+
+
+# 1. A library converted with --preview.
+previews = work / "previews"
+run("convert", shared / "assets", "-o", work / "converted", "--preview", previews, "--preview-size", "96", "-q")
+page = previews / "index.html"
+html = page.read_text()
+check("http:" not in html and "https:" not in html and "<link" not in html, "the page references nothing outside itself")
+reports = {str(p.parent.relative_to(previews)): json.loads(p.read_text()) for p in previews.rglob("report.json")}
+with Browser() as browser:
+    browser.open(page.as_uri())
+    paths = browser.evaluate(f"{ROWS}.map(tr => tr.dataset.path)")
+    check(sorted(paths) == sorted(reports), f"one row per preview: {len(paths)} rows, {len(reports)} reports")
+    for figure, index, pointer in (("flip", 3, ("flip", "mean")), ("deltaE", 4, ("delta_e_2000", "mean")),
+                                   ("p95", 5, ("delta_e_2000", "p95")), ("rmsDb", 6, ("rms_db",))):
+        shown = column(browser, index)
+        for path, value in zip(paths, shown):
+            expected = reports[path]["difference"]
+            for key in pointer:
+                expected = expected[key]
+            check(value == expected, f"{path}: {figure} shows {value}, report.json has {expected}")
+    materials = browser.evaluate(f"{ROWS}.map(tr => tr.children[7].querySelectorAll('li').length)")
+    for path, count in zip(paths, materials):
+        check(count == len(reports[path].get("conversion", {}).get("materials", [])), f"{path}: materials listed")
+    widths = images_decode(browser)
+    check(len(widths) == 3 * len(reports) and all(w == 96 for w in widths), f"every image decodes at 96 px: {widths}")
+    means = column(browser, 4)
+    check(means == sorted(means, reverse=True), f"worst ΔE2000 mean first by default: {means}")
+    click(browser, "sort-deltaE")
+    means = column(browser, 4)
+    check(means == sorted(means), f"a click on the header sorts ascending: {means}")
+    click(browser, "sort-name")
+    names = browser.evaluate(f"{ROWS}.map(tr => tr.querySelector('.name').textContent.toLowerCase())")
+    check(names == sorted(names), f"sorted by name: {names}")
+    browser.evaluate("(() => { const f = document.getElementById('filter'); f.value = 'duck'; "
+                     "f.dispatchEvent(new Event('input')); })()")
+    shown = browser.evaluate(f"{ROWS}.map(tr => tr.dataset.path)")
+    check(len(shown) >= 1 and all("duck" in p.lower() for p in shown), f"the name filter keeps Duck: {shown}")
+    browser.evaluate("(() => { const f = document.getElementById('filter'); f.value = ''; "
+                     "f.dispatchEvent(new Event('input')); const o = document.getElementById('outcome'); "
+                     "o.value = 'metalness'; o.dispatchEvent(new Event('change')); })()")
+    shown = browser.evaluate(f"{ROWS}.map(tr => tr.dataset.path)")
+    expected = [p for p in reports
+                if any(m["outcome"] == "metalness" for m in reports[p].get("conversion", {}).get("materials", []))]
+    check(sorted(shown) == sorted(expected), f"the outcome filter: {shown} against {expected}")
+    browser.evaluate("(() => { const o = document.getElementById('outcome'); o.value = ''; "
+                     "o.dispatchEvent(new Event('change')); document.getElementById('sort-deltaE').click(); })()")
+    browser.screenshot(screenshots / "gallery.png")
+    check(browser.errors() == [], f"no console errors: {browser.errors()}")
+print(f"screenshot: {screenshots / 'gallery.png'}", file=sys.stderr)
+
+# 2. Untrusted names show as text.
+hostile_name = '</script><script>window.pwned = 1</script><b id="injected">bold</b> "q" \'a\' &amp;'
+hostile_file = "Box \"q\" 'a' <b>&amp; 100%.gltf"
+source = shared / "assets/Box/specgloss"
+hostile = work / "hostile"
+shutil.copytree(source, hostile)
+document = json.loads((hostile / "Box.gltf").read_text())
+document["materials"][0]["name"] = hostile_name
+(hostile / hostile_file).write_text(json.dumps(document))
+(hostile / "Box.gltf").unlink()
+run("convert", hostile, "-o", work / "hostile-out", "--preview", work / "hostile-previews", "--preview-size", "64", "-q")
+with Browser() as browser:
+    browser.open((work / "hostile-previews/index.html").as_uri())
+    check(browser.evaluate("window.pwned === undefined"), "a <script> in a material name does not run")
+    check(browser.evaluate("document.getElementById('injected') === null"), "markup in a name makes no element")
+    check(browser.evaluate("document.querySelector('ul.materials li span').textContent") == hostile_name,
+          "the material name shows as the text it is")
+    check(browser.evaluate("document.querySelector('.name').textContent") == hostile_file,
+          "the file name shows as the text it is")
+    widths = images_decode(browser)
+    check(widths == [64, 64, 64], f"images under a folder named with quotes, '<', '&' and '%' load: {widths}")
+    check(browser.errors() == [], f"no console errors: {browser.errors()}")
+
+# 3. A thousand previews: all listed, only what is on screen loaded.
+many = work / "many"
+one = next(p.parent for p in previews.rglob("report.json") if "Box" in str(p))
+for i in range(1000):
+    shutil.copytree(one, many / f"asset{i:04d}")
+run("gallery", many)
+with Browser(height=900) as browser:
+    browser.open((many / "index.html").as_uri())
+    check(browser.evaluate(f"{ROWS}.length") == 1000, "1,000 rows")
+    loaded = browser.evaluate("[...document.images].filter(i => i.complete && i.naturalWidth > 0).length")
+    check(0 < loaded < 100, f"lazy images: {loaded} of 3000 loaded on the first screen")
+    check(browser.errors() == [], f"no console errors: {browser.errors()}")
+shutil.rmtree(many / "asset0007")
+run("gallery", many)
+with Browser() as browser:
+    browser.open((many / "index.html").as_uri())
+    check(browser.evaluate(f"{ROWS}.length") == 999, "a rerun drops a removed preview")
+
+# 4. The sphere grid gets the page.
+run("preview", "--grid", "-o", work / "grid", "--size", "64", "-q")
+with Browser() as browser:
+    browser.open((work / "grid/index.html").as_uri())
+    check(browser.evaluate(f"{ROWS}.map(tr => tr.querySelector('.name').textContent)") == ["grid"], "the grid's page")
+    check(images_decode(browser) == [64, 64, 64], "the grid's images load")
+
+if failures:
+    sys.exit(f"{len(failures)} checks failed")
+shutil.rmtree(work)
+print("gallery: all checks passed", file=sys.stderr)
