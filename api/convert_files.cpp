@@ -183,8 +183,9 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
     drawn.conversion = result.report;  // the report names each material's outcome, error and time
     result.preview_complete = drawn.scene.warnings.empty();
-    result.preview_written =
-        preview::write_preview(drawn, preview::preview_report(drawn, preview_options), job.preview_dir);
+    nlohmann::json report = preview::preview_report(drawn, preview_options);
+    report["input"] = job.input.string();
+    result.preview_written = preview::write_preview(drawn, report, job.preview_dir);
   }
   result.total_ms = ms_between(start, Clock::now());
   return result;
