@@ -28,20 +28,27 @@ nlohmann::json number_at(const nlohmann::json& report, const char* pointer) {
   return report.contains(at) && report[at].is_number() ? report[at] : nlohmann::json(nullptr);
 }
 
-std::string string_at(const nlohmann::json& report, const char* key) {
-  return report.contains(key) && report[key].is_string() ? report[key].get<std::string>() : std::string();
+// Read by type, never by conversion: a report.json of the wrong shape gives the fallback, not a throw.
+std::string string_at(const nlohmann::json& report, const char* key, const char* fallback = "") {
+  return report.contains(key) && report[key].is_string() ? report[key].get<std::string>() : std::string(fallback);
 }
 
 // One material of the report's conversion block, in the page's terms.
 nlohmann::json material_of(const nlohmann::json& m) {
-  return {{"index", m.value("index", -1)},
-          {"name", m.contains("name") && m["name"].is_string() ? m["name"] : nlohmann::json("")},
-          {"outcome", m.contains("outcome") && m["outcome"].is_string() ? m["outcome"] : nlohmann::json("legacy")},
+  return {{"index", number_at(m, "/index")},
+          {"name", string_at(m, "name")},
+          {"outcome", string_at(m, "outcome", "legacy")},
           {"diffuseP95", number_at(m, "/texel_delta_e_2000_a/diffuse_p95")},
           {"f0P95", number_at(m, "/texel_delta_e_2000_a/f0_p95")},
           {"appearanceP95", number_at(m, "/texel_delta_e_2000_a/appearance_p95")},
           {"timeMs", number_at(m, "/time_ms")},
-          {"note", m.contains("note") && m["note"].is_string() ? m["note"] : nlohmann::json("")}};
+          {"note", string_at(m, "note")}};
+}
+
+// A regular file itself, not a link to one: nothing outside the root is read or shown.
+bool is_plain_file(const fs::path& file) {
+  std::error_code ec;
+  return fs::is_regular_file(fs::symlink_status(file, ec));
 }
 
 // The page's entry for the preview in `folder` (`path` relative to the root), or null when its
@@ -49,7 +56,7 @@ nlohmann::json material_of(const nlohmann::json& m) {
 nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
   std::error_code ec;
   const fs::path file = folder / "report.json";
-  if (fs::file_size(file, ec) > kLargestReport || ec) return nullptr;
+  if (!is_plain_file(file) || fs::file_size(file, ec) > kLargestReport || ec) return nullptr;
   const std::optional<Bytes> bytes = read_file(file);
   if (!bytes) return nullptr;
   const nlohmann::json report = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
@@ -73,9 +80,8 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
 }
 
 bool holds_a_preview(const fs::path& folder) {
-  std::error_code ec;
   return std::all_of(std::begin(kImages), std::end(kImages),
-                     [&](const char* image) { return fs::is_regular_file(folder / image, ec); });
+                     [&](const char* image) { return is_plain_file(folder / image); });
 }
 
 // JSON inside <script>: "</script>" or "<!--" in a name must not end or change the element. The
@@ -105,7 +111,8 @@ GalleryPage write_gallery(const fs::path& root) {
   if (holds_a_preview(root)) folders.emplace_back("", root);
   for (fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;
        !ec && it != end; it.increment(ec)) {
-    if (!it->is_directory(ec) || it->is_symlink(ec)) continue;
+    std::error_code entry_error;  // a dangling link or a loop skips its entry, not the rest of the walk
+    if (!fs::is_directory(it->symlink_status(entry_error))) continue;
     if (holds_a_preview(it->path()))
       folders.emplace_back(it->path().lexically_relative(root).generic_string(), it->path());
   }

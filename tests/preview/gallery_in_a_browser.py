@@ -148,6 +148,21 @@ run("gallery", many)
 with Browser() as browser:
     browser.open((many / "index.html").as_uri())
     check(browser.evaluate(f"{ROWS}.length") == 999, "a rerun drops a removed preview")
+# Links are not followed (a dangling one ends nothing), and a report of the wrong shape is read by type.
+(many / "aa-dangling").symlink_to(work / "nowhere")
+(many / "zz-linked").symlink_to(one)
+odd = many / "odd"
+shutil.copytree(one, odd)
+report = json.loads((odd / "report.json").read_text())
+report.setdefault("conversion", {})["materials"] = [{"index": "x", "name": 7, "outcome": ["metalness"]}]
+(odd / "report.json").write_text(json.dumps(report))
+run("gallery", many)
+with Browser() as browser:
+    browser.open((many / "index.html").as_uri())
+    paths = browser.evaluate(f"{ROWS}.map(tr => tr.dataset.path)")
+    check(len(paths) == 1000 and "odd" in paths and "zz-linked" not in paths,
+          f"links skipped, the odd report listed: {len(paths)} rows")
+    check(browser.errors() == [], f"no console errors: {browser.errors()}")
 
 # 4. The sphere grid gets the page.
 run("preview", "--grid", "-o", work / "grid", "--size", "64", "-q")
