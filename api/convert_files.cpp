@@ -154,7 +154,9 @@ ConvertOptions conversion_options(const ConvertFileOptions& options) {
 FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& options) {
   inject_test_fault(job.input);
   FileResult result = result_of(job);
-  const ConvertOptions converter = conversion_options(options);
+  ConvertOptions converter = conversion_options(options);
+  DecodedImages decoded;  // under --preview, the conversion's pixels: the preview decodes none of them again
+  if (!job.preview_dir.empty()) converter.keep_decoded = &decoded;
   const auto start = Clock::now();
   Asset asset = load_asset(job.input, {options.allow_outside_uris});  // its own errors first: they name the byte
   refuse_value_errors(job.input);
@@ -180,7 +182,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     preview::PreviewOptions preview_options;
     preview_options.convert = converter;
     preview_options.width = preview_options.height = options.preview_size;
-    preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options);
+    preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options, &decoded);
     drawn.conversion = result.report;  // the report names each material's outcome, error and time
     result.preview_complete = drawn.scene.warnings.empty();
     nlohmann::json report = preview::preview_report(drawn, preview_options);

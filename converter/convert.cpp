@@ -325,8 +325,10 @@ class Converter {
       const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
       parallel_invoke(
           [&] {
-            if (!t.metal_rough_constant)
-              metal_rough = encode_png(t.metal_rough(), t.width, t.height, 3, options_.png_compression);
+            if (t.metal_rough_constant) return;
+            TexelBytes texels = t.metal_rough();
+            metal_rough = encode_png(texels, t.width, t.height, 3, options_.png_compression);
+            keep_lossless(metal_rough, std::move(texels), t.width, t.height, 3);
           },
           [&] {
             if (!bake_base) return;
@@ -340,9 +342,14 @@ class Converter {
             const std::span<const std::uint8_t> texels =
                 rgb.empty() ? std::span<const std::uint8_t>(t.base_color) : std::span<const std::uint8_t>(rgb);
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
-            base_color =
-                jpeg_base ? encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality)
-                          : encode_png(texels, t.width, t.height, t.alpha_constant ? 3 : 4, options_.png_compression);
+            if (jpeg_base) {
+              base_color = encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality);
+            } else {
+              const int channels = t.alpha_constant ? 3 : 4;
+              base_color = encode_png(texels, t.width, t.height, channels, options_.png_compression);
+              if (options_.keep_decoded)
+                keep_lossless(base_color, TexelBytes(texels.begin(), texels.end()), t.width, t.height, channels);
+            }
           });
       if (bake_base)
         bake.base_color_image = add_image(std::move(base_color), "baseColor", jpeg_base ? "image/jpeg" : "image/png");
@@ -378,6 +385,13 @@ class Converter {
   // more than once (by several materials, or in both slots of one) is kept until its last reader is
   // converted (run() drops it); one read once is not kept, so peak memory stays at one bake.
   SharedPixels decode(int image) {
+    SharedPixels pixels = decode_once(image);
+    if (options_.keep_decoded)  // held there, the pixels are no longer the bake's to write over
+      options_.keep_decoded->keep(image_content_key(encoded_image_bytes(asset_, image)), pixels);
+    return pixels;
+  }
+
+  SharedPixels decode_once(int image) {
     std::shared_future<SharedPixels> shared;
     std::promise<SharedPixels> promise;
     bool decode_here = true;
@@ -415,6 +429,16 @@ class Converter {
     } catch (const std::runtime_error& e) {
       throw InputError(asset_.path.string(), pointer("images", image), e.what());
     }
+  }
+
+  // A baked PNG's texels, kept as the pixels its bytes decode to (PNG is lossless; a JPEG is not,
+  // so its reader decodes what was written).
+  void keep_lossless(const Bytes& png, TexelBytes texels, int width, int height, int channels) {
+    if (!options_.keep_decoded) return;
+    auto pixels = std::make_shared<Pixels>();
+    pixels->width = width, pixels->height = height, pixels->channels = channels;
+    pixels->bytes = std::move(texels);
+    options_.keep_decoded->keep(image_content_key(png), std::move(pixels));
   }
 
   int add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {

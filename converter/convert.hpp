@@ -8,6 +8,7 @@
 #include "converter/error_stats.hpp"
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
+#include "core/image.hpp"         // DecodedImages
 #include "gltf_pbr/gltf_pbr.hpp"  // Target
 
 namespace gltf_pbr {
@@ -19,6 +20,9 @@ struct ConvertOptions {
   int png_compression = 3;              // zlib level for baked textures: speed against bytes
   int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
+  // When set, every image the conversion decodes, and every PNG it bakes, is kept here as pixels
+  // for a later reader in the same run (the preview's scene), which then decodes none of them.
+  DecodedImages* keep_decoded = nullptr;
 };
 
 struct StageTimes {

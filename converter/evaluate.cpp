@@ -11,11 +11,12 @@ namespace {
 
 // The reflectance of `material` at uv under its own model (core/material_model.hpp), textures
 // sampled at their nearest texel.
-Reflectance reflectance_at(const MaterialInputs& material, DecodedImages& images, glm::vec2 uv, bool core_only) {
+Reflectance reflectance_at(const MaterialInputs& material, const Asset& asset, DecodedImages& images, glm::vec2 uv,
+                           bool core_only) {
   TexelInputs texels;
   for (int role = 0; role < kTextureRoleCount; ++role) {
     const MaterialTexture& texture = material.textures[static_cast<size_t>(role)];
-    if (texture.present()) texels.raw[static_cast<size_t>(role)] = nearest_texel(images.get(texture.image), uv);
+    if (texture.present()) texels.raw[static_cast<size_t>(role)] = nearest_texel(images.get(asset, texture.image), uv);
   }
   const SurfaceSample surface = evaluate_surface(material, texels, core_only);
   return {surface.c_diff, surface.f0};
@@ -25,7 +26,7 @@ Reflectance reflectance_at(const MaterialInputs& material, DecodedImages& images
 
 std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
                                                    int grid) {
-  DecodedImages legacy_images(legacy), converted_images(converted);
+  DecodedImages images;  // an image both assets hold decodes once
   std::vector<MaterialComparison> out;
   for (size_t i = 0; i < legacy.model.materials.size(); ++i) {
     const auto extension = legacy.model.materials[i].extensions.find(kSpecGloss);
@@ -44,8 +45,8 @@ std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const As
         const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(n),
                            (static_cast<float>(y) + 0.5f) / static_cast<float>(n));
         // The legacy side is reading A of solver.hpp, which is material_model's spec-gloss reading.
-        error.add(reflectance_at(before, legacy_images, uv, false),
-                  reflectance_at(after, converted_images, uv, viewer == Viewer::CoreOnly));
+        error.add(reflectance_at(before, legacy, images, uv, false),
+                  reflectance_at(after, converted, images, uv, viewer == Viewer::CoreOnly));
       }
     out.push_back({static_cast<int>(i), converted.model.materials[i].name, error.samples(), error.finish()});
   }

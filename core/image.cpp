@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 #include <link.h>
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <algorithm>
 #include <atomic>
@@ -14,6 +15,7 @@
 
 #include "core/asset.hpp"
 #include "core/codecs.hpp"
+#include "core/json_pointer.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -111,6 +113,43 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
 
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
   return codecs::encode_jpeg(texels, width, height, channels, quality);
+}
+
+ImageContentKey image_content_key(std::span<const std::uint8_t> encoded) {
+  const XXH128_hash_t hash = XXH3_128bits(encoded.data(), encoded.size());
+  return {hash.low64, hash.high64, encoded.size()};
+}
+
+const Pixels& DecodedImages::get(const Asset& asset, int image) {
+  const std::lock_guard lock(mutex_);  // its readers are sequential: held through a decode, it decodes once
+  if (const auto it = by_image_.find({&asset, image}); it != by_image_.end()) return *it->second;
+  const std::span<const std::uint8_t> encoded = encoded_image_bytes(asset, image);
+  const ImageContentKey key = image_content_key(encoded);
+  auto held = by_content_.find(key);
+  if (held == by_content_.end()) {
+    held =
+        by_content_.emplace(key, std::make_shared<const Pixels>(decode_image(encoded, pointer("images", image)))).first;
+    release_encoded_image_pages(asset, image);
+  }
+  by_image_.emplace(std::make_pair(&asset, image), held->second.get());
+  return *held->second;
+}
+
+void DecodedImages::keep(const ImageContentKey& key, std::shared_ptr<const Pixels> pixels) {
+  const std::lock_guard lock(mutex_);
+  by_content_.try_emplace(key, std::move(pixels));
+}
+
+std::shared_ptr<const Pixels> DecodedImages::find(const ImageContentKey& key) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = by_content_.find(key);
+  return it == by_content_.end() ? nullptr : it->second;
+}
+
+void DecodedImages::clear() {
+  const std::lock_guard lock(mutex_);
+  by_content_.clear();
+  by_image_.clear();
 }
 
 bool is_jpeg(std::span<const std::uint8_t> encoded) {

@@ -2,7 +2,11 @@
 // from the bytes' signature: libspng and TurboJPEG for PNG and JPEG (core/codecs.hpp), the
 // OpenImageIO module for any other format and for filtered resizing, loaded only then.
 #pragma once
+#include <compare>
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -68,6 +72,35 @@ Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, i
 
 // True when the bytes carry a JPEG signature.
 bool is_jpeg(std::span<const std::uint8_t> encoded);
+
+// The identity of an image's encoded bytes: their XXH3-128 and their size. Two images with one key
+// hold the same bytes (a collision is ~2^-64 likely even across millions of images).
+struct ImageContentKey {
+  std::uint64_t low = 0, high = 0, size = 0;
+  auto operator<=>(const ImageContentKey&) const = default;
+};
+ImageContentKey image_content_key(std::span<const std::uint8_t> encoded);
+
+struct Asset;
+
+// Decoded images, each decoded at most once and only when asked for. Found by their encoded
+// bytes, so an image one step has decoded, or baked without loss, is not decoded again by a later
+// step of the same run: the conversion's pixels serve the preview's scene. Safe to share between
+// threads.
+class DecodedImages {
+ public:
+  // Image `image` of `asset`, decoded on first ask; the reference lives as long as this object.
+  // Throws std::runtime_error naming the image when it cannot be decoded.
+  const Pixels& get(const Asset& asset, int image);
+  void keep(const ImageContentKey& key, std::shared_ptr<const Pixels> pixels);
+  std::shared_ptr<const Pixels> find(const ImageContentKey& key) const;  // null when not held
+  void clear();  // gives the memory back (get()'s references end here)
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<ImageContentKey, std::shared_ptr<const Pixels>> by_content_;
+  std::map<std::pair<const Asset*, int>, const Pixels*> by_image_;  // get()'s: no hash per texel read
+};
 
 // The functions the OpenImageIO module (core/image_oiio.cpp) provides; core/image.cpp loads it.
 struct ImageCodec {

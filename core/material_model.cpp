@@ -231,15 +231,6 @@ SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texel
   return s;
 }
 
-const Pixels& DecodedImages::get(int image) {
-  auto it = images_.find(image);
-  if (it == images_.end()) {
-    it = images_.emplace(image, decode_image(encoded_image_bytes(asset_, image), pointer("images", image))).first;
-    release_encoded_image_pages(asset_, image);
-  }
-  return it->second;
-}
-
 glm::vec4 texel_rgba(const Pixels& p, int x, int y) {
   glm::vec4 v(1.0f);
   for (int c = 0; c < 3; ++c) v[c] = p.at(x, y, p.channels >= 3 ? c : 0);

@@ -110,18 +110,6 @@ SurfaceSample evaluate_surface(const MaterialInputs& material, const TexelInputs
 // sRGB 8-bit code values decode through a table (the common case: decoded 8-bit images).
 float srgb_texel_to_linear(float encoded);
 
-// Decoded images of one asset, each decoded at most once, only when asked for.
-class DecodedImages {
- public:
-  explicit DecodedImages(const Asset& asset) : asset_(asset) {}
-  // Throws std::runtime_error (OpenImageIO's reason) when the image cannot be decoded.
-  const Pixels& get(int image);
-
- private:
-  const Asset& asset_;
-  std::map<int, Pixels> images_;
-};
-
 // Channel values (RGBA; grey repeated, missing alpha 1) of the texel nearest to uv, repeat wrap.
 glm::vec4 nearest_texel(const Pixels& pixels, glm::vec2 uv);
 // The same for integer texel coordinates.

@@ -65,7 +65,10 @@ struct PreviewResult {
 PreviewResult render_preview(const Asset& asset, const PreviewOptions& options);
 // The same for a conversion already made (gltf-pbr convert --preview): `asset` drawn as "before",
 // `converted` as "after"; result.conversion stays empty (convert --preview sets it to its report).
-PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options);
+// `decoded`: the pixels the conversion kept (ConvertOptions::keep_decoded), not decoded again;
+// emptied once the scene is built, so they do not stay in memory through the render.
+PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options,
+                          DecodedImages* decoded = nullptr);
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options);
 
 // The common tail: both G-buffers lit, tone-mapped and compared (used by tests with analytic

@@ -73,17 +73,22 @@ PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const E
 PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) {
   const auto start = Clock::now();
   Asset converted = asset;
-  ConversionReport conversion = convert(converted, options.convert);
+  DecodedImages decoded;  // the conversion's pixels, which the scene then does not decode again
+  ConvertOptions convert_options = options.convert;
+  convert_options.keep_decoded = &decoded;
+  ConversionReport conversion = convert(converted, convert_options);
   const double convert_ms = ms_since(start);
-  PreviewResult result = render_pair(asset, converted, options);
+  PreviewResult result = render_pair(asset, converted, options, &decoded);
   result.times.convert_ms = convert_ms;
   result.conversion = std::move(conversion);
   return result;
 }
 
-PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options) {
+PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options,
+                          DecodedImages* decoded) {
   auto start = Clock::now();
-  const Scene scene = build_scene(asset, converted);
+  const Scene scene = build_scene(asset, converted, decoded);
+  if (decoded) decoded->clear();  // the scene holds its own texels: the pixels' memory goes before the render
   const double scene_ms = ms_since(start);
 
   start = Clock::now();
@@ -258,6 +263,7 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
                      {"skinned_primitives", r.scene.skinned_primitives},
                      {"morphed_primitives", r.scene.morphed_primitives},
                      {"textures_decoded", r.scene.textures_decoded},
+                     {"textures_from_conversion", r.scene.textures_from_conversion},
                      {"uses_emission", r.scene.uses_emission},
                      {"uses_occlusion", r.scene.uses_occlusion},
                      {"triangles_culled", r.raster.culled},

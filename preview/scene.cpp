@@ -1,6 +1,7 @@
 // Flattening an Asset into world-space triangles and two-sided materials (see scene.hpp).
 #include "preview/scene.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -99,22 +100,18 @@ Deformation node_deformation(const Asset& asset, int node_index, const std::vect
     const int joint = skin.joints[j];
     if (joint < 0 || static_cast<std::size_t>(joint) >= node_world.size())
       throw InputError(asset.path.string(), skin_pointer + "/joints/" + std::to_string(j), "node does not exist");
-    const glm::dmat4 bind = inverse_bind.values.empty() ? glm::dmat4(1.0) : glm::make_mat4(&inverse_bind.values[j * 16]);
+    const glm::dmat4 bind =
+        inverse_bind.values.empty() ? glm::dmat4(1.0) : glm::make_mat4(&inverse_bind.values[j * 16]);
     d.joint_matrices.push_back(node_world[static_cast<std::size_t>(joint)] * bind);
   }
   return d;
 }
 
-std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
-  std::uint64_t hash = 1469598103934665603ull;
-  for (std::uint8_t b : bytes) hash = (hash ^ b) * 1099511628211ull;
-  return hash;
-}
-
-// Decodes each distinct image once (keyed by its encoded bytes), in parallel.
+// Decodes each distinct image once (keyed by its encoded bytes), in parallel; an image the
+// conversion already holds as pixels (`decoded`) is taken from there and not decoded again.
 class TextureLoader {
  public:
-  explicit TextureLoader(Scene& scene) : scene_(scene) {}
+  TextureLoader(Scene& scene, const DecodedImages* decoded) : scene_(scene), decoded_(decoded) {}
 
   // Fills `slot` from textureInfo fields; the texels arrive in finish().
   void request(const Asset& asset, int texture_index, int tex_coord, const tinygltf::ExtensionMap& extensions,
@@ -151,38 +148,28 @@ class TextureLoader {
     }
     slot.tex_coord = std::clamp(slot.tex_coord, 0, 1);
     const auto bytes = encoded_image_bytes(asset, texture.source);
-    const std::uint64_t key = fnv1a(bytes) ^ (bytes.size() * 0x9E3779B97F4A7C15ull);
+    const ImageContentKey key = image_content_key(bytes);
     auto [it, inserted] = job_of_key_.try_emplace(key, jobs_.size());
-    if (inserted) jobs_.push_back({bytes, asset.path.string() + pointer("images", texture.source)});
+    if (inserted) jobs_.push_back({bytes, key, asset.path.string() + pointer("images", texture.source)});
     pending_.push_back({&slot, it->second});
   }
 
   void finish() {
     std::vector<std::unique_ptr<Texture>> decoded(jobs_.size());
     std::vector<std::string> errors(jobs_.size());
+    std::atomic<int> handed_over = 0;
     parallel_for(0, static_cast<std::int64_t>(jobs_.size()), [&](std::int64_t i) {
       const auto& job = jobs_[static_cast<size_t>(i)];
       try {
-        const Pixels pixels = decode_image(job.bytes, job.name);
+        std::shared_ptr<const Pixels> pixels = decoded_ ? decoded_->find(job.key) : nullptr;
+        if (pixels)
+          ++handed_over;
+        else
+          pixels = std::make_shared<const Pixels>(decode_image(job.bytes, job.name));
         auto texture = std::make_unique<Texture>();
-        texture->width = pixels.width;
-        texture->height = pixels.height;
-        texture->rgba.resize(static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height) * 4);
-        const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
-        const int ch = pixels.channels;
-        auto to8 = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
-        for (size_t p = 0; p < count; ++p) {
-          const size_t in = p * static_cast<size_t>(ch);
-          auto channel = [&](int c) { return to8(pixels.value(in + static_cast<size_t>(c))); };
-          std::uint8_t* out = texture->rgba.data() + p * 4;
-          if (ch <= 2) {
-            out[0] = out[1] = out[2] = channel(0);
-            out[3] = ch == 2 ? channel(1) : 255;
-          } else {
-            out[0] = channel(0), out[1] = channel(1), out[2] = channel(2);
-            out[3] = ch >= 4 ? channel(3) : 255;
-          }
-        }
+        texture->width = pixels->width;
+        texture->height = pixels->height;
+        texture->rgba = rgba8_of(*pixels);
         texture->build_mips();
         decoded[static_cast<size_t>(i)] = std::move(texture);
       } catch (const std::exception& e) {
@@ -198,16 +185,42 @@ class TextureLoader {
         scene_.textures.push_back(std::move(decoded[i]));
       }
     for (auto& [slot, job] : pending_) slot->texture = by_job[job];
-    scene_.stats.textures_decoded = static_cast<int>(scene_.textures.size());
+    scene_.stats.textures_from_conversion = handed_over;
+    scene_.stats.textures_decoded = static_cast<int>(scene_.textures.size()) - handed_over;
   }
 
  private:
+  // 8-bit RGBA, grey expanded to RGB and a missing alpha opaque; 8-bit pixels are copied as they are.
+  static TexelBytes rgba8_of(const Pixels& pixels) {
+    const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
+    const size_t ch = static_cast<size_t>(pixels.channels);
+    TexelBytes rgba(count * 4);
+    auto channel = [&](size_t in) -> std::uint8_t {
+      if (!pixels.bytes.empty()) return pixels.bytes[in];
+      return static_cast<std::uint8_t>(std::clamp(pixels.value(in), 0.0f, 1.0f) * 255.0f + 0.5f);
+    };
+    for (size_t p = 0; p < count; ++p) {
+      const size_t in = p * ch;
+      std::uint8_t* out = rgba.data() + p * 4;
+      if (ch <= 2) {
+        out[0] = out[1] = out[2] = channel(in);
+        out[3] = ch == 2 ? channel(in + 1) : 255;
+      } else {
+        out[0] = channel(in), out[1] = channel(in + 1), out[2] = channel(in + 2);
+        out[3] = ch >= 4 ? channel(in + 3) : 255;
+      }
+    }
+    return rgba;
+  }
+
   struct Job {
     std::span<const std::uint8_t> bytes;
+    ImageContentKey key;
     std::string name;
   };
   Scene& scene_;
-  std::map<std::uint64_t, size_t> job_of_key_;
+  const DecodedImages* decoded_;
+  std::map<ImageContentKey, size_t> job_of_key_;
   std::vector<Job> jobs_;
   std::vector<std::pair<TextureSlot*, size_t>> pending_;
 };
@@ -333,7 +346,8 @@ void apply_morph_targets(const Asset& asset, const tinygltf::Primitive& primitiv
     if (weights[t] == 0.0) continue;
     for (const auto& [semantic, index] : primitive.targets[t]) {
       auto base = attributes.find(semantic);
-      if (base == attributes.end() || (semantic != "POSITION" && semantic != "NORMAL" && semantic != "TANGENT")) continue;
+      if (base == attributes.end() || (semantic != "POSITION" && semantic != "NORMAL" && semantic != "TANGENT"))
+        continue;
       const AccessorData delta = read_attribute(asset, index);
       const std::size_t stride = static_cast<std::size_t>(base->second.components);
       if (delta.components != 3 || delta.count() != base->second.count() || stride < 3)
@@ -404,8 +418,8 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
     for (const auto& [semantic, index] : primitive.attributes) {
       const bool drawn = semantic == "POSITION" || semantic == "NORMAL" || semantic == "TANGENT" ||
                          semantic == "TEXCOORD_0" || semantic == "TEXCOORD_1" || semantic == "COLOR_0";
-      const bool skinning = !deformation.joint_matrices.empty() &&
-                            (semantic.starts_with("JOINTS_") || semantic.starts_with("WEIGHTS_"));
+      const bool skinning =
+          !deformation.joint_matrices.empty() && (semantic.starts_with("JOINTS_") || semantic.starts_with("WEIGHTS_"));
       if (drawn || skinning) attributes[semantic] = read_attribute(asset, index);
     }
     if (primitive.indices >= 0) {
@@ -441,10 +455,10 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
   apply_morph_targets(asset, primitive, deformation.morph_weights, attributes, primitive_pointer);
   // Section 3.7.3.3: a skinned mesh ignores its node's transform; its joints place it.
   const bool skinned = !deformation.joint_matrices.empty();
-  const std::vector<glm::dmat4> skinning =
-      skinned ? skinning_matrices(attributes, deformation.joint_matrices, vertex_count, asset.path.string(),
-                                  primitive_pointer)
-              : std::vector<glm::dmat4>{};
+  const std::vector<glm::dmat4> skinning = skinned
+                                               ? skinning_matrices(attributes, deformation.joint_matrices, vertex_count,
+                                                                   asset.path.string(), primitive_pointer)
+                                               : std::vector<glm::dmat4>{};
   if (skinned) ++scene.stats.skinned_primitives;
   if (!primitive.targets.empty()) ++scene.stats.morphed_primitives;
   const glm::dmat3 node_normal_matrix = glm::inverseTranspose(glm::dmat3(world));
@@ -569,23 +583,22 @@ int wrap_texel(int i, int size, int mode) {
 void Texture::build_mips() {
   mips.clear();
   int w = width, h = height;
-  const std::vector<std::uint8_t>* source = &rgba;
+  const TexelBytes* source = &rgba;
   while (w > 1 || h > 1) {
     TextureLevel level{std::max(1, w / 2), std::max(1, h / 2), {}};
     level.rgba.resize(static_cast<size_t>(level.width) * static_cast<size_t>(level.height) * 4);
-    for (int y = 0; y < level.height; ++y)
-      for (int x = 0; x < level.width; ++x)
-        for (int c = 0; c < 4; ++c) {
-          int sum = 0;
-          for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx) {
-              const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
-              sum += (*source)[(static_cast<size_t>(sy) * static_cast<size_t>(w) + static_cast<size_t>(sx)) * 4 +
-                               static_cast<size_t>(c)];
-            }
-          level.rgba[(static_cast<size_t>(y) * static_cast<size_t>(level.width) + static_cast<size_t>(x)) * 4 +
-                     static_cast<size_t>(c)] = static_cast<std::uint8_t>((sum + 2) / 4);
-        }
+    std::uint8_t* out = level.rgba.data();
+    for (int y = 0; y < level.height; ++y) {  // a 2 x 2 box; an odd last row or column repeats
+      const size_t row0 = static_cast<size_t>(std::min(2 * y, h - 1)) * static_cast<size_t>(w);
+      const size_t row1 = static_cast<size_t>(std::min(2 * y + 1, h - 1)) * static_cast<size_t>(w);
+      for (int x = 0; x < level.width; ++x, out += 4) {
+        const size_t x0 = static_cast<size_t>(std::min(2 * x, w - 1)),
+                     x1 = static_cast<size_t>(std::min(2 * x + 1, w - 1));
+        const std::uint8_t *a = &(*source)[(row0 + x0) * 4], *b = &(*source)[(row0 + x1) * 4];
+        const std::uint8_t *c = &(*source)[(row1 + x0) * 4], *d = &(*source)[(row1 + x1) * 4];
+        for (int k = 0; k < 4; ++k) out[k] = static_cast<std::uint8_t>((a[k] + b[k] + c[k] + d[k] + 2) / 4);
+      }
+    }
     mips.push_back(std::move(level));
     w = mips.back().width, h = mips.back().height;
     source = &mips.back().rgba;
@@ -664,9 +677,9 @@ glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDe
   return t > 0.0f && l0 < static_cast<int>(texture.mips.size()) ? glm::mix(a, level(l0 + 1), t) : a;
 }
 
-Scene build_scene(const Asset& original, const Asset& converted) {
+Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded) {
   Scene scene;
-  TextureLoader loader(scene);
+  TextureLoader loader(scene, decoded);
   read_materials(original, converted, scene, loader);
   const auto& model = original.model;
   std::vector<int> roots;

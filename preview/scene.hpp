@@ -13,19 +13,21 @@
 #include <vector>
 
 #include "core/asset.hpp"
+#include "core/image.hpp"  // DecodedImages, TexelBytes
 
 namespace gltf_pbr::preview {
 
 // Decoded texels, 8 bits per channel, always RGBA (glTF images are at most 8 bits in practice;
 // 16-bit PNGs are quantised, which a preview can afford), with a box-filtered mip chain:
 // minified textures would otherwise alias into noise that the difference map reports as error.
+// (TexelBytes: filled right after allocation, so not zeroed first.)
 struct TextureLevel {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba;
+  TexelBytes rgba;
 };
 struct Texture {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba;
+  TexelBytes rgba;
   std::vector<TextureLevel> mips;  // level 1, 2, ... down to 1 x 1 (level 0 is rgba)
   void build_mips();
 };
@@ -125,6 +127,7 @@ struct SceneCamera {  // a glTF perspective camera under its node transform
 struct SceneStats {
   long long triangles = 0, vertices = 0;
   int meshes_drawn = 0, draco_primitives = 0, skipped_primitives = 0, textures_decoded = 0;
+  int textures_from_conversion = 0;                    // taken as pixels from the conversion: not decoded again
   int skinned_primitives = 0, morphed_primitives = 0;  // drawn at rest (no animation)
   bool uses_emission = false, uses_occlusion = false;
   std::vector<std::string> warnings;
@@ -142,8 +145,9 @@ struct Scene {
 
 // `original` supplies geometry, shared material inputs and the "before" side; `converted` (the
 // same asset after converter::convert, same material indices) supplies the "after" side.
+// Images held in `decoded` (the conversion's, when it kept them) are not decoded again.
 // Throws InputError for broken accessors and failing Draco data.
-Scene build_scene(const Asset& original, const Asset& converted);
+Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded = nullptr);
 
 }  // namespace gltf_pbr::preview
 

@@ -122,12 +122,12 @@ TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {
 // each sphere. A 0.04 specular converts exactly and previews without a difference under both
 // (0.2 ΔE2000 from the G-buffer's 8-bit specular). For
 // the others the appearance model keeps the look closer than the normal-incidence one on average
-// at every specular level (measured on 96 px spheres; the test draws 64 px ones: 0 -> 1.09 against 1.98, 0.02 -> 0.60 / 0.99, 0.1 ->
-// 0.99 / 1.87, 0.2 -> 1.70 / 3.81), but not within 1 ΔE2000 on every sphere: its worst are 3.1 at
-// specular 0 and 4.5 at 0.2 (glossy spheres, where the sky's mirrored detail differs), the floor
-// a core F0 of 0.04 leaves (bench/RESULTS.md).
+// at every specular level (measured on 96 px spheres; the test draws 64 px ones: 0 -> 1.09 against 1.98, 0.02 -> 0.60 /
+// 0.99, 0.1 -> 0.99 / 1.87, 0.2 -> 1.70 / 3.81), but not within 1 ΔE2000 on every sphere: its worst are 3.1 at specular
+// 0 and 4.5 at 0.2 (glossy spheres, where the sky's mirrored detail differs), the floor a core F0 of 0.04 leaves
+// (bench/RESULTS.md).
 TEST(Render, GreyDielectricSpheresLookCloserUnderTheAppearanceModel) {
-  const glm::vec3 diffuses[] = {glm::vec3(0.05f), glm::vec3(0.2f),      glm::vec3(0.5f),     glm::vec3(0.8f),
+  const glm::vec3 diffuses[] = {glm::vec3(0.05f),     glm::vec3(0.2f),    glm::vec3(0.5f),    glm::vec3(0.8f),
                                 {0.8f, 0.05f, 0.05f}, {0.8f, 0.6f, 0.1f}, {0.1f, 0.25f, 0.7f}};
   const auto sphere_delta_e = [&](const SpecGloss& legacy, ErrorModel model) {
     const SpherePair sphere{legacy, solve(legacy, solver_preset(SolverEffort::Balanced, model))};
@@ -289,6 +289,37 @@ TEST(Render, DracoMeshDrawsLikeItsUncompressedOriginal) {
   long differing = 0;
   for (size_t i = 0; i < a.covered.size(); ++i) differing += a.covered[i] != b.covered[i];
   EXPECT_LT(differing, 192 * 192 / 100);
+}
+
+// Decode nothing twice: the preview's scene takes the pixels its conversion decoded (the spec-gloss
+// inputs) and baked (the PNG outputs), and draws exactly what decoding them again would draw. A
+// baked JPEG is lossy, so the scene decodes what was written (VC's JPEG base colours).
+TEST(Render, ThePreviewDecodesNoImageItsConversionHeldAndDrawsTheSame) {
+  for (const char* file : {"Avocado/specgloss/Avocado.gltf", "VC/specgloss/VC.gltf"}) {
+    const fs::path path = assets_dir() / file;
+    ASSERT_TRUE(fs::exists(path)) << path;
+    const Asset asset = load_asset(path);
+    const long decoded_before = work_counters().images_decoded.load();
+    const PreviewResult handed_over = render_preview(asset, small(128));
+    const long decoded = work_counters().images_decoded.load() - decoded_before;
+    EXPECT_EQ(decoded, handed_over.conversion->images_decoded + handed_over.scene.textures_decoded) << file;
+    EXPECT_GT(handed_over.scene.textures_from_conversion, 0) << file;
+
+    Asset converted = asset;
+    (void)convert(converted, PreviewOptions{}.convert);
+    const PreviewResult decoded_again = render_pair(asset, converted, small(128));
+    EXPECT_EQ(decoded_again.scene.textures_from_conversion, 0) << file;
+    EXPECT_EQ(decoded_again.scene.textures_decoded,
+              handed_over.scene.textures_decoded + handed_over.scene.textures_from_conversion)
+        << file;
+    EXPECT_EQ(handed_over.before, decoded_again.before) << file;
+    EXPECT_EQ(handed_over.after, decoded_again.after) << file;
+  }
+  // Avocado: diffuse and specular-glossiness (decoded by the conversion), base colour and
+  // metallic-roughness (baked as PNG) handed over; only the normal map is the scene's to decode.
+  const PreviewResult avocado = render_preview(load_asset(assets_dir() / "Avocado/specgloss/Avocado.gltf"), small(64));
+  EXPECT_EQ(avocado.scene.textures_from_conversion, 4);
+  EXPECT_EQ(avocado.scene.textures_decoded, 1);
 }
 
 TEST(Render, EverySharedAssetDrawsFiniteAndFramed) {

@@ -12,7 +12,6 @@
 
 namespace gltf_pbr {
 
-
 // Adds an issue for `code` with its rule's severity.
 void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,
                const std::string& pointer, Report& report);
@@ -21,10 +20,11 @@ void add_issue(const RuleSet& rules, const std::string& code, const std::vector<
 // reported once (IMAGE_UNDECODABLE, when enabled) and then reads as nullptr.
 class TexelSource {
  public:
-  explicit TexelSource(const Asset& asset) : decoded_(asset) {}
+  explicit TexelSource(const Asset& asset) : asset_(asset) {}
   const Pixels* get(int image, const RuleSet& rules, Report& report);
 
  private:
+  const Asset& asset_;
   DecodedImages decoded_;
   std::set<int> failed_;
 };

@@ -343,7 +343,7 @@ void add_issue(const RuleSet& rules, const std::string& code, const std::vector<
 const Pixels* TexelSource::get(int image, const RuleSet& rules, Report& report) {
   if (failed_.contains(image)) return nullptr;
   try {
-    return &decoded_.get(image);
+    return &decoded_.get(asset_, image);
   } catch (const std::exception& error) {
     failed_.insert(image);
     if (rules.enabled("IMAGE_UNDECODABLE"))
