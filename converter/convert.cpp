@@ -384,10 +384,14 @@ class Converter {
   // Thread-safe (the two images of a bake decode concurrently). Each image decodes once: one read
   // more than once (by several materials, or in both slots of one) is kept until its last reader is
   // converted (run() drops it); one read once is not kept, so peak memory stays at one bake.
+  // With keep_decoded, every image is also held there (for the preview) and is no longer the bake's
+  // to write over; the key is taken before the decode gives the encoded pages back.
   SharedPixels decode(int image) {
+    if (!options_.keep_decoded) return decode_once(image);
+    const ImageContentKey key = image_content_key(encoded_image_bytes(asset_, image));
+    if (SharedPixels held = options_.keep_decoded->find(key)) return held;
     SharedPixels pixels = decode_once(image);
-    if (options_.keep_decoded)  // held there, the pixels are no longer the bake's to write over
-      options_.keep_decoded->keep(image_content_key(encoded_image_bytes(asset_, image)), pixels);
+    options_.keep_decoded->keep(key, pixels);
     return pixels;
   }
 

@@ -126,11 +126,10 @@ const Pixels& DecodedImages::get(const Asset& asset, int image) {
   const std::span<const std::uint8_t> encoded = encoded_image_bytes(asset, image);
   const ImageContentKey key = image_content_key(encoded);
   auto held = by_content_.find(key);
-  if (held == by_content_.end()) {
+  if (held == by_content_.end())
     held =
         by_content_.emplace(key, std::make_shared<const Pixels>(decode_image(encoded, pointer("images", image)))).first;
-    release_encoded_image_pages(asset, image);
-  }
+  release_encoded_image_pages(asset, image);  // also after a hash alone: the pixels are held either way
   by_image_.emplace(std::make_pair(&asset, image), held->second.get());
   return *held->second;
 }

@@ -162,16 +162,15 @@ class TextureLoader {
       const auto& job = jobs_[static_cast<size_t>(i)];
       try {
         std::shared_ptr<const Pixels> pixels = decoded_ ? decoded_->find(job.key) : nullptr;
-        if (pixels)
-          ++handed_over;
-        else
-          pixels = std::make_shared<const Pixels>(decode_image(job.bytes, job.name));
+        const bool from_conversion = pixels != nullptr;
+        if (!from_conversion) pixels = std::make_shared<const Pixels>(decode_image(job.bytes, job.name));
         auto texture = std::make_unique<Texture>();
         texture->width = pixels->width;
         texture->height = pixels->height;
         texture->rgba = rgba8_of(*pixels);
         texture->build_mips();
         decoded[static_cast<size_t>(i)] = std::move(texture);
+        handed_over += from_conversion;  // counted once the texture stands, so a failure counts nowhere
       } catch (const std::exception& e) {
         errors[static_cast<size_t>(i)] = e.what();
       }
