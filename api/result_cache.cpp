@@ -77,6 +77,17 @@ std::optional<std::string> hash_file(const fs::path& file) {
   return digest;
 }
 
+// Whether a file still holds the bytes a key was taken of. A signature that differs only in its
+// status-change time (a hard link made or removed elsewhere, a chmod) is settled by reading the
+// bytes again; a new device, inode, size or modification time is a change.
+bool unchanged_since_key(const ResultCache::Source& source) {
+  const std::optional<std::string> now = signature(source.file);
+  if (!now) return false;
+  if (*now == source.signature) return true;
+  const auto without_ctime = [](std::string_view text) { return text.substr(0, text.rfind(' ')); };
+  return without_ctime(*now) == without_ctime(source.signature) && hash_file(source.file) == source.digest;
+}
+
 // The URIs an input names, from the index when an earlier run listed them, else from its JSON,
 // read again here: listed (and indexed) only when those bytes are the ones `input_hash` is of.
 std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input,
@@ -177,7 +188,7 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
   }
   std::error_code error;
   const fs::path outputs = output_folder.empty() ? fs::path() : fs::weakly_canonical(output_folder, error);
-  std::vector<std::pair<fs::path, std::string>> sources;  // (file, signature) of what the key is of
+  std::vector<Source> sources;  // what the key is of
   XXH3_state_t* state = XXH3_createState();
   if (!state) throw std::bad_alloc();
   XXH3_128bits_reset(state);
@@ -194,7 +205,7 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
   add(kFormat);
   add(settings);
   add(*input_hash);
-  sources.emplace_back(input, signature(input).value_or(""));
+  sources.push_back({input, signature(input).value_or(""), *input_hash});
   add_place(input);
   const fs::path folder = input.parent_path().empty() ? fs::path(".") : input.parent_path();
   for (const std::string& uri : *uris) {
@@ -207,7 +218,7 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
         : resolved.status == UriStatus::NotFound ? "missing"
                                                  : "unreadable");
     if (hash) {
-      sources.emplace_back(resolved.path, signature(resolved.path).value_or(""));
+      sources.push_back({resolved.path, signature(resolved.path).value_or(""), *hash});
       add_place(resolved.path);
     }
   }
@@ -278,15 +289,13 @@ std::optional<nlohmann::json> ResultCache::restore(const std::string& key, std::
 }
 
 void ResultCache::store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs) {
-  std::vector<std::pair<fs::path, std::string>> sources;
+  std::vector<Source> sources;
   {
     std::lock_guard lock(sources_mutex_);
     if (const auto it = sources_.find(key); it != sources_.end()) sources = std::move(it->second), sources_.erase(it);
   }
   // A file that changed since its key was taken may have been read as other bytes: not kept.
-  if (sources.empty() || std::any_of(sources.begin(), sources.end(), [](const auto& source) {
-        return signature(source.first).value_or("gone") != source.second;
-      })) {
+  if (sources.empty() || !std::all_of(sources.begin(), sources.end(), unchanged_since_key)) {
     ++not_stored_;
     return;
   }

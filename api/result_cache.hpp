@@ -75,6 +75,13 @@ class ResultCache {
   nlohmann::json stats_json() const;
   std::size_t hits() const { return hits_; }
 
+  // A file a key was taken from: its signature (device, inode, size, times) and digest then.
+  struct Source {
+    std::filesystem::path file;
+    std::string signature;
+    std::string digest;
+  };
+
  private:
   void remember(const std::filesystem::path& file, const std::string& digest) const;
   std::filesystem::path digest_record(const std::filesystem::path& file) const;
@@ -83,9 +90,9 @@ class ResultCache {
 
   std::filesystem::path folder_;
   mutable std::atomic<std::size_t> hits_{0}, misses_{0}, stored_{0}, not_stored_{0};
-  // The files each key of this run was taken from, with their signatures: rechecked before a store.
+  // The files each key of this run was taken from: rechecked before a store.
   mutable std::mutex sources_mutex_;
-  mutable std::map<std::string, std::vector<std::pair<std::filesystem::path, std::string>>> sources_;
+  mutable std::map<std::string, std::vector<Source>> sources_;
 };
 
 }  // namespace gltf_pbr

@@ -8,7 +8,8 @@
 # one process, the Dask driver and validate. Prints markdown: median files per second, the Dask
 # run's overhead against one process, and the per-file convert and validate costs (median, p99,
 # max) from their --results lines.
-#   bench/pipeline.sh [SHARED_DIR]    (FILES=2000 TEXTURED_EVERY=50 RUNS=3 by default)
+#   bench/pipeline.sh [SHARED_DIR]    (FILES=2000 TEXTURED_EVERY=50 RUNS=3 by default; NAMES=Avocado,...
+#                                      takes the textured files from those shared assets only)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$here/.."
@@ -22,7 +23,7 @@ tool="$root/build-bench/gltf-pbr"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$python" "$root/tests/pipeline/make_library.py" "$root/build-bench/samples" "$shared" "$work/library" "$files" \
-  "${TEXTURED_EVERY:-50}" >/dev/null
+  "${TEXTURED_EVERY:-50}" ${NAMES:+"$NAMES"} >/dev/null
 
 seconds() {  # wall seconds of a command, to the millisecond
   local start end

@@ -54,13 +54,31 @@ else
     echo "== $name" >&2
     "$@" || failed+=("$name")
   }
+  # Each ctest run also writes JUnit XML, so the summary can show a failed test's own output after
+  # the later phases' output has pushed ctest's list out of sight.
+  run_tests() {  # run_tests DIR
+    rm -f "$1/tests.xml"
+    ctest --test-dir "$1" --output-on-failure -j "$jobs" --output-junit "$PWD/$1/tests.xml"
+  }
   plain_tests() {
-    build build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLTF_PBR_TESTS=ON && ctest --test-dir build --output-on-failure -j "$jobs"
+    build build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLTF_PBR_TESTS=ON && run_tests build
   }
   # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
   sanitizer_tests() {
     build build-sanitize -DCMAKE_BUILD_TYPE=Debug -DGLTF_PBR_SANITIZE=ON -DGLTF_PBR_TESTS=ON &&
-      ASAN_OPTIONS=detect_leaks=1 ctest --test-dir build-sanitize --output-on-failure -j "$jobs"
+      ASAN_OPTIONS=detect_leaks=1 run_tests build-sanitize
+  }
+  # For the summary: each failed test of a ctest run, with the last lines of its output.
+  failed_tests() {  # failed_tests DIR
+    [ -f "$1/tests.xml" ] || return 0
+    python3 - "$1/tests.xml" <<'PYTHON' >&2 || true
+import sys, xml.etree.ElementTree as ElementTree
+for case in ElementTree.parse(sys.argv[1]).getroot().iter("testcase"):
+    if case.get("status") == "fail" or case.find("failure") is not None:
+        output = (case.findtext("system-out") or "").rstrip().splitlines()
+        print(f"-- {case.get('name')}: failed; the last lines of its output:")
+        print("\n".join("   " + line for line in output[-25:]))
+PYTHON
   }
   # Load + validate under libFuzzer for a bounded time, seeded from the Khronos suite.
   fuzzing() {
@@ -73,6 +91,12 @@ else
   phase "sanitizer tests" sanitizer_tests
   phase "fuzzing" fuzzing
   if [ "${#failed[@]}" -gt 0 ]; then
+    for name in "${failed[@]}"; do
+      case "$name" in
+        "plain tests") failed_tests build ;;
+        "sanitizer tests") failed_tests build-sanitize ;;
+      esac
+    done
     printf 'FAILED phases: %s\n' "$(IFS=,; echo "${failed[*]}")" >&2
     exit 1
   fi
