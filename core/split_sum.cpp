@@ -1,32 +1,18 @@
+// The split-sum integrals (see split_sum.hpp). No table is read here: preview/bake_tables.cpp
+// compiles this file alone to bake the DFG table at build time.
 #include "core/split_sum.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <vector>
 
 #include "core/brdf.hpp"
-#include "core/parallel.hpp"
 
 namespace gltf_pbr {
 namespace {
 
-constexpr int kDfgSize = 64;
-
 float square(float x) { return x * x; }
-
-// Columns are spaced in sqrt(N.V): the table changes fastest at grazing angles.
-struct DfgTable {
-  std::vector<glm::vec2> values;  // [roughness][sqrt(n_dot_v)]
-  DfgTable() : values(static_cast<size_t>(kDfgSize * kDfgSize)) {
-    parallel_dynamic(kDfgSize, [&](std::int64_t r) {
-      for (int v = 0; v < kDfgSize; ++v)
-        values[static_cast<size_t>(r * kDfgSize + v)] = integrate_dfg(square((static_cast<float>(v) + 0.5f) / kDfgSize),
-                                                                      (static_cast<float>(r) + 0.5f) / kDfgSize, 2048);
-    });
-  }
-};
 
 }  // namespace
 
@@ -67,18 +53,9 @@ glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples) {
   return sum / static_cast<float>(samples);
 }
 
-glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
-  static const DfgTable table;
-  // NaN reads as 0 (std::clamp passes NaN through, and a NaN index cast to int is undefined).
-  auto unit = [](float x) { return x > 0.0f ? std::min(x, 1.0f) : 0.0f; };
-  const float fx = std::sqrt(unit(n_dot_v)) * kDfgSize - 0.5f;
-  const float fy = unit(roughness) * kDfgSize - 0.5f;
-  const int x0 = std::clamp(static_cast<int>(fx + 1.0f) - 1, 0, kDfgSize - 1), x1 = std::min(x0 + 1, kDfgSize - 1);
-  const int y0 = std::clamp(static_cast<int>(fy + 1.0f) - 1, 0, kDfgSize - 1), y1 = std::min(y0 + 1, kDfgSize - 1);
-  const float tx = std::clamp(fx - static_cast<float>(x0), 0.0f, 1.0f),
-              ty = std::clamp(fy - static_cast<float>(y0), 0.0f, 1.0f);
-  auto at = [&](int x, int y) { return table.values[static_cast<size_t>(y * kDfgSize + x)]; };
-  return glm::mix(glm::mix(at(x0, y0), at(x1, y0), tx), glm::mix(at(x0, y1), at(x1, y1), tx), ty);
+glm::vec2 dfg_table_cell(int row, int column) {
+  return integrate_dfg(square((static_cast<float>(column) + 0.5f) / kDfgTableSize),
+                       (static_cast<float>(row) + 0.5f) / kDfgTableSize, 2048);
 }
 
 }  // namespace gltf_pbr

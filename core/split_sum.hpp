@@ -11,10 +11,14 @@
 namespace gltf_pbr {
 
 // Split-sum scale and bias (A, B): the specular reflectance is F0 * A + B (Karis 2013, eq. 8),
-// for GGX with height-correlated Smith visibility (core/brdf.hpp). dfg_lookup reads a 64 x 64
-// table built once per process; integrate_dfg is the Monte Carlo reference that fills it.
+// for GGX with height-correlated Smith visibility (core/brdf.hpp). dfg_lookup interpolates a
+// 64 x 64 table baked at build time (core/dfg_table.cpp); integrate_dfg is the Monte Carlo
+// reference, and dfg_table_cell the value baked at a cell. Rows are roughness; columns are
+// spaced in sqrt(N.V), where the table changes fastest at grazing angles.
+inline constexpr int kDfgTableSize = 64;
 glm::vec2 dfg_lookup(float n_dot_v, float roughness);
 glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples);
+glm::vec2 dfg_table_cell(int row, int column);
 
 // Low-discrepancy point i of n (Hammersley set with the radical inverse in base 2).
 glm::vec2 hammersley(std::uint32_t i, std::uint32_t n);

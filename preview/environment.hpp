@@ -4,9 +4,11 @@
 // 2001, "An Efficient Representation for Irradiance Environment Maps").
 #pragma once
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <string>
 #include <vector>
 
 #include "core/split_sum.hpp"  // dfg_lookup, which the lighting reads beside the maps
@@ -44,15 +46,19 @@ struct Environment {
 Environment build_environment(const EquirectMap& radiance);
 
 // The built-in default: a procedural sky (zenith blue to a bright horizon) over a grey-brown
-// ground, plus an analytic sun from the upper front-left. Computed once per process.
+// ground, plus an analytic sun from the upper front-left. build_environment(default_sky()) with
+// the sun, baked into the build by preview/bake_tables.cpp: no process computes it.
 const Environment& default_environment();
+EquirectMap default_sky();          // the sky's radiance (sun glow included), 512 x 256
+glm::vec3 default_sun_direction();  // towards the sun
+inline glm::vec3 default_sun_irradiance() { return {2.4f, 2.25f, 2.0f}; }
 
 // A constant-radiance environment with no sun: the white furnace.
 Environment uniform_environment(glm::vec3 radiance);
 
 // Reads a Radiance .hdr (RGBE, Ward 1991; run-length encoded or flat) itself, or anything else
 // through core/image.hpp (OpenImageIO: .exr where its reader recognises the bytes). Throws
-// std::runtime_error naming the file.
+// std::runtime_error naming the file. (preview/environment_file.cpp)
 Environment load_environment(const std::filesystem::path& path);
 EquirectMap read_radiance_hdr(const std::vector<std::uint8_t>& bytes, const std::string& name);
 

@@ -94,7 +94,6 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
   start = Clock::now();
   const Environment loaded = options.environment.empty() ? Environment{} : load_environment(options.environment);
   const Environment& env = options.environment.empty() ? default_environment() : loaded;
-  (void)dfg_lookup(0.5f, 0.5f);  // the split-sum table is built once per process, here rather than in a frame
   const double environment_ms = ms_since(start);
 
   const double aspect = static_cast<double>(options.width) / options.height;
@@ -194,7 +193,6 @@ GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options) {
   const Environment loaded = options.environment.empty() ? Environment{} : load_environment(options.environment);
   const Environment& env = options.environment.empty() ? default_environment() : loaded;
-  (void)dfg_lookup(0.5f, 0.5f);
   Camera camera;
   const auto start = Clock::now();
   GBuffers gbuffers = sphere_grid_gbuffers(grid, &camera);

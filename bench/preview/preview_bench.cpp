@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   const std::string only = argc > 4 ? argv[4] : "";
   const char* files[] = {"Avocado/specgloss/Avocado.gltf", "CesiumMilkTruck/specgloss/CesiumMilkTruck.gltf",
                          "2CylinderEngine/specgloss/2CylinderEngine.gltf", "VC/specgloss/VC.gltf"};
-  const Environment& env = default_environment();  // built once per process; not part of a frame
+  const Environment& env = default_environment();  // baked at build time; not part of a frame
   (void)dfg_lookup(0.5f, 0.5f);
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   std::printf("%u hardware threads; ms per megapixel, wall (best of %d) / CPU over all threads\n", cores, repeats);

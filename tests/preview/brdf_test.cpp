@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -77,6 +78,37 @@ TEST(Brdf, SplitSumReflectanceNeverExceedsOneAndMatchesMonteCarlo) {
   EXPECT_NEAR(integrate_dfg(0.9f, 0.0f, 1024).x + integrate_dfg(0.9f, 0.0f, 1024).y, 1.0f, 0.01f);
 }
 
+// The tables baked at build time (preview/bake_tables.cpp) are what their code computes now: a
+// change to the integrals, the sky or the prefilter that the build did not bake again shows here.
+TEST(Brdf, TheBakedDfgTableHoldsTheIntegralAtEveryCellCentre) {
+  for (int row = 0; row < kDfgTableSize; ++row)
+    for (int column = 0; column < kDfgTableSize; ++column) {
+      const float n_dot_v = std::pow((static_cast<float>(column) + 0.5f) / kDfgTableSize, 2.0f);
+      const float roughness = (static_cast<float>(row) + 0.5f) / kDfgTableSize;
+      const glm::vec2 baked = dfg_lookup(n_dot_v, roughness), computed = dfg_table_cell(row, column);
+      ASSERT_NEAR(baked.x, computed.x, 1e-5f) << "row " << row << ", column " << column;
+      ASSERT_NEAR(baked.y, computed.y, 1e-5f) << "row " << row << ", column " << column;
+    }
+}
+
+TEST(Brdf, TheBakedDefaultEnvironmentIsTheBuiltInSkyPrefilteredNow) {
+  const Environment& baked = default_environment();
+  const Environment computed = build_environment(default_sky());
+  ASSERT_EQ(baked.specular_levels.size(), computed.specular_levels.size());
+  for (size_t level = 0; level < computed.specular_levels.size(); ++level) {
+    const EquirectMap &a = baked.specular_levels[level], &b = computed.specular_levels[level];
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    for (size_t i = 0; i < b.texels.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(a.texels[i][c], b.texels[i][c], 1e-6f * std::max(1.0f, b.texels[i][c]))
+            << "level " << level << ", texel " << i;
+  }
+  for (size_t i = 0; i < computed.irradiance_sh.size(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(baked.irradiance_sh[i][c], computed.irradiance_sh[i][c], 1e-6f);
+  EXPECT_EQ(baked.sun_direction, default_sun_direction());
+}
+
 TEST(Brdf, SplitSumLookupReadsNanAndOutOfRangeInputsAsTheNearestEdge) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const glm::vec2 edge = dfg_lookup(0.0f, 0.0f);
@@ -129,8 +161,9 @@ TEST(Shading, LegacyReadingAOfA004DielectricShadesExactlyAsItsCoreTwin) {
     for (glm::vec3 diffuse : {glm::vec3(1.0f), glm::vec3(0.8f, 0.2f, 0.05f), glm::vec3(0.02f)})
       for (float cos_view : {1.0f, 0.7f, 0.3f, 0.05f}) {
         const glm::vec3 n = glm::normalize(glm::vec3(-0.3f, 0.8f, 0.5f)), v = at_angle(cos_view);
-        const glm::vec3 legacy = shade_point(spec_gloss_lobes(diffuse, glm::vec3(kDielectricF0), 1.0f - roughness, false),
-                                             roughness, n, v, 1.0f, glm::vec3(0.0f), env, options);
+        const glm::vec3 legacy =
+            shade_point(spec_gloss_lobes(diffuse, glm::vec3(kDielectricF0), 1.0f - roughness, false), roughness, n, v,
+                        1.0f, glm::vec3(0.0f), env, options);
         const glm::vec3 core = shade_point(metal_rough_lobes(diffuse, 0.0f, roughness), roughness, n, v, 1.0f,
                                            glm::vec3(0.0f), env, options);
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(legacy[k], core[k], 1e-4f * std::max(1.0f, core[k])) << roughness;
@@ -164,7 +197,8 @@ TEST(Environment, BuiltInSkyMatchesTheSolversDiffuseLightRatio) {
   constexpr int kSteps = 200;
   for (int i = 0; i < kSteps; ++i)
     for (int j = 0; j < kSteps; ++j) {
-      const float x = (static_cast<float>(i) + 0.5f) / kSteps * 2 - 1, y = (static_cast<float>(j) + 0.5f) / kSteps * 2 - 1;
+      const float x = (static_cast<float>(i) + 0.5f) / kSteps * 2 - 1,
+                  y = (static_cast<float>(j) + 0.5f) / kSteps * 2 - 1;
       if (x * x + y * y >= 1) continue;
       const glm::vec3 n = x * right + y * up + std::sqrt(1 - x * x - y * y) * v;
       diffuse_light +=
