@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <glm/vec3.hpp>
 
 #include "core/color.hpp"
@@ -22,51 +24,6 @@ constexpr double kWhiteX = 0.95047, kWhiteZ = 1.08883;
 
 using Plane = std::vector<float>;
 using Kernel = std::vector<float>;  // odd length, centred
-
-// FLIP runs over bands of rows so that its planes (some 60 bytes a pixel) stay bounded at any image
-// size. A band's own rows are [first, last); its planes hold image rows [top, bottom), up to
-// `halo` more either side, which the filters read. With halo >= every filter's radius the result
-// is the whole-image result, bit for bit (the sums run in the same order).
-struct Band {
-  int first, last, top, bottom, height;
-  std::size_t rows() const { return static_cast<std::size_t>(bottom - top); }
-  std::size_t own_rows() const { return static_cast<std::size_t>(last - first); }
-};
-
-// Separable convolution with edges clamped at the image's borders: `along_rows` across each of the
-// band's rows, then `along_columns` down each column, for the band's own rows. Both passes run
-// over contiguous spans so the compiler vectorises them.
-Plane convolve(const Plane& in, int width, const Band& band, const Kernel& along_rows, const Kernel& along_columns) {
-  const std::size_t w = static_cast<std::size_t>(width);
-  Plane across(in.size()), out(band.own_rows() * w);
-  const int row_radius = static_cast<int>(along_rows.size() / 2),
-            column_radius = static_cast<int>(along_columns.size() / 2);
-  parallel_dynamic(static_cast<std::int64_t>(band.rows()), [&](std::int64_t y) {
-    // The row with its edge values repeated `row_radius` times on each side.
-    std::vector<float> padded(w + 2 * static_cast<std::size_t>(row_radius));
-    const float* row = &in[static_cast<std::size_t>(y) * w];
-    for (std::size_t x = 0; x < padded.size(); ++x)
-      padded[x] = row[std::clamp<std::int64_t>(static_cast<std::int64_t>(x) - row_radius, 0, width - 1)];
-    float* target = &across[static_cast<std::size_t>(y) * w];
-    for (std::size_t x = 0; x < w; ++x) {
-      float sum = 0;
-      for (std::size_t k = 0; k < along_rows.size(); ++k) sum += along_rows[k] * padded[x + k];
-      target[x] = sum;
-    }
-  });
-  parallel_dynamic(static_cast<std::int64_t>(band.own_rows()), [&](std::int64_t own) {
-    const int y = band.first + static_cast<int>(own);
-    float* target = &out[static_cast<std::size_t>(own) * w];
-    std::fill(target, target + w, 0.0f);
-    for (int k = -column_radius; k <= column_radius; ++k) {
-      const float weight = along_columns[static_cast<std::size_t>(k + column_radius)];
-      const int source_row = std::clamp(y + k, 0, band.height - 1) - band.top;
-      const float* source = &across[static_cast<std::size_t>(source_row) * w];
-      for (std::size_t x = 0; x < w; ++x) target[x] += weight * source[x];
-    }
-  });
-  return out;
-}
 
 // Section 4.1, equation 3: each opponent channel's contrast sensitivity is a sum of Gaussians
 // a·sqrt(π/b)·exp(-π²r²/b), r in degrees. Table 1's (a1, b1, a2, b2) per channel.
@@ -157,56 +114,121 @@ glm::dvec3 hunt_lab(glm::dvec3 rgb) {
 // Section 4.1: the HyAB distance (Abasi et al. 2020), lightness city-block, chroma Euclidean.
 double hyab(glm::dvec3 a, glm::dvec3 b) { return std::fabs(a.x - b.x) + std::hypot(a.y - b.y, a.z - b.z); }
 
-struct Prepared {
-  std::array<Plane, 3> filtered;  // YCxCz after the CSF, the band's own rows
-  Plane luminance;                // normalised Y in [0, 1], for the features, all the band's rows
+// FLIP runs over bands of rows, in parallel, each band in planes of its own thread that stay small
+// at any image size. A band's own rows are [first, last); its input planes hold image rows
+// [top, bottom), `halo` more either side, which the filters read. Only the columns near a
+// difference are computed: a pixel farther than `halo` from every pixel where the images differ
+// reads identical inputs through every filter, so its colour and feature differences are 0 and its
+// error is exactly 0. The output columns [x0, x1) are the band's differing columns widened by the
+// halo, and the input columns [in_x0, in_x1) those widened by it again. With halo >= every
+// filter's radius each computed value is the whole-image value, bit for bit (the same taps summed
+// in the same order, edges clamped at the image's borders).
+struct Band {
+  int first, last, top, bottom;
+  int x0, x1, in_x0, in_x1;
+  std::size_t rows() const { return static_cast<std::size_t>(bottom - top); }
+  std::size_t own_rows() const { return static_cast<std::size_t>(last - first); }
+  std::size_t out_width() const { return static_cast<std::size_t>(x1 - x0); }
+  std::size_t in_width() const { return static_cast<std::size_t>(in_x1 - in_x0); }
 };
 
-Prepared prepare(const std::vector<std::uint8_t>& image, int width, const Band& band, double pixels_per_degree) {
-  const std::size_t w = static_cast<std::size_t>(width), count = band.rows() * w;
-  const auto& to_linear = srgb8_to_linear_table();
-  std::array<Plane, 3> ycxcz;
-  for (Plane& plane : ycxcz) plane.resize(count);
-  Prepared p;
-  p.luminance.resize(count);
-  const std::uint8_t* pixels = &image[static_cast<std::size_t>(band.top) * w * 3];
-  parallel_dynamic(static_cast<std::int64_t>(band.rows()), [&](std::int64_t y) {
-    for (std::size_t i = static_cast<std::size_t>(y) * w, end = i + w; i < end; ++i) {
-      const glm::dvec3 c = linear_srgb_to_ycxcz(
-          glm::dvec3(to_linear[pixels[i * 3]], to_linear[pixels[i * 3 + 1]], to_linear[pixels[i * 3 + 2]]));
-      for (int k = 0; k < 3; ++k) ycxcz[static_cast<std::size_t>(k)][i] = static_cast<float>(c[k]);
-      p.luminance[i] = static_cast<float>((c.x + 16.0) / 116.0);
-    }
-  });
-  for (int channel = 0; channel < 3; ++channel) {
-    Plane& out = p.filtered[static_cast<std::size_t>(channel)];
-    out.assign(band.own_rows() * w, 0.0f);
-    for (const auto& [weight, kernel] : csf_filter(channel, pixels_per_degree)) {
-      const Plane term = convolve(ycxcz[static_cast<std::size_t>(channel)], width, band, kernel, kernel);
-      for (std::size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(weight) * term[i];
+struct Filters {
+  std::array<std::vector<std::pair<double, Kernel>>, 3> csf;  // per opponent channel
+  FeatureKernels features;
+  int halo = 0;  // the widest filter's radius
+};
+
+// One thread's planes, reused from band to band: allocated once, never zeroed between uses.
+struct Workspace {
+  std::array<Plane, 3> ycxcz;  // input window, band rows
+  Plane luminance;             // input window, band rows
+  Plane across, padded;        // convolution scratch
+  Plane term, along_x, along_y;
+  std::array<Plane, 3> filtered_reference, filtered_test;  // output window, own rows
+  Plane edges_reference, edges_test, points_reference, points_test;
+};
+
+// Separable convolution of an input-window plane: `along_rows` across each of the band's rows for
+// the output columns, then `along_columns` down each output column for the band's own rows, into
+// `out`. Both passes run tap by tap over contiguous spans, so the compiler vectorises them.
+void convolve(const Plane& in, int width, int height, const Band& band, const Kernel& along_rows,
+              const Kernel& along_columns, Workspace& ws, Plane& out) {
+  const std::size_t in_w = band.in_width(), out_w = band.out_width();
+  const int row_radius = static_cast<int>(along_rows.size() / 2),
+            column_radius = static_cast<int>(along_columns.size() / 2);
+  ws.across.resize(band.rows() * out_w);
+  ws.padded.resize(out_w + 2 * static_cast<std::size_t>(row_radius));
+  out.resize(band.own_rows() * out_w);
+  for (std::size_t y = 0; y < band.rows(); ++y) {
+    // The output columns' inputs, with the image's edge values repeated past its borders.
+    const float* row = &in[y * in_w];
+    for (std::size_t j = 0; j < ws.padded.size(); ++j)
+      ws.padded[j] = row[std::clamp(band.x0 - row_radius + static_cast<int>(j), 0, width - 1) - band.in_x0];
+    float* target = &ws.across[y * out_w];
+    std::fill(target, target + out_w, 0.0f);
+    for (std::size_t k = 0; k < along_rows.size(); ++k) {
+      const float weight = along_rows[k];
+      const float* source = &ws.padded[k];
+      for (std::size_t x = 0; x < out_w; ++x) target[x] += weight * source[x];
     }
   }
-  return p;
+  for (std::size_t own = 0; own < band.own_rows(); ++own) {
+    const int y = band.first + static_cast<int>(own);
+    float* target = &out[own * out_w];
+    std::fill(target, target + out_w, 0.0f);
+    for (int k = -column_radius; k <= column_radius; ++k) {
+      const float weight = along_columns[static_cast<std::size_t>(k + column_radius)];
+      const float* source = &ws.across[static_cast<std::size_t>(std::clamp(y + k, 0, height - 1) - band.top) * out_w];
+      for (std::size_t x = 0; x < out_w; ++x) target[x] += weight * source[x];
+    }
+  }
 }
 
 // |∇| of the feature response: the length of the (x, y) pair of derivative filters.
-Plane feature_magnitude(const Plane& luminance, int width, const Band& band, const Kernel& derivative,
-                        const Kernel& gaussian) {
-  const Plane along_x = convolve(luminance, width, band, derivative, gaussian);
-  const Plane along_y = convolve(luminance, width, band, gaussian, derivative);
-  Plane magnitude(along_x.size());
-  for (std::size_t i = 0; i < magnitude.size(); ++i) magnitude[i] = std::hypot(along_x[i], along_y[i]);
-  return magnitude;
+void feature_magnitude(int width, int height, const Band& band, const Kernel& derivative, const Kernel& gaussian,
+                       Workspace& ws, Plane& magnitude) {
+  convolve(ws.luminance, width, height, band, derivative, gaussian, ws, ws.along_x);
+  convolve(ws.luminance, width, height, band, gaussian, derivative, ws, ws.along_y);
+  magnitude.resize(ws.along_x.size());
+  for (std::size_t i = 0; i < magnitude.size(); ++i) magnitude[i] = std::hypot(ws.along_x[i], ws.along_y[i]);
 }
 
-// The rows either side of a band that the widest filter reads.
-int filter_halo(double pixels_per_degree) {
-  std::size_t widest = 0;
-  for (int channel = 0; channel < 3; ++channel)
-    for (const auto& term : csf_filter(channel, pixels_per_degree)) widest = std::max(widest, term.second.size());
-  const FeatureKernels kernels = feature_kernels(pixels_per_degree);
-  widest = std::max({widest, kernels.gaussian.size(), kernels.edge.size(), kernels.point.size()});
-  return static_cast<int>(widest / 2);
+// One image's CSF-filtered YCxCz (section 4.1) and edge and point magnitudes (section 4.2) over
+// the band's output window.
+void prepare(const std::vector<std::uint8_t>& image, int width, int height, const Band& band, const Filters& filters,
+             Workspace& ws, std::array<Plane, 3>& filtered, Plane& edges, Plane& points) {
+  const std::size_t in_w = band.in_width(), count = band.rows() * in_w;
+  const auto& to_linear = srgb8_to_linear_table();
+  for (Plane& plane : ws.ycxcz) plane.resize(count);
+  ws.luminance.resize(count);
+  for (std::size_t y = 0; y < band.rows(); ++y) {
+    const std::uint8_t* pixels =
+        &image[(static_cast<std::size_t>(band.top) + y) * static_cast<std::size_t>(width) * 3 + 3 * band.in_x0];
+    for (std::size_t x = 0, i = y * in_w; x < in_w; ++x, ++i) {
+      const glm::dvec3 c = linear_srgb_to_ycxcz(
+          glm::dvec3(to_linear[pixels[x * 3]], to_linear[pixels[x * 3 + 1]], to_linear[pixels[x * 3 + 2]]));
+      for (int k = 0; k < 3; ++k) ws.ycxcz[static_cast<std::size_t>(k)][i] = static_cast<float>(c[k]);
+      ws.luminance[i] = static_cast<float>((c.x + 16.0) / 116.0);
+    }
+  }
+  for (std::size_t channel = 0; channel < 3; ++channel) {
+    Plane& out = filtered[channel];
+    out.assign(band.own_rows() * band.out_width(), 0.0f);
+    for (const auto& [weight, kernel] : filters.csf[channel]) {
+      convolve(ws.ycxcz[channel], width, height, band, kernel, kernel, ws, ws.term);
+      for (std::size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(weight) * ws.term[i];
+    }
+  }
+  feature_magnitude(width, height, band, filters.features.edge, filters.features.gaussian, ws, edges);
+  feature_magnitude(width, height, band, filters.features.point, filters.features.gaussian, ws, points);
+}
+
+// The columns where two rows differ, [first, last]; first > last when they are equal.
+std::pair<int, int> differing_columns(const std::uint8_t* a, const std::uint8_t* b, int width) {
+  int first = 0, last = width - 1;
+  while (first < width && std::memcmp(a + 3 * first, b + 3 * first, 3) == 0) ++first;
+  while (last > first && std::memcmp(a + 3 * last, b + 3 * last, 3) == 0) --last;
+  return {first, last};
 }
 
 }  // namespace
@@ -216,49 +238,77 @@ FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<st
   FlipResult result;
   const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   if (count == 0) return result;
-  const FeatureKernels kernels = feature_kernels(pixels_per_degree);
-  const int halo = filter_halo(pixels_per_degree);
-  // About a million pixels a band: some 70 MB of planes, and few enough bands that the halo's
-  // extra rows stay a small share.
-  if (band_rows <= 0) band_rows = std::max(2 * halo, (1 << 20) / width);
+  Filters filters;
+  for (int channel = 0; channel < 3; ++channel)
+    filters.csf[static_cast<std::size_t>(channel)] = csf_filter(channel, pixels_per_degree);
+  filters.features = feature_kernels(pixels_per_degree);
+  std::size_t widest = 0;
+  for (const auto& channel : filters.csf)
+    for (const auto& term : channel) widest = std::max(widest, term.second.size());
+  widest =
+      std::max({widest, filters.features.gaussian.size(), filters.features.edge.size(), filters.features.point.size()});
+  const int halo = static_cast<int>(widest / 2);
+  // 64 rows a band: its planes (some 60 bytes a pixel of the band's rows and halo) stay within a
+  // few MB a thread for images up to a few thousand pixels wide.
+  if (band_rows <= 0) band_rows = 64;
 
   // Section 4.1: the largest colour error, green against blue, anchors the redistribution.
   const double max_color_error = std::pow(hyab(hunt_lab({0.0, 1.0, 0.0}), hunt_lab({0.0, 0.0, 1.0})), kColorExponent);
   const double knee = kKneeInput * max_color_error;
-  result.per_pixel.resize(count);
   const std::size_t w = static_cast<std::size_t>(width);
-  std::vector<double> row_sums(static_cast<std::size_t>(height));
-  for (int first = 0; first < height; first += band_rows) {
-    const int last = std::min(height, first + band_rows);
-    const Band band{first, last, std::max(0, first - halo), std::min(height, last + halo), height};
-    const Prepared r = prepare(reference, width, band, pixels_per_degree);
-    const Prepared t = prepare(test, width, band, pixels_per_degree);
-    const Plane edges_r = feature_magnitude(r.luminance, width, band, kernels.edge, kernels.gaussian);
-    const Plane edges_t = feature_magnitude(t.luminance, width, band, kernels.edge, kernels.gaussian);
-    const Plane points_r = feature_magnitude(r.luminance, width, band, kernels.point, kernels.gaussian);
-    const Plane points_t = feature_magnitude(t.luminance, width, band, kernels.point, kernels.gaussian);
-    parallel_dynamic(static_cast<std::int64_t>(band.own_rows()), [&](std::int64_t own) {
-      double row_sum = 0;
-      for (std::size_t i = static_cast<std::size_t>(own) * w, end = i + w; i < end; ++i) {
-        auto filtered_lab = [&](const Prepared& p) {
-          return hunt_lab(ycxcz_to_linear_srgb({p.filtered[0][i], p.filtered[1][i], p.filtered[2][i]}));
-        };
-        const double color = std::pow(hyab(filtered_lab(r), filtered_lab(t)), kColorExponent);
-        const double color_error = color < knee
-                                       ? kKneeOutput / knee * color
-                                       : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
-        // Section 4.2: the larger of the edge and point differences, normalised by 1/sqrt(2).
-        const double feature_difference =
-            std::max(std::fabs(edges_t[i] - edges_r[i]), std::fabs(points_t[i] - points_r[i])) / std::sqrt(2.0);
-        const double feature_error = std::min(1.0, std::pow(feature_difference, kFeatureExponent));
-        // Section 4.3, equation 10: features raise the colour error towards one.
-        const double error = std::pow(color_error, 1.0 - feature_error);
-        result.per_pixel[static_cast<std::size_t>(first) * w + i] = static_cast<float>(error);
-        row_sum += error;
+  std::vector<std::pair<int, int>> row_differences(static_cast<std::size_t>(height));
+  parallel_dynamic(height, [&](std::int64_t y) {
+    const std::size_t at = static_cast<std::size_t>(y) * w * 3;
+    row_differences[static_cast<std::size_t>(y)] = differing_columns(&reference[at], &test[at], width);
+  });
+  result.per_pixel.assign(count, 0.0f);
+  std::vector<double> row_sums(static_cast<std::size_t>(height), 0.0);
+  const int bands = (height + band_rows - 1) / band_rows;
+  std::atomic<int> next_band{0};
+  // One task per thread, each with its planes, taking bands in turn.
+  parallel_dynamic(std::min<std::int64_t>(bands, hardware_threads()), [&](std::int64_t) {
+    Workspace ws;
+    for (int index; (index = next_band.fetch_add(1)) < bands;) {
+      const int first = index * band_rows, last = std::min(height, first + band_rows);
+      Band band{first, last, std::max(0, first - halo), std::min(height, last + halo), width, -1, 0, 0};
+      for (int y = band.top; y < band.bottom; ++y) {  // differences within the halo of an own row
+        const auto [from, to] = row_differences[static_cast<std::size_t>(y)];
+        if (from <= to) band.x0 = std::min(band.x0, from), band.x1 = std::max(band.x1, to);
       }
-      row_sums[static_cast<std::size_t>(first + own)] = row_sum;
-    });
-  }
+      if (band.x0 > band.x1) continue;  // identical rows: every error is 0
+      band.x0 = std::max(0, band.x0 - halo), band.x1 = std::min(width, band.x1 + 1 + halo);
+      band.in_x0 = std::max(0, band.x0 - halo), band.in_x1 = std::min(width, band.x1 + halo);
+      prepare(reference, width, height, band, filters, ws, ws.filtered_reference, ws.edges_reference,
+              ws.points_reference);
+      prepare(test, width, height, band, filters, ws, ws.filtered_test, ws.edges_test, ws.points_test);
+      const std::size_t out_w = band.out_width();
+      for (std::size_t own = 0; own < band.own_rows(); ++own) {
+        double row_sum = 0;
+        float* errors =
+            &result.per_pixel[(static_cast<std::size_t>(first) + own) * w + static_cast<std::size_t>(band.x0)];
+        for (std::size_t x = 0, i = own * out_w; x < out_w; ++x, ++i) {
+          auto filtered_lab = [&](const std::array<Plane, 3>& filtered) {
+            return hunt_lab(ycxcz_to_linear_srgb({filtered[0][i], filtered[1][i], filtered[2][i]}));
+          };
+          const double color =
+              std::pow(hyab(filtered_lab(ws.filtered_reference), filtered_lab(ws.filtered_test)), kColorExponent);
+          const double color_error =
+              color < knee ? kKneeOutput / knee * color
+                           : kKneeOutput + (color - knee) / (max_color_error - knee) * (1.0 - kKneeOutput);
+          // Section 4.2: the larger of the edge and point differences, normalised by 1/sqrt(2).
+          const double feature_difference = std::max(std::fabs(ws.edges_test[i] - ws.edges_reference[i]),
+                                                     std::fabs(ws.points_test[i] - ws.points_reference[i])) /
+                                            std::sqrt(2.0);
+          const double feature_error = std::min(1.0, std::pow(feature_difference, kFeatureExponent));
+          // Section 4.3, equation 10: features raise the colour error towards one.
+          const double error = std::pow(color_error, 1.0 - feature_error);
+          errors[x] = static_cast<float>(error);
+          row_sum += error;
+        }
+        row_sums[static_cast<std::size_t>(first) + own] = row_sum;
+      }
+    }
+  });
   double sum = 0;
   for (double row_sum : row_sums) sum += row_sum;
   result.mean = sum / static_cast<double>(count);

@@ -16,8 +16,9 @@ struct FlipResult {
 };
 
 // reference, test: 8-bit sRGB RGB images of one size. The filters run over bands of `band_rows`
-// rows (0: about a million pixels a band), so memory stays bounded whatever the size; the result
-// does not depend on the band size.
+// rows (0: 64), in parallel, so memory stays bounded whatever the size, and only near the pixels
+// where the images differ (elsewhere the error is exactly 0); the result does not depend on the
+// band size.
 FlipResult flip(const std::vector<std::uint8_t>& reference, const std::vector<std::uint8_t>& test, int width,
                 int height, double pixels_per_degree = kFlipPixelsPerDegree, int band_rows = 0);
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -80,6 +81,40 @@ TEST(Flip, BandsOfAnySizeGiveTheWholeImageResultBitForBit) {
     EXPECT_EQ(banded.per_pixel, whole.per_pixel) << band_rows << " rows a band";
     EXPECT_DOUBLE_EQ(banded.mean, whole.mean) << band_rows << " rows a band";
   }
+}
+
+TEST(Flip, OnlyPixelsNearADifferenceHaveErrorAndTheyHaveTheirWholeImageValue) {
+  // b differs from a in a 4 x 4 patch; c also in two far corners, so c's run computes nearly the
+  // whole image. Near the patch both runs must agree bit for bit; past the filters' reach
+  // (halo 10 at the default pixels per degree) b's error is exactly 0.
+  const int width = 96, height = 80, halo = 10;
+  std::mt19937 random(5);
+  std::vector<std::uint8_t> a(static_cast<std::size_t>(width * height * 3));
+  for (auto& value : a) value = static_cast<std::uint8_t>(random());
+  auto at = [&](int x, int y) { return static_cast<std::size_t>(y * width + x); };
+  std::vector<std::uint8_t> b = a;
+  for (int y = 38; y < 42; ++y)
+    for (int x = 46; x < 50; ++x) b[at(x, y) * 3] ^= 0x80;
+  std::vector<std::uint8_t> c = b;
+  c[at(0, 0) * 3 + 1] ^= 0x40;
+  c[at(width - 1, height - 1) * 3 + 2] ^= 0x40;
+  const FlipResult patch = flip(a, b, width, height), corners = flip(a, c, width, height);
+  int compared = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int from_patch = std::max({46 - x, x - 49, 38 - y, y - 41, 0});
+      const bool near_corner = std::max(x, y) <= 2 * halo || std::max(width - 1 - x, height - 1 - y) <= 2 * halo;
+      if (from_patch > halo) {
+        EXPECT_EQ(patch.per_pixel[at(x, y)], 0.0f) << x << ", " << y;
+      }
+      if (!near_corner) {
+        ASSERT_EQ(patch.per_pixel[at(x, y)], corners.per_pixel[at(x, y)]) << x << ", " << y;
+        ++compared;
+      }
+    }
+  EXPECT_GT(patch.per_pixel[at(47, 39)], 0.1f);
+  EXPECT_GT(compared, width * height / 2);
+  EXPECT_GT(corners.mean, patch.mean);
 }
 
 }  // namespace
