@@ -12,7 +12,8 @@
 #     image, CIEDE2000 over the pixels the asset covers, and RMS-dB over the image. Blender
 #     imports spec-gloss as Diffuse + Glossy added (no Fresnel, no energy split): a peer, not a
 #     ground truth.
-# Usage: bench/preview.sh [OUT_DIR]   (env: SAMPLES=32, SIZES="512 1024", ASSETS="Avocado ...")
+# Usage: bench/preview.sh [OUT_DIR]   (env: SAMPLES=32, SIZES="512 1024", ASSETS="Avocado ...", RUNS=3,
+#        BUILD_DIR=build-preview-release)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -20,9 +21,17 @@ out=${1:-/tmp/gltf-pbr-preview-bench}
 build=${BUILD_DIR:-$root/build-preview-release}
 assets_dir=${ASSETS_DIR:-$root/../shared/assets}
 samples=${SAMPLES:-32}
+runs=${RUNS:-3}
 sizes=${SIZES:-"512 1024"}
 assets=${ASSETS:-"Avocado CesiumMilkTruck 2CylinderEngine VC"}
 mkdir -p "$out"
+# The peer (Debian's Blender 3.4) and GNU time for peak memory, installed when missing.
+if ! command -v blender >/dev/null || [ ! -x /usr/bin/time ]; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq blender time >/dev/null
+fi
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGLTF_PBR_TESTS=OFF >/dev/null
 cmake --build "$build" -j2 --target gltf-pbr gltf-pbr-preview-peer >/dev/null
@@ -36,12 +45,14 @@ wall_seconds() {  # wall_seconds LOG COMMAND...: runs COMMAND, prints its wall t
   shift
   local start end
   start=$(date +%s.%N)
-  "$@" >"$log" 2>&1
+  /usr/bin/time -f %M -o "$log.peak-kb" "$@" >"$log" 2>&1  # peak RSS in KiB, beside the log
   end=$(date +%s.%N)
   echo "$start $end" | awk '{printf "%.2f", $2 - $1}'
 }
 
-echo "load average: $(cut -d' ' -f1-3 /proc/loadavg); $(nproc) cores; Cycles CPU, $samples samples"
+median() { printf '%s\n' "$@" | sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+
+echo "load average: $(cut -d' ' -f1-3 /proc/loadavg); $(nproc) cores; Cycles CPU, $samples samples; medians of $runs runs"
 printf '%-16s %5s | %9s %9s %9s %8s | %8s | %8s %8s | %6s %8s %8s\n' asset size "gbuf/MP" "light/MP" "render ms" \
   "ours s" "blender s" "x render" "x proc" "FLIP" "ΔE mean" "RMS dB"
 for asset in $assets; do
@@ -50,6 +61,7 @@ for asset in $assets; do
     dir=$out/$asset-$size
     mkdir -p "$dir"
     ours_s=$(wall_seconds "$dir/ours.log" "$gltf_pbr" preview "$input" -o "$dir/ours" --size "$size")
+    ours_runs=("$ours_s")
     # Our camera in the form blender_render.py reads. The automatic framing has no roll: its up
     # is world +Y (raster.cpp frame_camera), which the script maps to Blender's +Z.
     python3 - "$dir/ours/report.json" "$dir/camera.json" <<'EOF'
@@ -64,10 +76,20 @@ json.dump({"position": eye, "target": [e + f for e, f in zip(eye, forward)], "up
            "yfovRadians": c["vertical_fov_degrees"] * math.pi / 180,
            "near": distance * 1e-4, "far": distance * 1e3}, open(sys.argv[2], "w"))
 EOF
-    blender_s=$(wall_seconds "$dir/blender.log" blender -b --factory-startup --python \
-      "$root/bench/preview/blender_render.py" -- "$input" "$dir/blender.png" "$size" "$samples" \
-      "$dir/camera.json" "$out/sky.hdr")
+    # Ours and Blender's alternate, RUNS times each; the medians are compared.
+    blender_runs=()
+    for run in $(seq "$runs"); do
+      [ "$run" -eq 1 ] || ours_runs+=("$(wall_seconds "$dir/ours.log" "$gltf_pbr" preview "$input" -o "$dir/ours" \
+        --size "$size")")
+      blender_runs+=("$(wall_seconds "$dir/blender.log" blender -b --factory-startup --python \
+        "$root/bench/preview/blender_render.py" -- "$input" "$dir/blender.png" "$size" "$samples" \
+        "$dir/camera.json" "$out/sky.hdr")")
+    done
+    ours_s=$(median "${ours_runs[@]}")
+    blender_s=$(median "${blender_runs[@]}")
+    echo "$asset $size: ours ${ours_runs[*]} s; blender ${blender_runs[*]} s" >&2
     fidelity=$("$peer" fidelity "$input" "$dir/ours/before.png" "$dir/blender.png")
+    echo "$asset $size: peak RSS ours $(cat "$dir/ours.log.peak-kb") KiB, blender $(cat "$dir/blender.log.peak-kb") KiB" >&2
     python3 - "$dir/ours/report.json" "$asset" "$size" "$ours_s" "$blender_s" "$fidelity" <<'EOF'
 import json, sys
 report = json.load(open(sys.argv[1]))
