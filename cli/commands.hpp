@@ -30,8 +30,12 @@ std::string json_text(const Json& document) {
 }
 
 // Writes DIR/index.html, the page comparing every preview under DIR (preview/gallery.hpp), and
-// says so on stderr unless quiet. For preview, convert --preview and gallery.
-void write_gallery_page(const std::filesystem::path& dir, bool quiet);
+// says so on stderr unless quiet. For preview and convert --preview the page is a by-product: a
+// page that cannot be written, or an index.html gltf-pbr did not write (left as it is), is a
+// warning and their exit code stands. For gallery the page is the result: either throws
+// OutputError (exit code 3).
+enum class PageRole { BesidePreviews, TheResult };
+void write_gallery_page(const std::filesystem::path& dir, bool quiet, PageRole role = PageRole::BesidePreviews);
 
 // Each registers a subcommand; the returned callback runs it after parsing, or returns -1 when
 // another subcommand was given.

@@ -210,8 +210,23 @@ std::function<int()> add_preview_command(CLI::App& app) {
   return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
 }
 
-void write_gallery_page(const fs::path& dir, bool quiet) {
-  const preview::GalleryPage page = preview::write_gallery(dir);
+void write_gallery_page(const fs::path& dir, bool quiet, PageRole role) {
+  preview::GalleryPage page;
+  try {
+    page = preview::write_gallery(dir);
+  } catch (const OutputError& e) {
+    if (role == PageRole::TheResult) throw;
+    std::fprintf(stderr, "warning: the gallery page was not written (the previews were): %s\n",
+                 printable(e.what()).c_str());
+    return;
+  }
+  if (page.outcome == preview::GalleryOutcome::KeptForeignPage) {
+    const std::string why = page.written.string() + " is not a page gltf-pbr wrote: left as it is";
+    if (role == PageRole::TheResult) throw OutputError(why + "; move it away to write the gallery there");
+    std::fprintf(stderr, "warning: %s (the previews were written; --no-gallery leaves the page alone)\n",
+                 printable(why).c_str());
+    return;
+  }
   if (quiet) return;
   std::fprintf(stderr, "%s: a page comparing %s%s\n", printable(page.written.string()).c_str(),
                counted(static_cast<std::size_t>(page.entries), "preview").c_str(),
@@ -230,13 +245,14 @@ std::function<int()> add_gallery_command(CLI::App& app) {
       "after with a slider, the difference map with its scale, the figures and each material's outcome,\n"
       "sortable and filterable, worst first. preview and convert --preview write it themselves; this\n"
       "rebuilds it, for example once after sharded runs into one folder.\n"
-      "Exit codes: 0 written, 2 bad usage, 3 the page cannot be written.");
+      "An index.html in DIR that gltf-pbr did not write is never replaced.\n"
+      "Exit codes: 0 written, 2 bad usage, 3 the page cannot be written (or DIR/index.html is not ours).");
   cmd->add_option("dir", *dir, "a folder of previews")->required()->check(CLI::ExistingDirectory);
   cmd->add_flag("-q,--quiet", *quiet, "print nothing but errors");
   return [cmd, dir, quiet]() -> int {
     if (!cmd->parsed()) return -1;
     return run_command("gallery", [&] {
-      write_gallery_page(*dir, *quiet);
+      write_gallery_page(*dir, *quiet, PageRole::TheResult);
       return kAllDone;
     });
   };

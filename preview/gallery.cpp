@@ -1,8 +1,12 @@
+// The gallery page (see gallery.hpp).
 #include "preview/gallery.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -22,6 +26,44 @@ namespace fs = std::filesystem;
 // A preview's report.json is a few KiB; a larger one is not ours and is not read into memory.
 constexpr std::uintmax_t kLargestReport = 4u << 20;
 constexpr const char* kImages[] = {"before.png", "after.png", "difference.png"};
+// What the page shows of one report at most: a few long names cannot make it megabytes.
+constexpr std::size_t kLongestText = 1000;
+constexpr std::size_t kMostMaterials = 256;
+// The line gallery.html carries, by which a rerun knows index.html as a page it wrote itself.
+constexpr std::string_view kGeneratorMark = R"(<meta name="generator" content="gltf-pbr gallery">)";
+constexpr std::size_t kMarkSearched = 4096;  // bytes of an existing index.html looked at for it
+
+// At most kLongestText bytes, cut at a UTF-8 character's start, with an ellipsis when cut.
+std::string capped(std::string text) {
+  if (text.size() <= kLongestText) return text;
+  std::size_t end = kLongestText;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+  text.resize(end);
+  return text + "\u2026";
+}
+
+// A relative path as a URL path: unreserved bytes and '/' as they are, every other byte %XX, so a
+// folder named in any bytes (not UTF-8, or with '#', '?', '%') still addresses its images.
+std::string url_path(const std::string& path) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  for (const char c : path) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (std::isalnum(byte) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
+      out += c;
+    } else {
+      out += '%';
+      out += kHex[byte >> 4];
+      out += kHex[byte & 15];
+    }
+  }
+  return out;
+}
+
+// The outcomes the page knows; anything else a report says is shown as "unknown".
+std::string outcome_of(const std::string& outcome) {
+  return outcome == "metalness" || outcome == "specular" || outcome == "legacy" ? outcome : "unknown";
+}
 
 nlohmann::json number_at(const nlohmann::json& report, const char* pointer) {
   const nlohmann::json::json_pointer at(pointer);
@@ -36,13 +78,13 @@ std::string string_at(const nlohmann::json& report, const char* key, const char*
 // One material of the report's conversion block, in the page's terms.
 nlohmann::json material_of(const nlohmann::json& m) {
   return {{"index", number_at(m, "/index")},
-          {"name", string_at(m, "name")},
-          {"outcome", string_at(m, "outcome", "legacy")},
+          {"name", capped(string_at(m, "name"))},
+          {"outcome", outcome_of(string_at(m, "outcome", "legacy"))},
           {"diffuseP95", number_at(m, "/texel_delta_e_2000_a/diffuse_p95")},
           {"f0P95", number_at(m, "/texel_delta_e_2000_a/f0_p95")},
           {"appearanceP95", number_at(m, "/texel_delta_e_2000_a/appearance_p95")},
           {"timeMs", number_at(m, "/time_ms")},
-          {"note", string_at(m, "note")}};
+          {"note", capped(string_at(m, "note"))}};
 }
 
 // A regular file itself, not a link to one: nothing outside the root is read or shown.
@@ -63,25 +105,48 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
   if (!report.is_object() || !report.contains("difference")) return nullptr;
   const std::string input = string_at(report, "input");
   nlohmann::json materials = nlohmann::json::array();
+  std::size_t left_out = 0;
   const nlohmann::json::json_pointer listed("/conversion/materials");
-  if (report.contains(listed) && report[listed].is_array())
-    for (const nlohmann::json& m : report[listed])
-      if (m.is_object()) materials.push_back(material_of(m));
-  return {{"path", path},
-          {"name", input.empty() ? path : fs::path(input).filename().string()},
-          {"input", input},
+  if (report.contains(listed) && report[listed].is_array()) {
+    for (const nlohmann::json& m : report[listed]) {
+      if (!m.is_object()) continue;
+      if (materials.size() < kMostMaterials)
+        materials.push_back(material_of(m));
+      else
+        ++left_out;
+    }
+  }
+  return {{"path", capped(path)},
+          {"href", url_path(path)},
+          {"name", capped(input.empty() ? path : fs::path(input).filename().string())},
+          {"input", capped(input)},
           {"width", number_at(report, "/width")},
           {"height", number_at(report, "/height")},
           {"flip", number_at(report, "/difference/flip/mean")},
           {"deltaE", number_at(report, "/difference/delta_e_2000/mean")},
           {"p95", number_at(report, "/difference/delta_e_2000/p95")},
           {"rmsDb", number_at(report, "/difference/rms_db")},
-          {"materials", std::move(materials)}};
+          {"materials", std::move(materials)},
+          {"materialsLeftOut", left_out}};
 }
 
 bool holds_a_preview(const fs::path& folder) {
   return std::all_of(std::begin(kImages), std::end(kImages),
                      [&](const char* image) { return is_plain_file(folder / image); });
+}
+
+// Whether `file` is absent or a page this code wrote (a plain file carrying the generator mark
+// near its start): anything else at root/index.html is someone's own page, never overwritten.
+bool is_ours_or_absent(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(file, ec);
+  if (status.type() == fs::file_type::not_found) return true;
+  if (!fs::is_regular_file(status)) return false;
+  std::ifstream in(file, std::ios::binary);
+  std::string head(kMarkSearched, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find(kGeneratorMark) != std::string::npos;
 }
 
 // JSON inside <script>: "</script>" or "<!--" in a name must not end or change the element. The
@@ -127,14 +192,19 @@ GalleryPage write_gallery(const fs::path& root) {
     entries.push_back(std::move(entry));
   }
   page.entries = static_cast<int>(entries.size());
+  page.written = root / "index.html";
+  if (!is_ours_or_absent(page.written)) {
+    page.outcome = GalleryOutcome::KeptForeignPage;
+    return page;
+  }
   std::string html = embedded_gallery_files().at(0).second;
   const std::string slot = "/*ENTRIES*/";
   html.replace(html.find(slot), slot.size(),
                script_safe(entries.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
   AtomicWriteSet files;
-  page.written = root / "index.html";
   files.stage(page.written, std::span(reinterpret_cast<const std::uint8_t*>(html.data()), html.size()));
   files.commit();
+  page.outcome = GalleryOutcome::Written;
   return page;
 }
 

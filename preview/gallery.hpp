@@ -5,7 +5,13 @@
 
 namespace gltf_pbr::preview {
 
+enum class GalleryOutcome {
+  Written,          // root/index.html holds the page
+  KeptForeignPage,  // root/index.html is not a page this code wrote: left as it was, nothing written
+};
+
 struct GalleryPage {
+  GalleryOutcome outcome = GalleryOutcome::Written;
   std::filesystem::path written;  // root/index.html
   int entries = 0;                // previews listed
   int skipped = 0;                // report.json files that could not be read as a preview's
@@ -14,7 +20,10 @@ struct GalleryPage {
 // Writes `root`/index.html atomically, listing every preview folder under `root` (root itself
 // included): a folder with report.json, before.png, after.png and difference.png as
 // write_preview leaves them. Symbolic links are not followed, so nothing outside `root` is
-// read. A rerun over the same folder rewrites the page with what the folder holds then.
+// read. A rerun over the same folder rewrites the page with what the folder holds then; an
+// index.html that this code did not write (no generator mark) is never replaced. Each text taken
+// from a report is capped at 1,000 bytes and each entry at 256 materials. Throws OutputError when
+// the page cannot be written.
 GalleryPage write_gallery(const std::filesystem::path& root);
 
 }  // namespace gltf_pbr::preview

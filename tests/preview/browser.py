@@ -39,7 +39,7 @@ class Browser:
         self.events = []
         target = self.call("Target.createTarget", url="about:blank")["targetId"]
         self.session = self.call("Target.attachToTarget", targetId=target, flatten=True)["sessionId"]
-        for domain in ("Page", "Runtime", "Log"):
+        for domain in ("Page", "Runtime", "Log", "Network"):
             self.call(f"{domain}.enable", page=True)
         self.call("Emulation.setDeviceMetricsOverride", page=True, width=width, height=height,
                   deviceScaleFactor=1, mobile=False)
@@ -97,6 +97,10 @@ class Browser:
             elif method == "Log.entryAdded" and params["entry"].get("level") == "error":
                 found.append(params["entry"].get("text", "") + " " + params["entry"].get("url", ""))
         return found
+
+    def requests(self):
+        """The URL of every request the page made so far (Network.requestWillBeSent)."""
+        return [e["params"]["request"]["url"] for e in self.events if e.get("method") == "Network.requestWillBeSent"]
 
     def screenshot(self, path):
         data = self.call("Page.captureScreenshot", page=True, format="png")["data"]

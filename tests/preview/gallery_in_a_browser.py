@@ -10,8 +10,12 @@ file:// and the test reads the DOM.
   nothing, and their images still load (paths are URL-encoded).
 - `gltf-pbr gallery` over 1,000 previews lists them all and loads only the images on screen; a
   rerun after a preview is removed drops it; `preview --grid` gets the page too.
+- A folder named in non-UTF-8 bytes still shows its images; long texts and long material lists
+  are capped; an unknown outcome gets no class of its own; an index.html gltf-pbr did not write is
+  never replaced (a warning for preview, exit code 3 for gallery).
 """
 import json
+import os
 import pathlib
 import shutil
 import subprocess
@@ -106,6 +110,8 @@ with Browser() as browser:
                      "o.dispatchEvent(new Event('change')); document.getElementById('sort-deltaE').click(); })()")
     browser.screenshot(screenshots / "gallery.png")
     check(browser.errors() == [], f"no console errors: {browser.errors()}")
+    outside = [url for url in browser.requests() if not url.startswith(previews.as_uri())]
+    check(browser.requests() and not outside, f"every request stays in the previews' folder: {outside}")
 print(f"screenshot: {screenshots / 'gallery.png'}", file=sys.stderr)
 
 # 2. Untrusted names show as text.
@@ -171,6 +177,53 @@ with Browser() as browser:
     check(browser.evaluate(f"{ROWS}.map(tr => tr.querySelector('.name').textContent)") == ["grid"], "the grid's page")
     width = json.loads((work / "grid/report.json").read_text())["width"]
     check(images_decode(browser) == [width] * 3, "the grid's images load")
+
+# 5. A folder named in bytes that are not UTF-8 (and '#', '?'), long texts, many materials, an
+#    outcome the page does not know, and an index.html that gltf-pbr did not write.
+odd_names = work / "odd-names"
+odd_names.mkdir()
+shutil.copytree(one, os.fsdecode(os.fsencode(str(odd_names)) + b"/caf\xe9 #1?"))
+long_texts = odd_names / "long"
+shutil.copytree(one, long_texts)
+report = json.loads((long_texts / "report.json").read_text())
+report["input"] = "x" * 5000 + ".gltf"
+report.setdefault("conversion", {})["materials"] = (
+    [{"index": 0, "name": "m" * 5000, "outcome": "constructor", "note": "n" * 5000}] +
+    [{"index": i, "name": f"material {i}", "outcome": "metalness"} for i in range(1, 300)])
+(long_texts / "report.json").write_text(json.dumps(report))
+run("gallery", odd_names)
+check(len((odd_names / "index.html").read_bytes()) < 200_000, "long texts are capped in the page")
+with Browser() as browser:
+    browser.open((odd_names / "index.html").as_uri())
+    check(browser.evaluate(f"{ROWS}.length") == 2, "both odd previews listed")
+    widths = images_decode(browser)
+    check(len(widths) == 6 and all(w > 0 for w in widths), f"images under a non-UTF-8 folder name load: {widths}")
+    shown = browser.evaluate(f"{ROWS}.map(tr => tr.querySelector('.name').textContent.length)")
+    check(max(shown) <= 1001, f"a 5,000-character name shows capped: {shown}")
+    items = browser.evaluate(f"{ROWS}.map(tr => tr.children[7].querySelectorAll('li').length)")
+    check(257 in items, f"256 materials listed and a line for the rest: {items}")
+    classes = browser.evaluate("[...document.querySelectorAll('.outcome')].map(s => s.className)")
+    check("outcome outcome-constructor" not in classes and "outcome" in classes,
+          "an unknown outcome gets no class of its own")
+    click(browser, "sort-outcome")
+    click(browser, "sort-outcome")
+    check(browser.errors() == [], f"no console errors: {browser.errors()}")
+foreign = work / "foreign"
+foreign.mkdir()
+(foreign / "index.html").write_text("<html>my own page</html>")
+done = subprocess.run([cli, "preview", shared / "assets/Box/specgloss/Box.gltf", "-o", foreign, "--size", "32", "-q"],
+                      capture_output=True, text=True)
+check(done.returncode == 0 and "not a page gltf-pbr wrote" in done.stderr,
+      f"preview into a folder with someone's index.html: exit {done.returncode}, {done.stderr}")
+check((foreign / "before.png").is_file(), "the preview is written beside someone's index.html")
+done = subprocess.run([cli, "gallery", foreign], capture_output=True, text=True)
+check(done.returncode == 3 and "not a page gltf-pbr wrote" in done.stderr,
+      f"gallery over someone's index.html: exit {done.returncode}, {done.stderr}")
+check((foreign / "index.html").read_text() == "<html>my own page</html>", "someone's index.html is left as it was")
+(foreign / "index.html").unlink()
+run("gallery", foreign)
+run("gallery", foreign)  # a page it wrote is replaced
+check("gltf-pbr gallery" in (foreign / "index.html").read_text(), "the page is written once the folder is free")
 
 if failures:
     sys.exit(f"{len(failures)} checks failed")
