@@ -1,9 +1,11 @@
 // `gltf-pbr preview IN -o DIR`: before/after images, difference map, sheet and a JSON report
 // (the renderer is preview/).
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "api/files.hpp"
 #include "api/result_cache.hpp"
@@ -12,6 +14,7 @@
 #include "cli/pipeline.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/parallel.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "preview/gallery.hpp"
@@ -34,12 +37,14 @@ struct PreviewArgs {
   std::string cache;
   std::vector<float> albedo{0.9f, 0.6f, 0.2f};
   int grid_count = 5;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
 };
 
 // What a file's preview depends on besides the file and those it names (ResultCache::key): every
 // option, the environment map's bytes, the image limit, the version and the input's name, which
 // the report holds.
-std::string settings(const PreviewArgs& args, const preview::PreviewOptions& options, const ResultCache& cache) {
+std::string settings(const PreviewArgs& args, const preview::PreviewOptions& options, const ResultCache& cache,
+                     const fs::path& input) {
   std::ostringstream text;
   text.precision(17);
   text << "preview " << tool_version() << " size " << options.width << "x" << options.height << " yaw " << args.yaw
@@ -51,8 +56,89 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
   // The path too: the report names it.
   if (!args.environment.empty())
     text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
-  text << "\ninput " << args.input;
+  text << "\ninput " << input.string();
   return text.str();
+}
+
+// The line a drawn preview prints: its figures, its G-buffers' size and the process's peak.
+std::string drawn_line(const std::string& name, const DrawnPreview& drawn, const fs::path& output) {
+  const preview::PreviewResult& result = drawn.result;
+  const nlohmann::json& report = drawn.report;
+  char figures[512];
+  std::snprintf(figures, sizeof figures,
+                "FLIP mean %.3f; ΔE2000 mean %.2f, p95 %.2f; RMS %.1f dB; G-buffer %d B/px after, %d B/px before",
+                result.metrics.flip_mean, result.metrics.delta_e_mean, result.metrics.delta_e_p95,
+                result.metrics.rms_db, report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
+                report["gbuffer"]["before"]["bytes_per_pixel"].get<int>());
+  return printable(name) + ": " + figures + "; process peak " + peak_text(report["memory"]["process_peak_rss_bytes"]) +
+         " -> " + printable(output.string()) + "\n";
+}
+
+struct FilePreview {
+  bool restored = false;  // from the cache, not drawn
+  std::string line;       // what to print of it unless quiet
+};
+
+// One file's preview into `output`: restored when the cache holds it, else drawn and kept there.
+// Throws for an input that cannot be drawn.
+FilePreview preview_file(const PreviewArgs& args, const preview::PreviewOptions& options, const fs::path& input,
+                         const fs::path& output, ResultCache* cache) {
+  std::optional<std::string> key;
+  if (cache) {
+    key = cache->key(input, settings(args, options, *cache, input), args.allow_outside);
+    const fs::path roots[] = {output};
+    if (key && cache->restore(*key, roots))
+      return {true, printable(input.string()) + ": restored from the cache into " + printable(output.string()) + "\n"};
+  }
+  const DrawnPreview drawn = preview_one(input, output, options, args.allow_outside);
+  // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
+  if (key && drawn.result.scene.warnings.empty()) {
+    const ResultCache::Outputs outputs[] = {{output, drawn.written}};
+    cache->store(*key, {{"report", drawn.report}}, outputs);
+  }
+  return {false, drawn_line(input.string(), drawn, output)};
+}
+
+// `preview DIR -o OUT`: every .gltf and .glb under DIR, each into OUT/<its path without the
+// extension> (as convert --preview names them), -j files at once on the one pool; a file that
+// cannot be drawn is reported and the rest go on; one gallery page at the end.
+int run_folder(const PreviewArgs& args, const preview::PreviewOptions& options) {
+  const FoundInputs found = find_gltf_files({args.input}, args.output);
+  std::vector<fs::path> outputs;
+  for (const InputFile& file : found.files)
+    outputs.push_back(fs::path(args.output) / fs::path(file.relative).replace_extension());
+  refuse_shared_outputs(found.files, outputs, "rename one, or preview them in separate runs");
+  std::optional<ResultCache> cache;
+  if (!args.cache.empty()) cache.emplace(args.cache);
+  std::atomic<std::size_t> restored{0}, failed{0};
+  {
+    Progress progress(found.files.size(), "drawn");
+    ThreadPool::shared().run(
+        static_cast<std::int64_t>(found.files.size()),
+        [&](std::int64_t index) {
+          const auto i = static_cast<std::size_t>(index);
+          std::string line;
+          try {
+            const FilePreview done =
+                preview_file(args, options, found.files[i].file, outputs[i], cache ? &*cache : nullptr);
+            restored += done.restored;
+            if (!args.quiet) line = done.line;
+          } catch (const std::exception& e) {
+            ++failed;
+            const std::string name = found.files[i].file.string(), what = e.what();
+            line = printable(what.rfind(name, 0) == 0 ? what : name + ": " + what) + "\n";  // errors even when quiet
+          }
+          progress.done(line);
+        },
+        args.jobs);
+  }
+  const std::size_t drawn = found.files.size() - restored - failed;
+  if (!args.quiet)
+    std::fprintf(stderr, "%s into %s: %zu drawn, %zu from the cache, %zu failed\n",
+                 counted(found.files.size(), "preview").c_str(), printable(args.output).c_str(), drawn, restored.load(),
+                 failed.load());
+  if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
+  return failed ? kSomeFilesFailed : kAllDone;
 }
 
 int run(const PreviewArgs& args) {
@@ -86,7 +172,7 @@ int run(const PreviewArgs& args) {
     }
   }
   if (args.input.empty() && !args.grid) {
-    std::fprintf(stderr, "gltf-pbr preview: give an input file, or --grid\n");
+    std::fprintf(stderr, "gltf-pbr preview: give an input file or folder, or --grid\n");
     return kBadUsage;
   }
   if (!args.cache.empty() && args.grid) {
@@ -94,21 +180,6 @@ int run(const PreviewArgs& args) {
     return kBadUsage;
   }
   try {
-    std::optional<ResultCache> cache;
-    std::optional<std::string> key;
-    if (!args.cache.empty()) {
-      cache.emplace(args.cache);
-      key = cache->key(args.input, settings(args, options, *cache), args.allow_outside);
-      const fs::path roots[] = {args.output};
-      if (key && cache->restore(*key, roots)) {
-        if (!args.quiet)
-          std::fprintf(stderr, "%s: restored from the cache into %s\n", printable(args.input).c_str(),
-                       printable(args.output).c_str());
-        if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
-        return kAllDone;
-      }
-    }
-    DrawnPreview drawn;
     if (args.grid) {
       preview::GridOptions grid;
       grid.albedo = glm::vec3(args.albedo[0], args.albedo[1], args.albedo[2]);
@@ -116,28 +187,22 @@ int run(const PreviewArgs& args) {
       grid.cell = std::max(16, std::min(options.width, options.height) / args.grid_count);
       const nlohmann::json grid_report = {
           {"grid", {{"albedo_linear", args.albedo}, {"rows", "metalness 0..1"}, {"columns", "roughness 0..1"}}}};
-      drawn = finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
+      const DrawnPreview drawn =
+          finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
+      if (!args.quiet) std::fputs(drawn_line("grid", drawn, args.output).c_str(), stderr);
+    } else if (fs::is_directory(args.input)) {
+      return run_folder(args, options);
     } else {
-      drawn = preview_one(args.input, args.output, options, args.allow_outside);
-      // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
-      if (key && drawn.result.scene.warnings.empty()) {
-        const ResultCache::Outputs outputs[] = {{args.output, drawn.written}};
-        cache->store(*key, {{"report", drawn.report}}, outputs);
-      }
+      std::optional<ResultCache> cache;
+      if (!args.cache.empty()) cache.emplace(args.cache);
+      const FilePreview done = preview_file(args, options, args.input, args.output, cache ? &*cache : nullptr);
+      if (!args.quiet) std::fputs(done.line.c_str(), stderr);
     }
-    const preview::PreviewResult& result = drawn.result;
-    const nlohmann::json& report = drawn.report;
-    if (!args.quiet)
-      std::fprintf(stderr,
-                   "%s: FLIP mean %.3f; ΔE2000 mean %.2f, p95 %.2f; RMS %.1f dB; G-buffer %d B/px after, %d B/px "
-                   "before; process peak %s -> %s\n",
-                   printable(args.grid ? "grid" : args.input).c_str(), result.metrics.flip_mean,
-                   result.metrics.delta_e_mean, result.metrics.delta_e_p95, result.metrics.rms_db,
-                   report["gbuffer"]["after"]["bytes_per_pixel"].get<int>(),
-                   report["gbuffer"]["before"]["bytes_per_pixel"].get<int>(),
-                   peak_text(report["memory"]["process_peak_rss_bytes"]).c_str(), printable(args.output).c_str());
     if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
     return kAllDone;
+  } catch (const CLI::ValidationError& e) {  // a folder with nothing to draw, two files for one folder
+    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
+    return kBadUsage;
   } catch (const std::exception& e) {  // bad input (InputError) or an unreadable environment
     std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
     return kSomeFilesFailed;
@@ -153,8 +218,11 @@ std::function<int()> add_preview_command(CLI::App& app) {
       "Draw IN twice with a CPU deferred renderer, as its legacy spec-gloss materials (before) and as their\n"
       "in-process conversion to albedo + metalness (after), and write before.png, after.png, difference.png\n"
       "(ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).\n"
-      "Exit codes: 0 done, 1 the input could not be drawn, 2 bad usage.");
-  cmd->add_option("input", args->input, ".gltf or .glb file");
+      "Given a folder, it draws every .gltf and .glb under it, -j at a time, each into DIR/<its path without\n"
+      "the extension>, and the gallery page over them all.\n"
+      "Exit codes: 0 done, 1 an input could not be drawn, 2 bad usage.");
+  cmd->add_option("input", args->input,
+                  ".gltf or .glb file, or a folder: every one under it, each into OUT/<its path>");
   cmd->add_option("-o,--output", args->output, "output folder (also gets index.html, the gallery page)")->required();
   cmd->add_option("--size", args->size, "image width and height in pixels")
       ->check(CLI::Range(16, 8192))
@@ -202,8 +270,7 @@ std::function<int()> add_preview_command(CLI::App& app) {
   cmd->add_option("--grid-count", args->grid_count, "--grid: spheres per row and column")
       ->check(CLI::Range(2, 16))
       ->capture_default_str();
-  add_image_limit_option(*cmd);
-  cmd->add_flag("--allow-outside-uris", args->allow_outside, "read buffer/image URIs outside the asset's folder");
+  add_batch_options(*cmd, "drawn", args->jobs, args->allow_outside);
   cmd->add_flag("--no-gallery", args->no_gallery, "leave DIR/index.html (the page gltf-pbr gallery writes) as it is");
   add_cache_option(*cmd, args->cache);
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");

@@ -3,15 +3,18 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "core/files.hpp"
 
 namespace gltf_pbr {
 namespace {
 
-int run_preview(const std::string& arguments) {
-  const std::string command = std::string(GLTF_PBR_PREVIEW_CLI) + " " + arguments + " > /dev/null 2>&1";
+int run_preview(const std::string& arguments, bool quiet_stderr = true) {
+  const std::string command =
+      std::string(GLTF_PBR_PREVIEW_CLI) + " " + arguments + (quiet_stderr ? " > /dev/null 2>&1" : " > /dev/null");
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -41,6 +44,50 @@ TEST(PreviewCommand, BadInputExitsOneAndBadUsageTwo) {
   EXPECT_EQ(run_preview(""), 2);  // -o is required
   EXPECT_FALSE(fs::exists(out / "report.json"));
   fs::remove_all(out);
+}
+
+TEST(PreviewCommand, AFolderIsDrawnFileByFileIntoOneGalleryAndAFailingFileIsNamed) {
+  const fs::path scratch = fs::temp_directory_path() / "gltf-pbr-preview-command-test-folder";
+  fs::remove_all(scratch);
+  const fs::path in = scratch / "in", out = scratch / "out", cache = scratch / "cache";
+  fs::create_directories(in / "broken");
+  fs::copy(fs::path(GLTF_PBR_SHARED_DIR) / "assets/Box/specgloss", in / "box", fs::copy_options::recursive);
+  fs::copy(fs::path(GLTF_PBR_SHARED_DIR) / "assets/Duck/specgloss", in / "duck", fs::copy_options::recursive);
+  { std::ofstream(in / "broken" / "Broken.gltf") << "{ not json"; }
+  const auto stderr_of = [&](const std::string& arguments, int* exit_code) {
+    *exit_code = run_preview(
+        in.string() + " -o " + out.string() + " --size 32 -j 2 " + arguments + " 2> " + (scratch / "stderr").string(),
+        /*quiet_stderr=*/false);
+    const auto text = read_file(scratch / "stderr");
+    return text ? std::string(text->begin(), text->end()) : std::string();
+  };
+  int exit_code = -1;
+  std::string said = stderr_of("--cache " + cache.string(), &exit_code);
+  EXPECT_EQ(exit_code, 1) << said;  // one file could not be drawn; the others were
+  EXPECT_NE(said.find("Broken.gltf"), std::string::npos) << said;
+  EXPECT_NE(said.find("2 drawn, 0 from the cache, 1 failed"), std::string::npos) << said;
+  std::set<std::string> inputs;
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    if (entry.path().filename() == "report.json") {
+      const auto text = read_file(entry.path());
+      const auto report = nlohmann::json::parse(text->begin(), text->end());
+      inputs.insert(fs::path(report["input"].get<std::string>()).filename().string());
+      for (const char* image : {"before.png", "after.png", "difference.png"})
+        EXPECT_TRUE(fs::exists(entry.path().parent_path() / image)) << entry.path();
+      // Each file's folder is its path under the input without the extension, as convert --preview.
+      EXPECT_EQ(entry.path().parent_path().filename(), fs::path(report["input"].get<std::string>()).stem());
+    }
+  EXPECT_EQ(inputs, (std::set<std::string>{"Box.gltf", "Duck.gltf"}));
+  const auto page = read_file(out / "index.html");
+  ASSERT_TRUE(page);
+  const std::string html(page->begin(), page->end());
+  EXPECT_NE(html.find("Box.gltf"), std::string::npos);
+  EXPECT_NE(html.find("Duck.gltf"), std::string::npos);
+
+  said = stderr_of("--cache " + cache.string(), &exit_code);
+  EXPECT_EQ(exit_code, 1) << said;
+  EXPECT_NE(said.find("0 drawn, 2 from the cache, 1 failed"), std::string::npos) << said;
+  fs::remove_all(scratch);
 }
 
 }  // namespace
