@@ -79,7 +79,11 @@ std::optional<std::string> hash_file(const fs::path& file) {
 
 // Whether a file still holds the bytes a key was taken of. A signature that differs only in its
 // status-change time (a hard link made or removed elsewhere, a chmod) is settled by reading the
-// bytes again; a new device, inode, size or modification time is a change.
+// bytes again; a new device, inode, size or modification time is a change. The trade-off: a file
+// rewritten in place during the run and then written back to its first bytes, size and
+// modification time (cp -p, touch -r) passes, though the run may have read the bytes between.
+// Refusing every status change instead left results unstored whenever another job linked the
+// same file (a library of hard links, as tests/pipeline/make_library.py makes).
 bool unchanged_since_key(const ResultCache::Source& source) {
   const std::optional<std::string> now = signature(source.file);
   if (!now) return false;
@@ -145,10 +149,12 @@ fs::path ResultCache::temporary_folder() const {
   return name;
 }
 
-std::optional<std::string> ResultCache::digest(const fs::path& file) const {
+std::optional<std::string> ResultCache::digest(const fs::path& file, std::string* checked_signature) const {
   std::int64_t changed = 0;
   const std::optional<std::string> now = signature(file, &changed);
   if (!now) return std::nullopt;
+  // Taken before the bytes are read: a write after it shows as a changed signature at store().
+  if (checked_signature) *checked_signature = *now;
   if (const std::optional<Bytes> record = read_file(digest_record(file))) {
     // "<signature>\n<digest> <recorded at, ns>": trusted only when the file last changed more
     // than a second before it was recorded. A write within the same timestamp tick as the
@@ -179,7 +185,8 @@ void ResultCache::remember(const fs::path& file, const std::string& hash) const 
 
 std::optional<std::string> ResultCache::key(const fs::path& input, std::string_view settings, bool allow_outside,
                                             const fs::path& output_folder) const {
-  const std::optional<std::string> input_hash = digest(input);
+  std::string input_signature;
+  const std::optional<std::string> input_hash = digest(input, &input_signature);
   const std::optional<std::vector<std::string>> uris =
       input_hash ? uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input, *input_hash) : std::nullopt;
   if (!uris) {
@@ -205,20 +212,21 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
   add(kFormat);
   add(settings);
   add(*input_hash);
-  sources.push_back({input, signature(input).value_or(""), *input_hash});
+  sources.push_back({input, input_signature, *input_hash});
   add_place(input);
   const fs::path folder = input.parent_path().empty() ? fs::path(".") : input.parent_path();
   for (const std::string& uri : *uris) {
     add(uri);
     const ResolvedUri resolved = resolve_uri(folder, uri, allow_outside);
+    std::string resource_signature;
     const std::optional<std::string> hash =
-        resolved.status == UriStatus::Readable ? digest(resolved.path) : std::nullopt;
+        resolved.status == UriStatus::Readable ? digest(resolved.path, &resource_signature) : std::nullopt;
     add(hash                                     ? *hash
         : resolved.status == UriStatus::Refused  ? "refused"
         : resolved.status == UriStatus::NotFound ? "missing"
                                                  : "unreadable");
     if (hash) {
-      sources.push_back({resolved.path, signature(resolved.path).value_or(""), *hash});
+      sources.push_back({resolved.path, resource_signature, *hash});
       add_place(resolved.path);
     }
   }

@@ -69,7 +69,8 @@ class ResultCache {
   // XXH3-128 of the file's bytes, as key() takes it for the files an input names: for inputs a
   // command takes besides the file (an environment map). Read only when the file's device, inode,
   // size or times differ from those recorded with its last digest; std::nullopt when unreadable.
-  std::optional<std::string> digest(const std::filesystem::path& file) const;
+  // `checked_signature`, when given, gets the signature the digest was checked against.
+  std::optional<std::string> digest(const std::filesystem::path& file, std::string* checked_signature = nullptr) const;
 
   // {"folder", "hits", "misses", "stored", "notStored"} for the run's report.
   nlohmann::json stats_json() const;

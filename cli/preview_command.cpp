@@ -102,8 +102,11 @@ FilePreview preview_file(const PreviewArgs& args, const preview::PreviewOptions&
 // `preview DIR -o OUT`: every .gltf and .glb under DIR, each into OUT/<its path without the
 // extension> (as convert --preview names them), -j files at once on the one pool; a file that
 // cannot be drawn is reported and the rest go on; one gallery page at the end.
-int run_folder(const PreviewArgs& args, const preview::PreviewOptions& options) {
+int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
   const FoundInputs found = find_gltf_files({args.input}, args.output);
+  if (!options.environment.empty())  // read and prefiltered once for every file
+    options.loaded_environment =
+        std::make_shared<const preview::Environment>(preview::load_environment(options.environment));
   std::vector<fs::path> outputs;
   for (const InputFile& file : found.files)
     outputs.push_back(fs::path(args.output) / fs::path(file.relative).replace_extension());
@@ -288,7 +291,7 @@ void write_gallery_page(const fs::path& dir, bool quiet, PageRole role) {
     return;
   }
   if (page.outcome == preview::GalleryOutcome::KeptForeignPage) {
-    const std::string why = page.written.string() + " is not a page gltf-pbr wrote: left as it is";
+    const std::string why = page.written.string() + " is not a page gltf-pbr wrote, or cannot be read: left as it is";
     if (role == PageRole::TheResult) throw OutputError(why + "; move it away to write the gallery there");
     std::fprintf(stderr, "warning: %s (the previews were written; --no-gallery leaves the page alone)\n",
                  printable(why).c_str());

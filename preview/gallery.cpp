@@ -5,6 +5,7 @@
 #include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -29,8 +30,10 @@ constexpr const char* kImages[] = {"before.png", "after.png", "difference.png"};
 // What the page shows of one report at most: a few long names cannot make it megabytes.
 constexpr std::size_t kLongestText = 1000;
 constexpr std::size_t kMostMaterials = 256;
-// The line gallery.html carries, by which a rerun knows index.html as a page it wrote itself.
+// The line gallery.html carries, by which a rerun knows index.html as a page it wrote itself; pages
+// written before the mark existed open with the comment after it.
 constexpr std::string_view kGeneratorMark = R"(<meta name="generator" content="gltf-pbr gallery">)";
+constexpr std::string_view kEarlierPageMark = "<!-- The gallery page of gltf-pbr's previews";
 constexpr std::size_t kMarkSearched = 4096;  // bytes of an existing index.html looked at for it
 
 // At most kLongestText bytes, cut at a UTF-8 character's start, with an ellipsis when cut.
@@ -104,18 +107,33 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
   const nlohmann::json report = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
   if (!report.is_object() || !report.contains("difference")) return nullptr;
   const std::string input = string_at(report, "input");
-  nlohmann::json materials = nlohmann::json::array();
-  std::size_t left_out = 0;
+  std::vector<nlohmann::json> all;
   const nlohmann::json::json_pointer listed("/conversion/materials");
-  if (report.contains(listed) && report[listed].is_array()) {
-    for (const nlohmann::json& m : report[listed]) {
-      if (!m.is_object()) continue;
-      if (materials.size() < kMostMaterials)
-        materials.push_back(material_of(m));
-      else
-        ++left_out;
-    }
+  if (report.contains(listed) && report[listed].is_array())
+    for (const nlohmann::json& m : report[listed])
+      if (m.is_object()) all.push_back(material_of(m));
+  // The page sorts and filters by every material's outcome, and lists the worst kMostMaterials:
+  // the worst outcome first, then the largest ΔE2000 p95, then the report's order.
+  std::set<std::string> outcomes;
+  for (const nlohmann::json& m : all) outcomes.insert(m["outcome"].get<std::string>());
+  const auto rank = [](const nlohmann::json& m) {
+    const std::string& outcome = m["outcome"].get_ref<const std::string&>();
+    return outcome == "legacy" ? 0 : outcome == "specular" ? 1 : outcome == "metalness" ? 2 : 3;
+  };
+  const auto worst_p95 = [](const nlohmann::json& m) {
+    double worst = -1;
+    for (const char* key : {"diffuseP95", "f0P95", "appearanceP95"})
+      if (m[key].is_number()) worst = std::max(worst, m[key].get<double>());
+    return worst;
+  };
+  const std::size_t left_out = all.size() > kMostMaterials ? all.size() - kMostMaterials : 0;
+  if (left_out) {
+    std::stable_sort(all.begin(), all.end(), [&](const nlohmann::json& a, const nlohmann::json& b) {
+      return rank(a) != rank(b) ? rank(a) < rank(b) : worst_p95(a) > worst_p95(b);
+    });
+    all.resize(kMostMaterials);
   }
+  nlohmann::json materials(std::move(all));
   return {{"path", capped(path)},
           {"href", url_path(path)},
           {"name", capped(input.empty() ? path : fs::path(input).filename().string())},
@@ -127,7 +145,8 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
           {"p95", number_at(report, "/difference/delta_e_2000/p95")},
           {"rmsDb", number_at(report, "/difference/rms_db")},
           {"materials", std::move(materials)},
-          {"materialsLeftOut", left_out}};
+          {"materialsLeftOut", left_out},
+          {"outcomes", outcomes}};
 }
 
 bool holds_a_preview(const fs::path& folder) {
@@ -136,7 +155,8 @@ bool holds_a_preview(const fs::path& folder) {
 }
 
 // Whether `file` is absent or a page this code wrote (a plain file carrying the generator mark
-// near its start): anything else at root/index.html is someone's own page, never overwritten.
+// near its start): anything else at root/index.html, or a file that cannot be read to tell, is
+// someone's own page and never overwritten.
 bool is_ours_or_absent(const fs::path& file) {
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(file, ec);
@@ -146,7 +166,7 @@ bool is_ours_or_absent(const fs::path& file) {
   std::string head(kMarkSearched, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
-  return head.find(kGeneratorMark) != std::string::npos;
+  return head.find(kGeneratorMark) != std::string::npos || head.find(kEarlierPageMark) != std::string::npos;
 }
 
 // JSON inside <script>: "</script>" or "<!--" in a name must not end or change the element. The

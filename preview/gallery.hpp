@@ -22,7 +22,8 @@ struct GalleryPage {
 // write_preview leaves them. Symbolic links are not followed, so nothing outside `root` is
 // read. A rerun over the same folder rewrites the page with what the folder holds then; an
 // index.html that this code did not write (no generator mark) is never replaced. Each text taken
-// from a report is capped at 1,000 bytes and each entry at 256 materials. Throws OutputError when
+// from a report is capped at 1,000 bytes (and an ellipsis); an entry lists its 256 worst
+// materials, and sorts and filters by the outcomes of all. Throws OutputError when
 // the page cannot be written.
 GalleryPage write_gallery(const std::filesystem::path& root);
 

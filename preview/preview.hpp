@@ -25,6 +25,8 @@ struct PreviewOptions {
   double yaw_degrees = 35, pitch_degrees = 20, fov_y_degrees = 40;  // the automatic framing
   LightingOptions lighting;
   std::filesystem::path environment;  // .hdr / .exr; empty: the built-in procedural sky
+  // `environment` read once for a run of previews (preview DIR): used instead of reading it again.
+  std::shared_ptr<const Environment> loaded_environment;
   ConvertOptions convert;
   bool keep_radiance = false;  // keep PreviewResult::before_hdr/after_hdr (24 bytes a pixel more)
 };

@@ -36,6 +36,14 @@ nlohmann::json layout_json(const std::vector<BufferSize>& layout) {
   return {{"bytes_per_pixel", total}, {"buffers", buffers}};
 }
 
+// The environment a preview lights with: the built-in sky, the one read once for a run of
+// previews, or its file read now into `loaded`.
+const Environment& lighting_environment(const PreviewOptions& options, std::optional<Environment>& loaded) {
+  if (options.environment.empty()) return default_environment();
+  if (options.loaded_environment) return *options.loaded_environment;
+  return loaded.emplace(load_environment(options.environment));
+}
+
 }  // namespace
 
 PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const Environment& env,
@@ -92,8 +100,8 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
   const double scene_ms = ms_since(start);
 
   start = Clock::now();
-  const Environment loaded = options.environment.empty() ? Environment{} : load_environment(options.environment);
-  const Environment& env = options.environment.empty() ? default_environment() : loaded;
+  std::optional<Environment> loaded;
+  const Environment& env = lighting_environment(options, loaded);
   const double environment_ms = ms_since(start);
 
   const double aspect = static_cast<double>(options.width) / options.height;
@@ -191,8 +199,8 @@ GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera) {
 }
 
 PreviewResult render_grid(const GridOptions& grid, const PreviewOptions& options) {
-  const Environment loaded = options.environment.empty() ? Environment{} : load_environment(options.environment);
-  const Environment& env = options.environment.empty() ? default_environment() : loaded;
+  std::optional<Environment> loaded;
+  const Environment& env = lighting_environment(options, loaded);
   Camera camera;
   const auto start = Clock::now();
   GBuffers gbuffers = sphere_grid_gbuffers(grid, &camera);

@@ -57,14 +57,15 @@ else
   # Each ctest run also writes JUnit XML, so the summary can show a failed test's own output after
   # the later phases' output has pushed ctest's list out of sight.
   run_tests() {  # run_tests DIR
-    rm -f "$1/tests.xml"
     ctest --test-dir "$1" --output-on-failure -j "$jobs" --output-junit "$PWD/$1/tests.xml"
   }
   plain_tests() {
+    rm -f build/tests.xml  # a build that fails leaves no earlier run's failures to report
     build build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLTF_PBR_TESTS=ON && run_tests build
   }
   # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
   sanitizer_tests() {
+    rm -f build-sanitize/tests.xml
     build build-sanitize -DCMAKE_BUILD_TYPE=Debug -DGLTF_PBR_SANITIZE=ON -DGLTF_PBR_TESTS=ON &&
       ASAN_OPTIONS=detect_leaks=1 run_tests build-sanitize
   }

@@ -1,6 +1,7 @@
 // `gltf-pbr preview` end to end through its stand-alone driver: outputs, report, exit codes.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -47,7 +48,8 @@ TEST(PreviewCommand, BadInputExitsOneAndBadUsageTwo) {
 }
 
 TEST(PreviewCommand, AFolderIsDrawnFileByFileIntoOneGalleryAndAFailingFileIsNamed) {
-  const fs::path scratch = fs::temp_directory_path() / "gltf-pbr-preview-command-test-folder";
+  const fs::path scratch =
+      fs::temp_directory_path() / ("gltf-pbr-preview-command-test-folder-" + std::to_string(::getpid()));
   fs::remove_all(scratch);
   const fs::path in = scratch / "in", out = scratch / "out", cache = scratch / "cache";
   fs::create_directories(in / "broken");

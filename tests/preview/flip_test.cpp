@@ -84,8 +84,8 @@ TEST(Flip, BandsOfAnySizeGiveTheWholeImageResultBitForBit) {
 }
 
 TEST(Flip, OnlyPixelsNearADifferenceHaveErrorAndTheyHaveTheirWholeImageValue) {
-  // b differs from a in a 4 x 4 patch; c also in two far corners, so c's run computes nearly the
-  // whole image. Near the patch both runs must agree bit for bit; past the filters' reach
+  // b differs from a in a 4 x 4 patch; c also in two far corners, so c's bands take other, wider
+  // column windows. Near the patch both runs must agree bit for bit; past the filters' reach
   // (halo 10 at the default pixels per degree) b's error is exactly 0.
   const int width = 96, height = 80, halo = 10;
   std::mt19937 random(5);

@@ -110,7 +110,7 @@ with Browser() as browser:
                      "o.dispatchEvent(new Event('change')); document.getElementById('sort-deltaE').click(); })()")
     browser.screenshot(screenshots / "gallery.png")
     check(browser.errors() == [], f"no console errors: {browser.errors()}")
-    outside = [url for url in browser.requests() if not url.startswith(previews.as_uri())]
+    outside = [url for url in browser.requests() if not url.startswith(previews.as_uri() + "/")]
     check(browser.requests() and not outside, f"every request stays in the previews' folder: {outside}")
 print(f"screenshot: {screenshots / 'gallery.png'}", file=sys.stderr)
 
@@ -182,14 +182,18 @@ with Browser() as browser:
 #    outcome the page does not know, and an index.html that gltf-pbr did not write.
 odd_names = work / "odd-names"
 odd_names.mkdir()
-shutil.copytree(one, os.fsdecode(os.fsencode(str(odd_names)) + b"/caf\xe9 #1?"))
+non_utf8 = pathlib.Path(os.fsdecode(os.fsencode(str(odd_names)) + b"/caf\xe9 #1?"))
+shutil.copytree(one, non_utf8)
+report = json.loads((non_utf8 / "report.json").read_text())
+report.setdefault("conversion", {})["materials"] = [{"index": 0, "name": "odd", "outcome": "constructor"}]
+(non_utf8 / "report.json").write_text(json.dumps(report))
 long_texts = odd_names / "long"
 shutil.copytree(one, long_texts)
 report = json.loads((long_texts / "report.json").read_text())
 report["input"] = "x" * 5000 + ".gltf"
-report.setdefault("conversion", {})["materials"] = (
-    [{"index": 0, "name": "m" * 5000, "outcome": "constructor", "note": "n" * 5000}] +
-    [{"index": i, "name": f"material {i}", "outcome": "metalness"} for i in range(1, 300)])
+report["conversion"]["materials"] = (  # 300 materials, the one left legacy last
+    [{"index": i, "name": f"material {i}", "outcome": "metalness"} for i in range(299)] +
+    [{"index": 299, "name": "m" * 5000, "outcome": "legacy", "note": "n" * 5000}])
 (long_texts / "report.json").write_text(json.dumps(report))
 run("gallery", odd_names)
 check(len((odd_names / "index.html").read_bytes()) < 200_000, "long texts are capped in the page")
@@ -202,6 +206,13 @@ with Browser() as browser:
     check(max(shown) <= 1001, f"a 5,000-character name shows capped: {shown}")
     items = browser.evaluate(f"{ROWS}.map(tr => tr.children[7].querySelectorAll('li').length)")
     check(257 in items, f"256 materials listed and a line for the rest: {items}")
+    lengths = browser.evaluate("[...document.querySelectorAll('ul.materials li span')].map(s => s.textContent.length)")
+    check(1001 in lengths, "the worst material (left legacy, the last of 300) is listed, its name capped")
+    browser.evaluate("(() => { const o = document.getElementById('outcome'); o.value = 'legacy'; "
+                     "o.dispatchEvent(new Event('change')); })()")
+    check(browser.evaluate(f"{ROWS}.length") == 1, "the outcome filter sees every material's outcome")
+    browser.evaluate("(() => { const o = document.getElementById('outcome'); o.value = ''; "
+                     "o.dispatchEvent(new Event('change')); })()")
     classes = browser.evaluate("[...document.querySelectorAll('.outcome')].map(s => s.className)")
     check("outcome outcome-constructor" not in classes and "outcome" in classes,
           "an unknown outcome gets no class of its own")
