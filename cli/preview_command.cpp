@@ -74,15 +74,15 @@ std::string drawn_line(const std::string& name, const DrawnPreview& drawn, const
          " -> " + printable(output.string()) + "\n";
 }
 
-struct FilePreview {
+struct CachedPreview {
   bool restored = false;  // from the cache, not drawn
   std::string line;       // what to print of it unless quiet
 };
 
 // One file's preview into `output`: restored when the cache holds it, else drawn and kept there.
 // Throws for an input that cannot be drawn.
-FilePreview preview_file(const PreviewArgs& args, const preview::PreviewOptions& options, const fs::path& input,
-                         const fs::path& output, ResultCache* cache) {
+CachedPreview preview_with_cache(const PreviewArgs& args, const preview::PreviewOptions& options, const fs::path& input,
+                                 const fs::path& output, ResultCache* cache) {
   std::optional<std::string> key;
   if (cache) {
     key = cache->key(input, settings(args, options, *cache, input), args.allow_outside);
@@ -122,8 +122,8 @@ int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
           const auto i = static_cast<std::size_t>(index);
           std::string line;
           try {
-            const FilePreview done =
-                preview_file(args, options, found.files[i].file, outputs[i], cache ? &*cache : nullptr);
+            const CachedPreview done =
+                preview_with_cache(args, options, found.files[i].file, outputs[i], cache ? &*cache : nullptr);
             restored += done.restored;
             if (!args.quiet) line = done.line;
           } catch (const std::exception& e) {
@@ -198,7 +198,7 @@ int run(const PreviewArgs& args) {
     } else {
       std::optional<ResultCache> cache;
       if (!args.cache.empty()) cache.emplace(args.cache);
-      const FilePreview done = preview_file(args, options, args.input, args.output, cache ? &*cache : nullptr);
+      const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);
       if (!args.quiet) std::fputs(done.line.c_str(), stderr);
     }
     if (!args.no_gallery) write_gallery_page(args.output, args.quiet);

@@ -63,9 +63,18 @@ std::string url_path(const std::string& path) {
   return out;
 }
 
-// The outcomes the page knows; anything else a report says is shown as "unknown".
+// The outcomes the page knows, worst first: left legacy, needed the specular extension, metalness.
+constexpr std::string_view kOutcomesWorstFirst[] = {"legacy", "specular", "metalness"};
+
+// An outcome's place in kOutcomesWorstFirst; one the page does not know comes after them all.
+std::size_t outcome_rank(std::string_view outcome) {
+  return static_cast<std::size_t>(std::find(std::begin(kOutcomesWorstFirst), std::end(kOutcomesWorstFirst), outcome) -
+                                  std::begin(kOutcomesWorstFirst));
+}
+
+// A report's outcome as the page shows it: anything it does not know is "unknown".
 std::string outcome_of(const std::string& outcome) {
-  return outcome == "metalness" || outcome == "specular" || outcome == "legacy" ? outcome : "unknown";
+  return outcome_rank(outcome) < std::size(kOutcomesWorstFirst) ? outcome : "unknown";
 }
 
 nlohmann::json number_at(const nlohmann::json& report, const char* pointer) {
@@ -116,10 +125,7 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
   // the worst outcome first, then the largest ΔE2000 p95, then the report's order.
   std::set<std::string> outcomes;
   for (const nlohmann::json& m : all) outcomes.insert(m["outcome"].get<std::string>());
-  const auto rank = [](const nlohmann::json& m) {
-    const std::string& outcome = m["outcome"].get_ref<const std::string&>();
-    return outcome == "legacy" ? 0 : outcome == "specular" ? 1 : outcome == "metalness" ? 2 : 3;
-  };
+  const auto rank = [](const nlohmann::json& m) { return outcome_rank(m["outcome"].get_ref<const std::string&>()); };
   const auto worst_p95 = [](const nlohmann::json& m) {
     double worst = -1;
     for (const char* key : {"diffuseP95", "f0P95", "appearanceP95"})
