@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
-# Differential test of the structure validator against the npm gltf-validator (the reference,
-# run as a black box): mutates a copy of the Khronos suite, validates every mutant with both, and
-# prints agreement and the most frequent differences. Nothing is written outside WORK.
-#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK=/tmp/structure-diff]
+# Differential test of the structure validator against the npm gltf-validator (the reference, run
+# as a black box) on inputs made by generate.py from a fixed seed: a synthetic document using every
+# core object type, the small shared assets and the Khronos suite's cases, each mutated. Prints the
+# agreement on the ordered (code, pointer or offset, severity) list, by source, and the classes of
+# difference, most frequent first. Nothing is written outside WORK.
+#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-bench_binary="$1" node_modules="$2" work="${3:-/tmp/structure-diff}"
+bench_binary="$(realpath "$1")" node_modules="$2" work="${3:-/tmp/structure-diff}"
+count="${4:-10000}" seed="${5:-14}"
+shared="$(cd "$here/../../../shared" && pwd)"
 rm -rf "$work" && mkdir -p "$work"
-cp -r "$here/../../../shared/validator-suite/test" "$work/"
+python3 "$here/generate.py" "$work" "$shared" --count "$count" --seed "$seed" >/dev/null
 cd "$work"
-python3 "$here/mutate_suite.py" >/dev/null
-M="$node_modules" node "$here/reference_reports.mjs" $(cat list.txt) > ref.jsonl
-"$bench_binary" --runs 1 --json $(cat list.txt) | grep '^{' > ours.jsonl
+M="$node_modules" node "$here/reference_reports.mjs" --list list.txt > ref.jsonl
+"$bench_binary" --runs 1 --json --list list.txt | grep '^{' > ours.jsonl
 python3 "$here/compare_reports.py"

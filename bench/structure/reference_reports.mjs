@@ -1,16 +1,32 @@
 // Prints the npm gltf-validator's full report (one JSON line per file) for each file given, with
 // external resources read beside the file. M is the node_modules folder that holds gltf-validator
-// (bench/peers.sh installs it into a cache folder).   M=... node reference_reports.mjs FILE...
+// (bench/peers.sh installs it into a cache folder).   M=... node reference_reports.mjs FILE... | --list LIST
 import { readFile } from 'node:fs/promises';
 import { createRequire } from 'node:module';
 import path from 'node:path';
 const require = createRequire(process.env.M + '/');
 const validator = require('gltf-validator');
-for (const file of process.argv.slice(2)) {
+// --list FILE reads the paths from FILE, one per line (10,000 paths do not fit on a command line).
+const args = process.argv.slice(2);
+const files = args[0] === '--list' ? (await readFile(args[1], 'utf8')).split('\n').filter(Boolean) : args;
+for (const file of files) {
   const bytes = new Uint8Array(await readFile(file));
-  const report = await validator.validateBytes(bytes, {
-    uri: file, maxIssues: 0,
-    externalResourceFunction: (uri) => readFile(path.resolve(path.dirname(file), decodeURIComponent(uri))).then((b) => new Uint8Array(b)),
-  });
+  // The reference refuses some inputs outright (bytes that are neither JSON nor GLB): such a line
+  // carries the exception's text instead of a report, and the comparison counts it as its own class.
+  let report;
+  try {
+    report = await validator.validateBytes(bytes, {
+      uri: file, maxIssues: 0,
+      // Our path policy, applied to the reference too: nothing outside the input's folder is read.
+      externalResourceFunction: (uri) => {
+        const folder = path.resolve(path.dirname(file));
+        const target = path.resolve(folder, decodeURIComponent(uri));
+        if (!target.startsWith(folder + path.sep)) return Promise.reject(new Error('outside the folder'));
+        return readFile(target).then((b) => new Uint8Array(b));
+      },
+    });
+  } catch (error) {
+    report = { uri: file, exception: String(error) };
+  }
   console.log(JSON.stringify(report));
 }

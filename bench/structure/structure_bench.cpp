@@ -1,4 +1,4 @@
-// structure_bench FILE... [--runs N] [--json]: the median wall time of validate_structure on each
+// structure_bench FILE... [--list LIST] [--runs N] [--json]: the median wall time of validate_structure on each
 // file (read once, validated N times), with the issue count, to compare against the npm
 // gltf-validator (bench/validate.sh times the whole CLI against it). --json prints each report.
 #include <algorithm>
@@ -18,7 +18,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--json") == 0)
       json = true;
-    else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+    else if (std::strcmp(argv[i], "--list") == 0 && i + 1 < argc) {
+      std::ifstream list(argv[++i]);
+      for (std::string line; std::getline(list, line);)
+        if (!line.empty()) files.push_back(line);
+    } else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
       runs = std::max(1, std::atoi(argv[++i]));
     else
       files.push_back(argv[i]);

@@ -82,38 +82,135 @@ TEST(StructureChecks, IndexBeyondTheVertexCountIsOutOfBounds) {
       "Indices accessor element at index 2 has value 5 that is greater than the maximum vertex index available (2).");
 }
 
+// A skinned triangle: node 0 draws mesh 0 with skin 0 (joints: nodes 1, 2 and 3). Each set n of
+// `joints` (4 per vertex, unsigned bytes) and `weights` (4 floats per vertex) becomes JOINTS_n
+// and WEIGHTS_n; `extra_nodes` and `extra_skins` are appended to their lists.
+struct SkinnedSets {
+  std::vector<std::vector<std::uint8_t>> joints;
+  std::vector<std::vector<float>> weights;
+};
+Report skinned_triangle(const SkinnedSets& sets, const std::string& extra_nodes = "",
+                        const std::string& extra_skins = "") {
+  std::vector<std::uint8_t> bytes;
+  auto append = [&](const void* data, std::size_t size) {
+    const auto* begin = static_cast<const std::uint8_t*>(data);
+    bytes.insert(bytes.end(), begin, begin + size);
+  };
+  const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  append(positions.data(), positions.size() * 4);
+  std::string views = R"({"buffer":0,"byteLength":36,"target":34962})";
+  std::string accessors = R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]})";
+  std::string attributes = R"("POSITION":0)";
+  for (std::size_t set = 0; set < sets.joints.size(); ++set) {
+    for (const auto& [data, size, type] :
+         {std::tuple{static_cast<const void*>(sets.joints[set].data()), sets.joints[set].size(), 5121},
+          std::tuple{static_cast<const void*>(sets.weights[set].data()), sets.weights[set].size() * 4, 5126}}) {
+      const std::size_t offset = bytes.size();
+      append(data, size);
+      const std::size_t view = 1 + 2 * set + (type == 5126);
+      views += R"(,{"buffer":0,"byteOffset":)" + std::to_string(offset) + R"(,"byteLength":)" + std::to_string(size) +
+               R"(,"target":34962})";
+      accessors += R"(,{"bufferView":)" + std::to_string(view) + R"(,"componentType":)" + std::to_string(type) +
+                   R"(,"count":3,"type":"VEC4"})";
+      attributes += std::string(",\"") + (type == 5126 ? "WEIGHTS_" : "JOINTS_") + std::to_string(set) +
+                    "\":" + std::to_string(view);
+    }
+  }
+  std::vector<float> matrices;
+  for (int joint = 0; joint < 3; ++joint)
+    for (int k = 0; k < 16; ++k) matrices.push_back(k % 5 == 0 ? 1.0f : 0.0f);  // identity
+  const std::size_t ibm_offset = bytes.size();
+  append(matrices.data(), matrices.size() * 4);
+  const std::size_t ibm_view = 1 + 2 * sets.joints.size();
+  views += R"(,{"buffer":0,"byteOffset":)" + std::to_string(ibm_offset) + R"(,"byteLength":192})";
+  accessors += R"(,{"bufferView":)" + std::to_string(ibm_view) + R"(,"componentType":5126,"count":3,"type":"MAT4"})";
+  return validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":)" + std::to_string(bytes.size()) +
+                       R"(,"uri":")" + data_uri(bytes) + R"("}],"bufferViews":[)" + views + R"(],"accessors":[)" +
+                       accessors + R"(],"meshes":[{"primitives":[{"attributes":{)" + attributes +
+                       R"(}}]}],"skins":[{"joints":[1,2,3],"inverseBindMatrices":)" + std::to_string(ibm_view) +
+                       R"(})" + extra_skins + R"(],"nodes":[{"mesh":0,"skin":0},{"children":[2]},{"children":[3]},{})" + extra_nodes +
+                       R"(],"scenes":[{"nodes":[0,1]}]})");
+}
+
+std::vector<std::string> codes_and_pointers(const Report& report) {
+  std::vector<std::string> out;
+  for (const Issue& issue : report.messages)
+    if (issue.code.starts_with("ACCESSOR_")) out.push_back(issue.code + " " + issue.pointer);
+  return out;
+}
+
+const std::vector<std::uint8_t> kJointsZeroOne = {0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
+
 TEST(StructureChecks, WeightsThatDoNotSumToOneAreReported) {
-  const std::string buffer = float_buffer({0.5f, 0.25f, 0, 0});
-  const Report report = validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":16,"uri":")" + buffer +
+  const Report report = skinned_triangle({{kJointsZeroOne}, {{0.5f, 0.25f, 0, 0, 0.5f, 0.5f, 0, 0, 1, 0, 0, 0}}});
+  EXPECT_EQ(codes_and_pointers(report),
+            std::vector<std::string>{"ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0"});
+  EXPECT_EQ(report.messages[0].message, "Weights accessor elements (at indices 0..3) have non-normalized sum: 0.75.");
+}
+
+// Spec 3.7.3.3: with several sets, all the vertex's weights together sum to one. An unbalanced
+// vertex is reported at every WEIGHTS_n with the whole sum.
+TEST(StructureChecks, WeightsAreSummedAcrossEverySetAndReportedAtEach) {
+  const std::vector<float> first = {0.5f, 0.25f, 0, 0, 0.5f, 0.5f, 0, 0, 1, 0, 0, 0};
+  auto second_set = [&](std::uint8_t joint, float weight) {
+    return skinned_triangle({{kJointsZeroOne, {joint, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}},
+                             {first, {weight, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}}});
+  };
+  EXPECT_TRUE(codes_and_pointers(second_set(2, 0.25f)).empty()) << "set 1 brings the first vertex's 0.75 to one";
+  EXPECT_EQ(codes_and_pointers(second_set(1, 0.25f)),
+            (std::vector<std::string>{"ACCESSOR_JOINTS_INDEX_DUPLICATE /meshes/0/primitives/0/attributes/JOINTS_1",
+                                      "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0",
+                                      "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_1"}))
+      << "joint 1 again: its weight is left out";
+  const Report report = second_set(2, 0.5f);
+  ASSERT_EQ(codes_and_pointers(report),
+            (std::vector<std::string>{"ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0",
+                                      "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_1"}));
+  EXPECT_EQ(report.messages[1].message, "Weights accessor elements (at indices 0..3) have non-normalized sum: 1.25.");
+}
+
+// A weight whose joint is out of the skin's range, repeats a joint of the vertex, or is negative is
+// reported and left out of the vertex's sum; component by component, the joint before the weight.
+TEST(StructureChecks, AReportedWeightIsLeftOutOfTheVertexSum) {
+  const Report report = skinned_triangle({{{7, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0}},
+                                          {{0.5f, 0.5f, 0, 0, 0.5f, -0.5f, 0, 0, 0.5f, 0.5f, 0, 0}}});
+  ASSERT_EQ(codes_and_pointers(report),
+            (std::vector<std::string>{"ACCESSOR_JOINTS_INDEX_OOB /meshes/0/primitives/0/attributes/JOINTS_0",
+                                      "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0",
+                                      "ACCESSOR_JOINTS_INDEX_DUPLICATE /meshes/0/primitives/0/attributes/JOINTS_0",
+                                      "ACCESSOR_WEIGHTS_NEGATIVE /meshes/0/primitives/0/attributes/WEIGHTS_0",
+                                      "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0"}));
+  EXPECT_EQ(report.messages[0].message,
+            "Joints accessor element at index 0 (component index 0) has value 7 that is greater than the maximum joint "
+            "index (2) set by skin 0.");
+  EXPECT_EQ(report.messages[1].message, "Weights accessor elements (at indices 0..3) have non-normalized sum: 0.5.");
+  EXPECT_EQ(report.messages[4].message, "Weights accessor elements (at indices 4..7) have non-normalized sum: 0.5.");
+}
+
+// The joints are checked against the skin of the last node, in node order, that draws the mesh.
+TEST(StructureChecks, JointsAreCheckedAgainstTheLastSkinThatBindsTheMesh) {
+  const SkinnedSets sets{{kJointsZeroOne}, {{0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0, 1, 0, 0, 0}}};
+  EXPECT_TRUE(codes_and_pointers(skinned_triangle(sets)).empty());
+  // Node 4 draws the mesh again with skin 1, whose one joint makes joint 1 out of range.
+  const Report report = skinned_triangle(sets, R"(,{"mesh":0,"skin":1})", R"(,{"joints":[3]})");
+  std::vector<std::string> messages;
+  for (const Issue& issue : report.messages)
+    if (issue.code == "ACCESSOR_JOINTS_INDEX_OOB") messages.push_back(issue.message);
+  ASSERT_EQ(messages.size(), 2u);
+  EXPECT_EQ(messages[1],
+            "Joints accessor element at index 5 (component index 1) has value 1 that is greater than the maximum joint "
+            "index (0) set by skin 1.");
+}
+
+TEST(StructureChecks, WeightsOfAMeshThatNoSkinBindsAreNotChecked) {
+  const Report report = validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":16,"uri":")" +
+                                      float_buffer({0.5f, 0.25f, 0, 0}) +
                                       R"("}],)"
                                       R"("bufferViews":[{"buffer":0,"byteLength":16,"target":34962}],)"
                                       R"("accessors":[{"bufferView":0,"componentType":5126,"count":1,"type":"VEC4"}],)"
                                       R"("meshes":[{"primitives":[{"attributes":{"WEIGHTS_0":0}}]}]})");
-  const Issue* issue = find(report, "ACCESSOR_WEIGHTS_NON_NORMALIZED");
-  ASSERT_NE(issue, nullptr);
-  EXPECT_EQ(issue->pointer, "/meshes/0/primitives/0/attributes/WEIGHTS_0");
-}
-
-// Two weight sets of one vertex: {0.5, 0.25, 0, 0} and {0.25, 0, 0, 0} sum to one together
-// (spec 3.7.3.3); {0.5, 0.25, 0, 0} and {0.5, 0, 0, 0} sum to 1.25.
-Report two_weight_sets(float second_set_first_weight) {
-  const std::string buffer = float_buffer({0.5f, 0.25f, 0, 0, second_set_first_weight, 0, 0, 0});
-  return validate_text(
-      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":32,"uri":")" + buffer +
-      R"("}],)"
-      R"("bufferViews":[{"buffer":0,"byteLength":16,"target":34962},{"buffer":0,"byteOffset":16,"byteLength":16,"target":34962}],)"
-      R"("accessors":[{"bufferView":0,"componentType":5126,"count":1,"type":"VEC4"},)"
-      R"({"bufferView":1,"componentType":5126,"count":1,"type":"VEC4"}],)"
-      R"("meshes":[{"primitives":[{"attributes":{"WEIGHTS_0":0,"WEIGHTS_1":1}}]}]})");
-}
-
-TEST(StructureChecks, WeightsAreSummedAcrossEverySet) {
-  EXPECT_EQ(find(two_weight_sets(0.25f), "ACCESSOR_WEIGHTS_NON_NORMALIZED"), nullptr);
-  const Report report = two_weight_sets(0.5f);
-  const Issue* issue = find(report, "ACCESSOR_WEIGHTS_NON_NORMALIZED");
-  ASSERT_NE(issue, nullptr);
-  EXPECT_EQ(issue->pointer, "/meshes/0/primitives/0/attributes/WEIGHTS_1");
-  EXPECT_EQ(issue->message, "Weights accessor elements (at indices 0..3) have non-normalized sum: 1.25.");
+  EXPECT_EQ(find(report, "ACCESSOR_WEIGHTS_NON_NORMALIZED"), nullptr);
+  EXPECT_NE(find(report, "MESH_PRIMITIVE_JOINTS_WEIGHTS_MISMATCH"), nullptr);
 }
 
 // One morph target (a single POSITION delta), the mesh's default weight, and nodes that may

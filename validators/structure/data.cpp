@@ -51,6 +51,7 @@ class AccessorData {
   void run() {
     for (std::size_t i = 0; i < doc_.accessors.size(); ++i)
       if (doc_.accessors[i].object && doc_.accessors[i].valid) accessor(i);
+    skinning();
   }
 
  private:
@@ -232,35 +233,6 @@ class AccessorData {
     return a.object ? &a : nullptr;
   }
 
-  // An accessor read alongside `a`, element for element (WEIGHTS_n beside JOINTS_n, earlier weight
-  // sets beside the last): only when it is a VEC4 of the same count.
-  const AccessorModel* partner_of(const AccessorModel& a, std::int64_t index) const {
-    const AccessorModel* partner = accessor_at(index);
-    return partner && partner->count == a.count && component_count(partner->type) == 4 ? partner : nullptr;
-  }
-
-  // What a chunked pass over `a` shares with the accessors it reads alongside.
-  struct Partners {
-    const AccessorModel* weights = nullptr;     // JOINTS_n: its WEIGHTS_n
-    std::vector<const AccessorModel*> earlier;  // last WEIGHTS_n: the earlier sets
-    bool earlier_complete = true;               // every earlier set can be read alongside
-  };
-
-  Partners partners(const AccessorModel& a) const {
-    Partners p;
-    if (a.usage != AccessorModel::Usage::Vertex) return p;
-    if (a.semantic.starts_with("JOINTS_")) p.weights = partner_of(a, a.paired_weights);
-    if (a.semantic.starts_with("WEIGHTS_"))
-      for (std::int64_t index : a.earlier_weight_sets) {
-        const AccessorModel* earlier = partner_of(a, index);
-        if (earlier)
-          p.earlier.push_back(earlier);
-        else
-          p.earlier_complete = false;
-      }
-    return p;
-  }
-
   // State carried from chunk to chunk by the usage checks.
   struct Carry {
     std::uint64_t degenerate_triangles = 0;
@@ -274,12 +246,8 @@ class AccessorData {
     const int components = component_count(a.type);
     const bool is_float = a.component_type == 5126;
     if (components == 0 || a.count <= 0) return;
-    const Partners with = partners(a);
-    // Sparse data is substituted over the whole accessor, so sparse accessors (and their
-    // partners) are read in one piece.
-    bool whole = a.sparse || (with.weights && with.weights->sparse);
-    for (const AccessorModel* earlier : with.earlier) whole = whole || earlier->sparse;
-    const std::int64_t chunk = whole ? a.count : kChunkElements;
+    // Sparse data is substituted over the whole accessor, so sparse accessors are read in one piece.
+    const std::int64_t chunk = a.sparse ? a.count : kChunkElements;
 
     // Pass 1: invalid floats in element order, then the declared bounds against the actual ones.
     // Declared bounds of float accessors are compared at float precision: the JSON double is
@@ -330,7 +298,7 @@ class AccessorData {
     for (std::int64_t first = 0; first < a.count; first += chunk) {
       const std::int64_t n = std::min(chunk, a.count - first);
       if (!(pass_one && one_chunk) && !decode(a, !pass_one && first == 0, first, n, values_)) return;
-      usage_checks(a, use, with, static_cast<std::size_t>(first), static_cast<std::size_t>(n), carry);
+      usage_checks(a, use, static_cast<std::size_t>(first), static_cast<std::size_t>(n), carry);
     }
     if (a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
       issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
@@ -345,9 +313,9 @@ class AccessorData {
       case Usage::Index:
         return components == 1;
       case Usage::Vertex:
+        // JOINTS_n and WEIGHTS_n are checked together, per primitive, by skinning() afterwards.
         return (semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4) ||
-               (semantic.starts_with("COLOR_") && a.component_type == 5126) ||
-               ((semantic.starts_with("JOINTS_") || semantic.starts_with("WEIGHTS_")) && components == 4);
+               (semantic.starts_with("COLOR_") && a.component_type == 5126);
       case Usage::AnimationInput:
         return components == 1 && a.component_type == 5126;
       case Usage::AnimationOutput:
@@ -360,15 +328,15 @@ class AccessorData {
   }
 
   // `values_` holds elements [first, first + count).
-  void usage_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
-                    std::size_t count, Carry& carry) {
+  void usage_checks(const AccessorModel& a, const std::string& use, std::size_t first, std::size_t count,
+                    Carry& carry) {
     using Usage = AccessorModel::Usage;
     switch (a.usage) {
       case Usage::Index:
         index_checks(a, use, first, carry);
         break;
       case Usage::Vertex:
-        vertex_checks(a, use, with, first, count);
+        vertex_checks(a, first, count);
         break;
       case Usage::AnimationInput:
         animation_input(use, first, carry);
@@ -431,87 +399,152 @@ class AccessorData {
       }
   }
 
-  void vertex_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
-                     std::size_t count) {
+  // Each element is checked for every attribute that reads the accessor, in element order.
+  void vertex_checks(const AccessorModel& a, std::size_t first, std::size_t count) {
     const std::string& semantic = a.semantic;
     const int components = component_count(a.type);
+    const std::vector<std::string>& uses = a.vertex_uses;
     if ((semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4)) {
       for (std::size_t e = 0; e < count; ++e) {
         const double* v = &values_[e * components];
         const double x = normalized(a, v[0]), y = normalized(a, v[1]), z = normalized(a, v[2]);
         const double length = std::sqrt(x * x + y * y + z * z);
         const std::uint64_t index = (first + e) * components;
-        if (std::fabs(length - 1.0) > 0.0005)
-          issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(index), arg(index + 2), arg_double(length)});
-        if (components == 4) {
-          const double w = normalized(a, v[3]);
+        const double w = components == 4 ? normalized(a, v[3]) : 1.0;
+        for (const std::string& use : uses) {
+          if (std::fabs(length - 1.0) > 0.0005)
+            issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(index), arg(index + 2), arg_double(length)});
           if (w != 1.0 && w != -1.0) issues_.at("ACCESSOR_INVALID_SIGN", use, {arg(index), arg(index + 3), arg_double(w)});
         }
       }
     } else if (semantic.starts_with("COLOR_") && a.component_type == 5126) {
       for (std::size_t k = 0; k < values_.size(); ++k)
         if (values_[k] < 0.0 || values_[k] > 1.0)
-          issues_.at("ACCESSOR_NON_CLAMPED", use,
-                     {arg(static_cast<std::uint64_t>(first * components + k)), arg_double(values_[k])});
-    } else if (semantic.starts_with("JOINTS_") && components == 4) {
-      joints_checks(a, use, with, first, count);
-    } else if (semantic.starts_with("WEIGHTS_") && components == 4) {
-      weights_checks(a, use, with, first, count);
+          for (const std::string& use : uses)
+            issues_.at("ACCESSOR_NON_CLAMPED", use,
+                       {arg(static_cast<std::uint64_t>(first * components + k)), arg_double(values_[k])});
     }
   }
 
-  // Spec 3.7.3.3: weights are non-negative and, over all the primitive's sets, sum to one within
-  // the precision of their component type.
-  void weights_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
-                      std::size_t count) {
-    // The earlier sets' sums, when every one of them can be read: otherwise the sum is unknown.
-    std::vector<double> earlier_sums(count, 0.0);
-    bool sum_known = a.weights_sum_here && with.earlier_complete;
-    for (const AccessorModel* earlier : with.earlier) {
-      if (!sum_known) break;
-      sum_known = decode(*earlier, false, static_cast<std::int64_t>(first), static_cast<std::int64_t>(count), partner_);
-      for (std::size_t k = 0; sum_known && k < partner_.size(); ++k) earlier_sums[k / 4] += normalized(*earlier, partner_[k]);
-    }
-    const bool all_float = a.component_type == 5126 && a.earlier_weight_sets.empty();
-    const double tolerance = all_float ? 5e-4 : 1.0 / 255.0;
-    for (std::size_t e = 0; e < count; ++e) {
-      double sum = earlier_sums[e];
-      const std::uint64_t index = (first + e) * 4;
-      for (int c = 0; c < 4; ++c) {
-        const double w = normalized(a, values_[e * 4 + c]);
-        if (w < 0)
-          issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", use, {arg(index + c), arg(c), value_arg(a, values_[e * 4 + c])});
-        sum += w;
-      }
-      if (sum_known && std::fabs(sum - 1.0) > tolerance)
-        issues_.at("ACCESSOR_WEIGHTS_NON_NORMALIZED", use, {arg(index), arg(index + 3), arg_double(sum)});
-    }
-  }
+  // One JOINTS_n/WEIGHTS_n pair of a skinned primitive, with the elements of the current chunk.
+  struct SkinSet {
+    const AccessorModel* joints;
+    const AccessorModel* weights;
+    std::string joints_pointer, weights_pointer;
+    Values joint_values, weight_values;
+  };
+  struct SkinnedPrimitive {
+    std::vector<SkinSet> sets;  // by set number
+    std::int64_t count = 0;     // vertices
+    std::int64_t skin = -1, joint_count = -1;
+    double sum = 0;  // the current vertex's weights that passed their checks
+  };
 
-  // Spec 3.7.3.3: a vertex names each joint at most once among its non-zero weights, every joint
-  // index is inside its skin's joints, and a zero weight should pair with joint 0.
-  void joints_checks(const AccessorModel& a, const std::string& use, const Partners& with, std::size_t first,
-                     std::size_t count) {
-    const bool weighted = with.weights && decode(*with.weights, false, static_cast<std::int64_t>(first),
-                                                 static_cast<std::int64_t>(count), partner_);
-    std::vector<double> seen;
-    for (std::size_t e = 0; e < count; ++e) {
-      seen.clear();
-      for (int c = 0; c < 4; ++c) {
-        const std::size_t k = e * 4 + static_cast<std::size_t>(c);
-        const std::uint64_t index = first * 4 + k;
-        const double joint = values_[k];
-        if (weighted && partner_[k] == 0.0) {
-          if (joint != 0)
-            issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", use, {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
-          continue;
+  // Spec 3.7.3.3: a vertex names each joint of its skin at most once among its non-zero weights,
+  // a zero weight pairs with joint 0, weights are not negative, and all the vertex's weights, over
+  // every set, sum to one within the component type's precision. The reference runs these checks
+  // after every accessor's own, vertex by vertex across all skinned primitives (a primitive's
+  // component checks, set by set, then each primitive's sum, reported at every WEIGHTS_n), and a
+  // weight whose joint or value was reported is left out of the sum.
+  void skinning() {
+    std::vector<SkinnedPrimitive> primitives;
+    for (const MeshModel& mesh : doc_.meshes) {
+      if (!mesh.object || mesh.skin < 0) continue;
+      for (const PrimitiveModel& primitive : mesh.primitives) {
+        if (!primitive.object) continue;
+        std::map<int, std::pair<std::int64_t, std::int64_t>> by_set;  // set → (JOINTS, WEIGHTS)
+        for (const auto& [name, index] : primitive.attributes) {
+          const std::string& semantic = name;
+          if (auto set = set_number(semantic, "JOINTS_")) by_set.try_emplace(*set, -1, -1).first->second.first = index;
+          if (auto set = set_number(semantic, "WEIGHTS_")) by_set.try_emplace(*set, -1, -1).first->second.second = index;
         }
-        if (a.joint_count >= 0 && joint >= static_cast<double>(a.joint_count))
-          issues_.at("ACCESSOR_JOINTS_INDEX_OOB", use,
-                     {arg(index), arg(c), arg(static_cast<std::int64_t>(joint)), arg(a.joint_count - 1), arg(a.skin)});
-        if (weighted && std::find(seen.begin(), seen.end(), joint) != seen.end())
-          issues_.at("ACCESSOR_JOINTS_INDEX_DUPLICATE", use, {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
-        seen.push_back(joint);
+        SkinnedPrimitive skinned{{}, -1, mesh.skin, mesh.joint_count, 0.0};
+        bool readable = !by_set.empty();
+        for (const auto& [set, pair] : by_set) {
+          const AccessorModel* joints = accessor_at(pair.first);
+          const AccessorModel* weights = accessor_at(pair.second);
+          readable = readable && joints && weights && joints->valid && weights->valid &&
+                     component_count(joints->type) == 4 && component_count(weights->type) == 4 &&
+                     joints->count == weights->count && (skinned.count < 0 || joints->count == skinned.count);
+          if (!readable) break;
+          skinned.count = joints->count;
+          const std::string attributes = primitive.pointer + "/attributes/";
+          skinned.sets.push_back({joints, weights, attributes + "JOINTS_" + std::to_string(set),
+                                  attributes + "WEIGHTS_" + std::to_string(set), {}, {}});
+        }
+        if (readable && skinned.count > 0) primitives.push_back(std::move(skinned));
+      }
+    }
+    std::int64_t vertices = 0;
+    for (const SkinnedPrimitive& primitive : primitives) vertices = std::max(vertices, primitive.count);
+    // Sparse accessors are decoded whole; the others chunk by chunk.
+    bool whole = false;
+    for (const SkinnedPrimitive& primitive : primitives)
+      for (const SkinSet& set : primitive.sets) whole = whole || set.joints->sparse || set.weights->sparse;
+    const std::int64_t chunk = whole ? vertices : kChunkElements;
+    std::vector<double> used;
+    for (std::int64_t first = 0; first < vertices; first += chunk) {
+      // Drop a primitive whose data cannot be read: its sums would be wrong.
+      std::erase_if(primitives, [&](SkinnedPrimitive& primitive) {
+        if (first >= primitive.count) return false;
+        const std::int64_t n = std::min(chunk, primitive.count - first);
+        for (SkinSet& set : primitive.sets)
+          if (!decode(*set.joints, false, first, n, set.joint_values) ||
+              !decode(*set.weights, false, first, n, set.weight_values))
+            return true;
+        return false;
+      });
+      const std::int64_t end = std::min(vertices, first + chunk);
+      for (std::int64_t vertex = first; vertex < end; ++vertex) {
+        const std::size_t local = static_cast<std::size_t>(vertex - first) * 4;
+        for (SkinnedPrimitive& primitive : primitives) {
+          if (vertex >= primitive.count) continue;
+          used.clear();
+          primitive.sum = 0;
+          for (const SkinSet& set : primitive.sets) {
+            for (int c = 0; c < 4; ++c) {
+              const std::uint64_t index = static_cast<std::uint64_t>(vertex) * 4 + static_cast<std::uint64_t>(c);
+              const double joint = set.joint_values[local + c];
+              const double raw_weight = set.weight_values[local + c];
+              const double weight = normalized(*set.weights, raw_weight);
+              bool left_out = false;
+              if (weight == 0.0) {
+                if (joint != 0)
+                  issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", set.joints_pointer,
+                             {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
+              } else if (primitive.joint_count >= 0 && joint >= static_cast<double>(primitive.joint_count)) {
+                issues_.at("ACCESSOR_JOINTS_INDEX_OOB", set.joints_pointer,
+                           {arg(index), arg(c), arg(static_cast<std::int64_t>(joint)), arg(primitive.joint_count - 1),
+                            arg(primitive.skin)});
+                left_out = true;
+              } else if (std::find(used.begin(), used.end(), joint) != used.end()) {
+                issues_.at("ACCESSOR_JOINTS_INDEX_DUPLICATE", set.joints_pointer,
+                           {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
+                left_out = true;
+              } else {
+                used.push_back(joint);
+              }
+              if (weight < 0) {
+                issues_.at("ACCESSOR_WEIGHTS_NEGATIVE", set.weights_pointer,
+                           {arg(index), arg(c), value_arg(*set.weights, raw_weight)});
+                left_out = true;
+              }
+              if (!left_out) primitive.sum += weight;
+            }
+          }
+        }
+        for (const SkinnedPrimitive& primitive : primitives) {
+          if (vertex >= primitive.count) continue;
+          // Float weights are exact to about 5e-4 after a writer's rounding; normalized integers
+          // to one step of an unsigned byte (spec 3.7.3.3 "within the precision of the type").
+          const bool float_weights = primitive.sets.size() == 1 && primitive.sets[0].weights->component_type == 5126;
+          const double tolerance = float_weights ? 5e-4 : 1.0 / 255.0;
+          if (std::fabs(primitive.sum - 1.0) <= tolerance) continue;
+          const std::uint64_t index = static_cast<std::uint64_t>(vertex) * 4;
+          for (const SkinSet& set : primitive.sets)
+            issues_.at("ACCESSOR_WEIGHTS_NON_NORMALIZED", set.weights_pointer,
+                       {arg(index), arg(index + 3), arg_double(primitive.sum)});
+        }
       }
     }
   }
@@ -565,8 +598,7 @@ class AccessorData {
 
   IssueSink& issues_;
   Document& doc_;
-  Values values_;   // the chunk being checked
-  Values partner_;  // the same elements of an accessor read alongside
+  Values values_;  // the chunk being checked
 };
 
 void load_buffers(Context& context) {

@@ -256,7 +256,7 @@ class ExtensionReader {
     if (normal == material.end() || !normal->is_object() || texture == o.end() || !texture->is_object()) return;
     auto coord = [](const Json& info) {
       auto found = info.find("texCoord");
-      return found != info.end() && found->is_number_integer() ? found->get<std::int64_t>() : 0;
+      return found != info.end() ? integer_value(*found).value_or(0) : 0;
     };
     if (coord(*normal) != coord(*texture)) issues_.at(code, p + "/" + key);
   }

@@ -45,16 +45,6 @@ std::int64_t last_element_size(const AccessorModel& accessor) {
   return static_cast<std::int64_t>(size) * component_count(accessor.type);
 }
 
-// The set number n of a semantic PREFIXn ("TEXCOORD_1" → 1), when n is written the schema's way.
-std::optional<int> set_number(const std::string& name, std::string_view prefix) {
-  if (!name.starts_with(prefix)) return std::nullopt;
-  const std::string digits = name.substr(prefix.size());
-  if (digits.empty() || digits.size() > 6 || (digits.size() > 1 && digits[0] == '0') ||
-      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return std::nullopt;
-  return std::stoi(digits);
-}
-
 bool valid_texcoord(const std::string& name) { return set_number(name, "TEXCOORD_").has_value(); }
 
 class Linker {
@@ -373,28 +363,45 @@ class Linker {
     use_view_as(accessor, 34962, "VertexBuffer", pointer);
   }
 
-  void attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer) {
+  // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
+  // A target holds displacements: TANGENT is a VEC3 without the handedness, and texture coordinates
+  // and colours may also be signed.
+  void attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer,
+                        bool morph_target = false) {
     const bool quantized = context_.declared("KHR_mesh_quantization");
     std::vector<std::tuple<const char*, int, bool>> allowed;
+    auto normalized_types = [&](const char* type, std::initializer_list<int> components) {
+      for (int ct : components) allowed.push_back({type, ct, true});
+    };
     if (name == "POSITION" || name == "NORMAL" || name == "TANGENT") {
-      const char* type = name == "TANGENT" ? "VEC4" : "VEC3";
+      const char* type = name == "TANGENT" && !morph_target ? "VEC4" : "VEC3";
       allowed.push_back({type, 5126, false});
-      if (quantized) {
-        if (name == "POSITION")
-          for (int ct : {5120, 5121, 5122, 5123})
+      if (quantized && name == "POSITION") {
+        for (int ct : {5120, 5121, 5122, 5123})
+          if (!morph_target || ct == 5120 || ct == 5122)  // a displacement is signed
             allowed.push_back({type, ct, false}), allowed.push_back({type, ct, true});
-        else
-          for (int ct : {5120, 5122}) allowed.push_back({type, ct, true});
+      } else if (quantized) {
+        normalized_types(type, {5120, 5122});
       }
     } else if (name.starts_with("TEXCOORD_")) {
-      allowed = {{"VEC2", 5126, false}, {"VEC2", 5121, true}, {"VEC2", 5123, true}};
-      if (quantized)
+      allowed = {{"VEC2", 5126, false}};
+      if (morph_target)
+        normalized_types("VEC2", {5120, 5121, 5122, 5123});
+      else
+        normalized_types("VEC2", {5121, 5123});
+      if (quantized && morph_target)
+        for (int ct : {5120, 5122}) allowed.push_back({"VEC2", ct, false});
+      else if (quantized)
         for (int ct : {5120, 5121, 5122, 5123})
           allowed.push_back({"VEC2", ct, false}), allowed.push_back({"VEC2", ct, true});
     } else if (name.starts_with("COLOR_")) {
-      for (const char* type : {"VEC3", "VEC4"})
-        allowed.push_back({type, 5126, false}), allowed.push_back({type, 5121, true}),
-            allowed.push_back({type, 5123, true});
+      for (const char* type : {"VEC3", "VEC4"}) {
+        allowed.push_back({type, 5126, false});
+        if (morph_target)
+          normalized_types(type, {5120, 5121, 5122, 5123});
+        else
+          normalized_types(type, {5121, 5123});
+      }
     } else if (name.starts_with("JOINTS_")) {
       allowed = {{"VEC4", 5121, false}, {"VEC4", 5123, false}};
     } else if (name.starts_with("WEIGHTS_")) {
@@ -427,6 +434,8 @@ class Linker {
         vertex_attribute(*accessor, name, ap);
         if (accessor->usage == AccessorModel::Usage::None) accessor->semantic = name;
         use_accessor(*accessor, AccessorModel::Usage::Vertex, ap);
+        if (accessor->usage == AccessorModel::Usage::Vertex && accessor->semantic == name)
+          accessor->vertex_uses.push_back(ap);
         if (accessor->count > 0) {
           if (!have_count) {
             vertex_count = accessor->count;
@@ -436,7 +445,6 @@ class Linker {
           }
         }
       }
-      pair_joints_and_weights(primitive);
       if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
         const bool valid =
             indices->type == "SCALAR" && !indices->normalized &&
@@ -452,9 +460,9 @@ class Linker {
           indices->vertex_limit = vertex_count;
           indices->primitive_mode = primitive.mode;
         }
-        incompatible_mode(primitive, indices->count, p + "/indices");
+        incompatible_mode(primitive, indices->count, p);
       } else if (primitive.indices < 0 && vertex_count > 0) {
-        incompatible_mode(primitive, vertex_count, p + "/attributes");
+        incompatible_mode(primitive, vertex_count, p);
       }
       MaterialModel* material = resolve(doc_.materials, primitive.material, p + "/material");
       std::set<std::int64_t> used_sets;
@@ -505,50 +513,14 @@ class Linker {
           use_view_as(*accessor, 34962, "VertexBuffer", tp);
           if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
             issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
-          attribute_format(*accessor, name, tp);
           if (vertex_count > 0 && accessor->count > 0 && accessor->count != vertex_count)
             issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
+          attribute_format(*accessor, name, tp, /*morph_target=*/true);
         }
       }
       if (primitive.draco)
         resolve(doc_.buffer_views, primitive.draco_buffer_view,
                 p + "/extensions/KHR_draco_mesh_compression/bufferView");
-    }
-  }
-
-  AccessorModel* accessor_at(std::int64_t index) {
-    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
-    AccessorModel& accessor = doc_.accessors[static_cast<std::size_t>(index)];
-    return accessor.object ? &accessor : nullptr;
-  }
-
-  // Spec 3.7.3.3: JOINTS_n and WEIGHTS_n are read together, set by set.
-  void pair_joints_and_weights(const PrimitiveModel& primitive) {
-    // Spec 3.7.3.3: with several sets, the weights of all sets together sum to one.
-    std::map<int, std::int64_t> weight_sets;  // set number → accessor
-    for (const auto& [name, index] : primitive.attributes)
-      if (name.starts_with("WEIGHTS_"))
-        if (const auto set = set_number(name, "WEIGHTS_")) weight_sets[*set] = index;
-    if (weight_sets.size() > 1) {
-      std::vector<std::int64_t> earlier;
-      for (const auto& [set, index] : weight_sets) {
-        AccessorModel* weights = accessor_at(index);
-        if (!weights) continue;
-        if (set == weight_sets.rbegin()->first) {
-          if (weights->earlier_weight_sets.empty()) weights->earlier_weight_sets = earlier;
-        } else {
-          weights->weights_sum_here = false;
-          earlier.push_back(index);
-        }
-      }
-    }
-    for (const auto& [name, index] : primitive.attributes) {
-      if (!name.starts_with("JOINTS_")) continue;
-      AccessorModel* joints = accessor_at(index);
-      if (!joints || joints->paired_weights >= 0) continue;
-      const std::string weights_name = "WEIGHTS_" + name.substr(7);
-      for (const auto& [other, other_index] : primitive.attributes)
-        if (other == weights_name) joints->paired_weights = other_index;
     }
   }
 
@@ -598,13 +570,10 @@ class Linker {
       if (node.weights >= 0 && node.weights != targets)
         issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});
       if (skinned && !skin && node.skin < 0) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);
-      if (skinned && skin)
-        for (const auto& primitive : mesh->primitives)
-          for (const auto& [name, index] : primitive.attributes)
-            if (AccessorModel* joints = accessor_at(index); joints && name.starts_with("JOINTS_") && joints->skin < 0) {
-              joints->skin = node.skin;
-              joints->joint_count = static_cast<std::int64_t>(skin->joints.size());
-            }
+      if (skinned && skin) {
+        mesh->skin = node.skin;
+        mesh->joint_count = static_cast<std::int64_t>(skin->joints.size());
+      }
       if (!skinned && skin) issues_.at("NODE_SKIN_WITH_NON_SKINNED_MESH", p);
     }
     for (std::size_t c = 0; c < node.children.size(); ++c) {
@@ -826,6 +795,16 @@ class Linker {
 };
 
 }  // namespace
+
+// The set number n of a semantic PREFIXn ("TEXCOORD_1" → 1), when n is written the schema's way.
+std::optional<int> set_number(const std::string& name, std::string_view prefix) {
+  if (!name.starts_with(prefix)) return std::nullopt;
+  const std::string digits = name.substr(prefix.size());
+  if (digits.empty() || digits.size() > 6 || (digits.size() > 1 && digits[0] == '0') ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  return std::stoi(digits);
+}
 
 void check_links(Context& context) { Linker(context).run(); }
 

@@ -73,8 +73,17 @@ std::string IssueSink::format(const std::string& code, const std::vector<Message
     // The list slot "('`%a`', '`%b`', '`%c`')" stands for every allowed value.
     static constexpr std::string_view list_slot = "('`%a`', '`%b`', '`%c`')";
     if (pattern.compare(i, list_slot.size(), list_slot) == 0) {
+      // The reference shortens a list of more than five accessor formats ("Must be one of") to its
+      // first three, "..." and its last two; lists of values ("Valid values are") stay whole.
+      const bool elide = list.size() > 5 && pattern.find("Must be one of") != std::string::npos;
       out += '(';
-      for (std::size_t k = 0; k < list.size(); ++k) out += (k ? ", " : "") + render(list[k], true);
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        if (elide && k >= 3 && k < list.size() - 2) {
+          if (k == 3) out += ", ...";
+          continue;
+        }
+        out += (k ? ", " : "") + render(list[k], true);
+      }
       out += ')';
       i += list_slot.size();
       continue;

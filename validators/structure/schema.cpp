@@ -577,6 +577,8 @@ class Walker {
     if (auto uri = read_.string(o, p, "uri")) {
       m.has_uri = true;
       m.uri = *uri;
+      // As for buffers: a GLB should carry its images in buffer views, not beside it or in data URIs.
+      if (context_.glb) context_.issues.at("URI_GLB", p + "/uri");
       m.uri_valid = check_uri(*uri, p + "/uri", false, m.data_uri, m.data, &m.data_uri_mime);
       if (m.uri_valid && m.data_uri && !m.data_uri_mime.empty() && m.data_uri_mime != "image/png" &&
           m.data_uri_mime != "image/jpeg" && m.data_uri_mime != "image/webp" && m.data_uri_mime != "image/ktx2") {
@@ -584,6 +586,7 @@ class Walker {
                            {arg(*uri), arg_raw("\nThe declared mediatype does not match the embedded content.")});
         m.uri_valid = false;
       }
+      if (m.uri_valid && m.data_uri && context_.glb) context_.issues.at("DATA_URI_GLB", p + "/uri");
     }
     const bool has_view = present(o, "bufferView"), has_uri = present(o, "uri");
     if (has_view == has_uri) context_.issues.at("ONE_OF_MISMATCH", p, {}, {arg("bufferView"), arg("uri")});
@@ -619,9 +622,8 @@ class Walker {
     // KHR_texture_transform.texCoord, when present, replaces the binding's set.
     if (auto ext = info->find("extensions"); ext != info->end() && ext->is_object()) {
       if (auto transform = ext->find("KHR_texture_transform"); transform != ext->end() && transform->is_object()) {
-        if (auto coord = transform->find("texCoord");
-            coord != transform->end() && coord->is_number_integer() && coord->get<std::int64_t>() >= 0)
-          ref.tex_coord = coord->get<std::int64_t>();
+        if (auto coord = transform->find("texCoord"); coord != transform->end())
+          if (const auto set = integer_value(*coord); set && *set >= 0) ref.tex_coord = *set;
       }
     }
     if (kind == 1) {
@@ -671,7 +673,8 @@ class Walker {
       *base = name;
       return true;
     }
-    if (!target && !name.empty() && name[0] == '_') {
+    // Spec 3.7.2.1: application-specific semantics start with an underscore, in targets as well.
+    if (!name.empty() && name[0] == '_') {
       *base = name;
       return true;
     }
@@ -695,12 +698,13 @@ class Walker {
     for (const auto& [name, value] : o.items()) {
       const std::string ap = p + "/" + escape_pointer_token(name);
       std::int64_t index = -1;
-      if (!is_integer(value)) {
+      const std::optional<std::int64_t> integer = integer_value(value);
+      if (!integer) {
         context_.issues.at("TYPE_MISMATCH", ap, {arg_json(value), arg("integer")});
-      } else if (!value.is_number_unsigned() && value.get<std::int64_t>() < 0) {
+      } else if (*integer < 0) {
         context_.issues.at("INVALID_INDEX", ap);
       } else {
-        index = value.is_number_unsigned() ? std::numeric_limits<std::int64_t>::max() : value.get<std::int64_t>();
+        index = *integer;
       }
       std::string base;
       int set;
@@ -712,6 +716,10 @@ class Walker {
       result.emplace_back(name, index);
     }
     if (!target) {
+      // After the names and before the sets, as the reference reports them.
+      auto has = [&](const char* name) { return o.contains(name); };
+      if (!has("POSITION")) context_.issues.at("MESH_PRIMITIVE_NO_POSITION", p);
+      if (has("TANGENT") && !has("NORMAL")) context_.issues.at("MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL", p + "/TANGENT");
       for (auto& [base, list] : sets) {
         std::sort(list.begin(), list.end());
         const bool continuous = list.back() == static_cast<int>(list.size()) - 1;
@@ -737,10 +745,6 @@ class Walker {
         context_.issues.at("EMPTY_ENTITY", p + "/attributes");
       } else {
         m.attributes = attribute_map(*attributes, p + "/attributes", false);
-        auto has = [&](const char* name) { return attributes->contains(name); };
-        if (!has("POSITION")) context_.issues.at("MESH_PRIMITIVE_NO_POSITION", p + "/attributes");
-        if (has("TANGENT") && !has("NORMAL"))
-          context_.issues.at("MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL", p + "/attributes/TANGENT");
       }
     }
     if (auto targets = read_.object_array(o, p, "targets", false, false)) {

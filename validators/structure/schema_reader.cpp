@@ -1,9 +1,22 @@
 #include "validators/structure/schema_reader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace gltf_pbr::structure {
+
+std::optional<std::int64_t> integer_value(const Json& value) {
+  constexpr auto most = std::numeric_limits<std::int64_t>::max();
+  if (value.is_number_unsigned()) return static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), most));
+  if (value.is_number_integer()) return value.get<std::int64_t>();
+  if (!value.is_number_float()) return std::nullopt;
+  const double number = value.get<double>();
+  if (!std::isfinite(number) || std::trunc(number) != number) return std::nullopt;
+  // 2^63 is the first double above the range; the lowest int64 is exactly -2^63.
+  if (number >= 9223372036854775808.0) return most;
+  return static_cast<std::int64_t>(std::max(number, -9223372036854775808.0));
+}
 
 void SchemaReader::check_members(const Json& object, const std::string& pointer,
                                  std::initializer_list<std::string_view> known) {
@@ -19,18 +32,13 @@ std::int64_t SchemaReader::index(const Json& object, const std::string& pointer,
     if (required) missing(pointer, key);
     return -1;
   }
-  if (!is_integer(*value)) {
+  const std::optional<std::int64_t> integer = integer_value(*value);
+  if (!integer) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("integer")});
     if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return -1;
   }
-  if (value->is_number_unsigned()) {
-    const auto number = value->get<std::uint64_t>();
-    return number > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
-               ? std::numeric_limits<std::int64_t>::max()
-               : static_cast<std::int64_t>(number);
-  }
-  const auto number = value->get<std::int64_t>();
+  const std::int64_t number = *integer;
   if (number < 0) {
     issues_.at("INVALID_INDEX", child(pointer, key));
     return -1;
@@ -46,15 +54,13 @@ std::optional<std::int64_t> SchemaReader::integer(const Json& object, const std:
     if (required) missing(pointer, key);
     return std::nullopt;
   }
-  if (!is_integer(*value)) {
+  const std::optional<std::int64_t> integer = integer_value(*value);
+  if (!integer) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("integer")});
     if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return std::nullopt;
   }
-  const std::int64_t number = value->is_number_unsigned()
-                                  ? static_cast<std::int64_t>(std::min<std::uint64_t>(
-                                        value->get<std::uint64_t>(), std::numeric_limits<std::int64_t>::max()))
-                                  : value->get<std::int64_t>();
+  const std::int64_t number = *integer;
   if (allowed.size() > 0) {
     if (std::find(allowed.begin(), allowed.end(), number) == allowed.end()) {
       std::vector<MessageArg> list;
@@ -189,13 +195,13 @@ std::optional<std::vector<std::int64_t>> SchemaReader::indices(const Json& objec
   std::set<std::int64_t> seen;
   for (std::size_t i = 0; i < value->size(); ++i) {
     const Json& item = (*value)[i];
-    if (!is_integer(item)) {
+    const std::optional<std::int64_t> integer = integer_value(item);
+    if (!integer) {
       issues_.at("ARRAY_TYPE_MISMATCH", child(here, i), {arg_json(item), arg("integer")});
       result.push_back(-1);
       continue;
     }
-    const std::int64_t number =
-        item.is_number_unsigned() ? std::numeric_limits<std::int64_t>::max() : item.get<std::int64_t>();
+    const std::int64_t number = *integer;
     if (number < 0) {
       issues_.at("INVALID_INDEX", child(here, i));
       result.push_back(-1);

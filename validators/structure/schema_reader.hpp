@@ -85,7 +85,11 @@ class SchemaReader {
   std::size_t missing_count_ = 0;
 };
 
-inline bool is_integer(const Json& value) { return value.is_number_integer(); }
+// The value of a JSON integer, saturated to the int64 range; std::nullopt when `value` is not one.
+// JSON Schema (2020-12 validation 6.1.1, the glTF schema's draft) counts any number with a zero
+// fractional part as an integer, so 1, 1.0 and 1e0 are the same index (the npm reference agrees).
+std::optional<std::int64_t> integer_value(const Json& value);
+inline bool is_integer(const Json& value) { return integer_value(value).has_value(); }
 
 // Whether `object` defines `key` (a null value does not, as in the reference's Dart maps).
 inline bool present(const Json& object, std::string_view key) {

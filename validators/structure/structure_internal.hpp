@@ -57,6 +57,9 @@ class IssueSink {
   bool found_error_ = false;
 };
 
+// The set number n of a semantic PREFIXn ("TEXCOORD_1" → 1), when n is written the schema's way.
+std::optional<int> set_number(const std::string& name, std::string_view prefix);
+
 // ---- The document model the schema walk fills and the later passes read. Indices are -1 when
 // absent or invalid; every entity remembers whether it was a JSON object (non-objects are reported
 // once and skipped afterwards) and whether anything references it (UNUSED_OBJECT).
@@ -95,14 +98,9 @@ struct AccessorModel : EntityModel {
   std::int64_t vertex_limit = -1;
   int primitive_mode = 4;
   bool fits = false;  // the link pass found it inside its buffer view
-  // JOINTS_n: the WEIGHTS_n accessor of the same primitive, and the skin that binds it.
-  std::int64_t paired_weights = -1;
-  std::int64_t skin = -1;
-  std::int64_t joint_count = -1;
-  // WEIGHTS_n: the primitive's weights are summed per vertex across every set. The last set
-  // carries the earlier ones; the earlier sets are not summed on their own.
-  bool weights_sum_here = true;
-  std::vector<std::int64_t> earlier_weight_sets;
+  // Every mesh attribute that reads it with its first semantic: the reference checks the data
+  // once for each (a NORMAL shared by two primitives is reported at both).
+  std::vector<std::string> vertex_uses;
 };
 
 struct BufferViewModel : EntityModel {
@@ -161,6 +159,10 @@ struct PrimitiveModel {
 struct MeshModel : EntityModel {
   std::vector<PrimitiveModel> primitives;
   std::int64_t weights = -1;
+  // The skin of the last node, in node order, that draws this mesh with a skin: the joints are
+  // checked against it.
+  std::int64_t skin = -1;
+  std::int64_t joint_count = -1;
 };
 
 struct NodeModel : EntityModel {
