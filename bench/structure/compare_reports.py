@@ -59,12 +59,12 @@ for r, o in zip(ref, ours):
         examples['ORDER'].append((r['uri'], a, b))
         continue
     ca, cb = Counter(a), Counter(b)
-    for k in set(ca - cb):
-        name = 'ref-only %s sev%d' % (k[0], k[2])
+    for k in sorted({(k[0], k[2]) for k in ca - cb}):
+        name = 'ref-only %s sev%d' % k
         classes[name] += 1
         examples[name].append((r['uri'], a, b))
-    for k in set(cb - ca):
-        name = 'ours-only %s sev%d' % (k[0], k[2])
+    for k in sorted({(k[0], k[2]) for k in cb - ca}):
+        name = 'ours-only %s sev%d' % k
         classes[name] += 1
         examples[name].append((r['uri'], a, b))
 

@@ -559,7 +559,7 @@ class Linker {
     SkinModel* skin = resolve(doc_.skins, node.skin, p + "/skin");
     MeshModel* mesh = resolve(doc_.meshes, node.mesh, p + "/mesh");
     if (mesh) node.empty = false;
-    if (mesh) {
+    if (mesh && mesh->valid) {  // a mesh dropped for its schema errors has nothing to compare
       std::int64_t targets = 0;
       bool skinned = false;
       for (const auto& primitive : mesh->primitives) {
@@ -817,6 +817,7 @@ void report_unused(Context& context) {
         issues.at("UNUSED_OBJECT", "/" + std::string(collection) + "/" + std::to_string(i));
   };
   for (std::size_t a = 0; a < doc.animations.size(); ++a) {
+    if (!doc.animations[a].valid) continue;  // never linked: its samplers' use is unknown
     const auto& samplers = doc.animations[a].samplers;
     for (std::size_t s = 0; s < samplers.size(); ++s)
       if (samplers[s].object && !samplers[s].used)

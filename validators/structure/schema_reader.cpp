@@ -195,13 +195,8 @@ std::optional<std::vector<std::int64_t>> SchemaReader::indices(const Json& objec
   std::set<std::int64_t> seen;
   for (std::size_t i = 0; i < value->size(); ++i) {
     const Json& item = (*value)[i];
-    const std::optional<std::int64_t> integer = integer_value(item);
-    if (!integer) {
-      issues_.at("ARRAY_TYPE_MISMATCH", child(here, i), {arg_json(item), arg("integer")});
-      result.push_back(-1);
-      continue;
-    }
-    const std::int64_t number = *integer;
+    // Anything but a non-negative integer is an invalid index, whatever its type.
+    const std::int64_t number = integer_value(item).value_or(-1);
     if (number < 0) {
       issues_.at("INVALID_INDEX", child(here, i));
       result.push_back(-1);
@@ -235,18 +230,25 @@ std::optional<std::vector<const Json*>> SchemaReader::object_array(const Json& o
   const std::string here = child(pointer, key);
   std::vector<const Json*> result;
   result.reserve(value->size());
+  bool all_objects = true;
   for (std::size_t i = 0; i < value->size(); ++i) {
     const Json& item = (*value)[i];
     if (item.is_object()) {
       result.push_back(&item);
       continue;
     }
-    // Top-level collections name the element; nested arrays name the array (reference behaviour).
+    // Top-level collections name the element and keep the others; a nested array names itself
+    // and is dropped whole, as if absent (the reference reads none of its elements then).
+    all_objects = false;
     if (root_level)
       issues_.at("TYPE_MISMATCH", child(here, i), {arg_json(item), arg("object")});
     else
       issues_.at("ARRAY_TYPE_MISMATCH", here, {arg_json(item), arg("object")});
     result.push_back(nullptr);
+  }
+  if (!root_level && !all_objects) {
+    if (required) ++missing_count_;  // a required property that is unusable counts as missing
+    return std::nullopt;
   }
   return result;
 }
