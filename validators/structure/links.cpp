@@ -436,13 +436,12 @@ class Linker {
         use_accessor(*accessor, AccessorModel::Usage::Vertex, ap);
         if (accessor->usage == AccessorModel::Usage::Vertex && accessor->semantic == name)
           accessor->vertex_uses.push_back(ap);
-        if (accessor->count > 0) {
-          if (!have_count) {
-            vertex_count = accessor->count;
-            have_count = true;
-          } else if (vertex_count != accessor->count) {
-            issues_.at("MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT", ap);
-          }
+        // An accessor without a usable count (-1) differs from one with a count, as in the reference.
+        if (!have_count) {
+          vertex_count = accessor->count;
+          have_count = true;
+        } else if (vertex_count != accessor->count) {
+          issues_.at("MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT", ap);
         }
       }
       if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
@@ -513,7 +512,7 @@ class Linker {
           use_view_as(*accessor, 34962, "VertexBuffer", tp);
           if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
             issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
-          if (vertex_count > 0 && accessor->count > 0 && accessor->count != vertex_count)
+          if (have_count && accessor->count != vertex_count)
             issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
         }

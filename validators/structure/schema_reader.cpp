@@ -35,7 +35,6 @@ std::int64_t SchemaReader::index(const Json& object, const std::string& pointer,
   const std::optional<std::int64_t> integer = integer_value(*value);
   if (!integer) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("integer")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return -1;
   }
   const std::int64_t number = *integer;
@@ -57,7 +56,6 @@ std::optional<std::int64_t> SchemaReader::integer(const Json& object, const std:
   const std::optional<std::int64_t> integer = integer_value(*value);
   if (!integer) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("integer")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return std::nullopt;
   }
   const std::int64_t number = *integer;
@@ -70,7 +68,6 @@ std::optional<std::int64_t> SchemaReader::integer(const Json& object, const std:
     }
   } else if (!range.contains(static_cast<double>(number))) {
     issues_.at("VALUE_NOT_IN_RANGE", child(pointer, key), {arg(number)});
-    if (required) ++missing_count_;
     return std::nullopt;
   }
   return number;
@@ -85,7 +82,6 @@ std::optional<double> SchemaReader::number(const Json& object, const std::string
   }
   if (!value->is_number()) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("number")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return std::nullopt;
   }
   const double number = value->get<double>();
@@ -106,7 +102,6 @@ std::optional<std::string> SchemaReader::string(const Json& object, const std::s
   }
   if (!value->is_string()) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("string")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return std::nullopt;
   }
   std::string text = value->get<std::string>();
@@ -139,12 +134,10 @@ const Json* SchemaReader::non_empty_array(const Json& object, const std::string&
   const std::string here = child(pointer, key);
   if (!value->is_array()) {
     issues_.at("TYPE_MISMATCH", here, {arg_json(*value), arg("array")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return nullptr;
   }
   if (value->empty()) {
     issues_.at("EMPTY_ENTITY", here);
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return nullptr;
   }
   return value;
@@ -170,7 +163,7 @@ std::optional<std::vector<double>> SchemaReader::numbers(const Json& object, con
   for (std::size_t i = 0; i < value->size(); ++i) {
     const Json& item = (*value)[i];
     if (!item.is_number()) {
-      issues_.at("ARRAY_TYPE_MISMATCH", child(here, i), {arg_json(item), arg("number")});
+      issues_.at("ARRAY_TYPE_MISMATCH", here, {arg_json(item), arg("number")});  // the reference names the array
       valid = false;
       continue;
     }
@@ -216,7 +209,6 @@ const Json* SchemaReader::object(const Json& object, const std::string& pointer,
   }
   if (!value->is_object()) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("object")});
-    if (required) ++missing_count_;  // a required property that is unusable counts as missing
     return nullptr;
   }
   return value;

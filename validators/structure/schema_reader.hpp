@@ -59,7 +59,9 @@ class SchemaReader {
   void extras(const Json& object, const std::string& pointer);
 
   // The array under `key`, or nullptr after reporting why not: absent (UNDEFINED_PROPERTY when required), not
-  // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY); the last two count as missing when required.
+  // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY). Only an absent required property makes its
+  // object unusable: a present one of the wrong type or value leaves the object linked, as in the
+  // reference.
   const Json* non_empty_array(const Json& object, const std::string& pointer, std::string_view key, bool required);
 
   // UNDEFINED_PROPERTY, counted: an object that misses a required property is reported but not
