@@ -81,7 +81,7 @@ class ExtensionReader {
       read_.number(o, p, "dispersion", false, kNonNegative);
       tail(o, p);
       // KHR_materials_dispersion: "requires KHR_materials_volume".
-      if (!has_sibling(owner_object, "KHR_materials_volume")) issues_.at("KHR_MATERIALS_DISPERSION_NO_VOLUME", p);
+      if (!has_sibling(owner_object, "KHR_materials_volume")) at_link("KHR_MATERIALS_DISPERSION_NO_VOLUME", p);
     } else if (name == "KHR_materials_emissive_strength") {
       read_.check_members(o, p, {"emissiveStrength", "extensions", "extras"});
       const bool strength = read_.number(o, p, "emissiveStrength", false, kNonNegative).has_value();
@@ -91,7 +91,7 @@ class ExtensionReader {
       if (factor != owner_object.end() && factor->is_array())
         for (const auto& value : *factor)
           if (!value.is_number() || value.get<double>() != 0) zero = false;
-      if (zero) issues_.at("KHR_MATERIALS_EMISSIVE_STRENGTH_ZERO_FACTOR", p);
+      if (zero) at_link("KHR_MATERIALS_EMISSIVE_STRENGTH_ZERO_FACTOR", p);
     } else if (name == "KHR_materials_ior") {
       read_.check_members(o, p, {"ior", "extensions", "extras"});
       // KHR_materials_ior: ior is 0 (a special value) or at least 1.
@@ -172,11 +172,11 @@ class ExtensionReader {
       bool transmits = false;
       for (const auto& [sibling, value] : owner_object["extensions"].items())
         if (sibling.find("transmission") != std::string::npos) transmits = true;
-      if (!transmits) issues_.at("KHR_MATERIALS_VOLUME_NO_TRANSMISSION", p);
+      if (!transmits) at_link("KHR_MATERIALS_VOLUME_NO_TRANSMISSION", p);
       auto double_sided = owner_object.find("doubleSided");
       if (thickness > 0 && double_sided != owner_object.end() && double_sided->is_boolean() &&
           double_sided->get<bool>())
-        issues_.at("KHR_MATERIALS_VOLUME_DOUBLE_SIDED", p);
+        at_link("KHR_MATERIALS_VOLUME_DOUBLE_SIDED", p);
     } else if (name == "KHR_texture_transform") {
       read_.check_members(o, p, {"offset", "rotation", "scale", "texCoord", "extensions", "extras"});
       read_.numbers(o, p, "offset", {2});
@@ -258,7 +258,16 @@ class ExtensionReader {
       auto found = info.find("texCoord");
       return found != info.end() ? integer_value(*found).value_or(0) : 0;
     };
-    if (coord(*normal) != coord(*texture)) issues_.at(code, p + "/" + key);
+    if (coord(*normal) != coord(*texture)) at_link(code, p + "/" + key);
+  }
+
+  // A rule between a material's properties: the reference checks it when it links the material,
+  // after the whole document is read (and the material's own texture references are resolved).
+  void at_link(const char* code, const std::string& pointer) {
+    if (MaterialModel* material = hooks_.material())
+      material->extension_issues.emplace_back(code, pointer);
+    else
+      issues_.at(code, pointer);
   }
 
   void texture(const Json& o, const std::string& p, const char* key, int kind = 0) {

@@ -319,7 +319,9 @@ class Linker {
   }
 
   void material(std::size_t i) {
-    for (const TextureRef& ref : doc_.materials[i].textures) resolve(doc_.textures, ref.index, ref.pointer + "/index");
+    const MaterialModel& material = doc_.materials[i];
+    for (const TextureRef& ref : material.textures) resolve(doc_.textures, ref.index, ref.pointer + "/index");
+    for (const auto& [code, pointer] : material.extension_issues) issues_.at(code, pointer);
   }
 
   void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
@@ -463,33 +465,36 @@ class Linker {
       } else if (primitive.indices < 0 && vertex_count > 0) {
         incompatible_mode(primitive, vertex_count, p);
       }
-      MaterialModel* material = resolve(doc_.materials, primitive.material, p + "/material");
       std::set<std::int64_t> used_sets;
+      // Each texture binding of a material needs its TEXCOORD_n here.
+      auto texture_coordinates = [&](const MaterialModel& bound, const std::string& pointer) {
+        for (const TextureRef& ref : bound.textures) {
+          used_sets.insert(ref.tex_coord);
+          const std::string wanted = "TEXCOORD_" + std::to_string(ref.tex_coord);
+          const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
+                                           [&](const auto& attribute) { return attribute.first == wanted; });
+          if (!present) issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", pointer, {arg(ref.pointer), arg(ref.tex_coord)});
+        }
+      };
+      // KHR_materials_variants: the mappings are linked before the primitive's own material.
+      if (doc_.has_variants_root) {
+        for (std::size_t v = 0; v < primitive.variant_refs.size(); ++v)
+          resolve(doc_.variants, primitive.variant_refs[v], primitive.variant_pointers[v]);
+        for (const auto& [pointer, index] : primitive.variant_materials)
+          if (MaterialModel* variant_material = resolve(doc_.materials, index, pointer))
+            texture_coordinates(*variant_material, pointer);
+      }
+      MaterialModel* material = resolve(doc_.materials, primitive.material, p + "/material");
       if (material) {
         if ((material->has_normal_texture || material->needs_tangents) && !(has_normal && has_tangent)) {
           issues_.at(material->has_normal_texture ? "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE"
                                                   : "MESH_PRIMITIVE_NO_TANGENT_SPACE",
                      p + "/material");
         }
-        for (const TextureRef& ref : material->textures) {
-          used_sets.insert(ref.tex_coord);
-          const std::string wanted = "TEXCOORD_" + std::to_string(ref.tex_coord);
-          const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
-                                           [&](const auto& attribute) { return attribute.first == wanted; });
-          if (!present)
-            issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", p + "/material", {arg(ref.pointer), arg(ref.tex_coord)});
-        }
+        texture_coordinates(*material, p + "/material");
       }
       if (has_tangent && (!material || !material->has_normal_texture))
         issues_.at("UNUSED_MESH_TANGENT", p + "/attributes/TANGENT");
-      const bool variants_linked = doc_.has_variants_root;
-      if (variants_linked) {
-        for (std::size_t v = 0; v < primitive.variant_refs.size(); ++v)
-          resolve(doc_.variants, primitive.variant_refs[v], primitive.variant_pointers[v]);
-        for (const auto& [pointer, index] : primitive.variant_materials)
-          if (MaterialModel* variant_material = resolve(doc_.materials, index, pointer))
-            for (const TextureRef& ref : variant_material->textures) used_sets.insert(ref.tex_coord);
-      }
       // TEXCOORD_0 .. TEXCOORD_{n-1}, n the number of texture coordinate sets, that no binding reads.
       std::int64_t sets = 0;
       for (const auto& [name, index] : primitive.attributes)
@@ -828,26 +833,22 @@ void report_unused(Context& context) {
   each(doc.cameras, "cameras");
   each(doc.images, "images");
   each(doc.materials, "materials");
-  for (std::size_t i = 0; i < doc.meshes.size(); ++i) {
-    if (!doc.meshes[i].object) continue;
-    if (!doc.meshes[i].used) {
-      issues.at("UNUSED_OBJECT", "/meshes/" + std::to_string(i));
-      continue;
-    }
-    // Spec 3.7.2.2: a node's weights override its mesh's; when every node has its own, the mesh's
-    // are never seen.
-    const bool some_node_reads_mesh_weights = std::any_of(doc.nodes.begin(), doc.nodes.end(), [&](const NodeModel& n) {
-      return n.object && n.mesh == static_cast<std::int64_t>(i) && n.weights < 0;
-    });
-    if (doc.meshes[i].weights >= 0 && !some_node_reads_mesh_weights)
-      issues.at("UNUSED_MESH_WEIGHTS", "/meshes/" + std::to_string(i) + "/weights");
-  }
+  each(doc.meshes, "meshes");
   each(doc.nodes, "nodes");
   each(doc.samplers, "samplers");
   each(doc.skins, "skins");
   each(doc.textures, "textures");
   each(doc.lights, "extensions/KHR_lights_punctual/lights");
   each(doc.variants, "extensions/KHR_materials_variants/variants");
+  // Spec 3.7.2.2: a node's weights override its mesh's; when every node has its own, the mesh's
+  // are never seen. Reported after every unused object, as the reference does.
+  for (std::size_t i = 0; i < doc.meshes.size(); ++i) {
+    const bool some_node_reads_mesh_weights = std::any_of(doc.nodes.begin(), doc.nodes.end(), [&](const NodeModel& n) {
+      return n.object && n.mesh == static_cast<std::int64_t>(i) && n.weights < 0;
+    });
+    if (doc.meshes[i].object && doc.meshes[i].used && doc.meshes[i].weights >= 0 && !some_node_reads_mesh_weights)
+      issues.at("UNUSED_MESH_WEIGHTS", "/meshes/" + std::to_string(i) + "/weights");
+  }
 }
 
 }  // namespace gltf_pbr::structure

@@ -137,6 +137,8 @@ struct MaterialModel : EntityModel {
   bool has_normal_texture = false;
   bool needs_tangents = false;  // KHR_materials_anisotropy shades along tangents
   std::int64_t normal_tex_coord = 0;
+  // (code, pointer) of what its extensions' rules found: reported when the material is linked.
+  std::vector<std::pair<std::string, std::string>> extension_issues;
 };
 
 struct PrimitiveModel {
