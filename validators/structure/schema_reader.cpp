@@ -27,7 +27,7 @@ void SchemaReader::check_members(const Json& object, const std::string& pointer,
 }
 
 std::int64_t SchemaReader::index(const Json& object, const std::string& pointer, std::string_view key, bool required) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "integer");
   if (!value) {
     if (required) missing(pointer, key);
     return -1;
@@ -48,7 +48,7 @@ std::int64_t SchemaReader::index(const Json& object, const std::string& pointer,
 std::optional<std::int64_t> SchemaReader::integer(const Json& object, const std::string& pointer, std::string_view key,
                                                   bool required, Range range,
                                                   std::initializer_list<std::int64_t> allowed) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "integer");
   if (!value) {
     if (required) missing(pointer, key);
     return std::nullopt;
@@ -75,7 +75,7 @@ std::optional<std::int64_t> SchemaReader::integer(const Json& object, const std:
 
 std::optional<double> SchemaReader::number(const Json& object, const std::string& pointer, std::string_view key,
                                            bool required, Range range) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "number");
   if (!value) {
     if (required) missing(pointer, key);
     return std::nullopt;
@@ -95,7 +95,7 @@ std::optional<double> SchemaReader::number(const Json& object, const std::string
 
 std::optional<std::string> SchemaReader::string(const Json& object, const std::string& pointer, std::string_view key,
                                                 bool required, std::initializer_list<std::string_view> allowed) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "string");
   if (!value) {
     if (required) missing(pointer, key);
     return std::nullopt;
@@ -115,7 +115,7 @@ std::optional<std::string> SchemaReader::string(const Json& object, const std::s
 }
 
 std::optional<bool> SchemaReader::boolean(const Json& object, const std::string& pointer, std::string_view key) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "boolean");
   if (!value) return std::nullopt;
   if (!value->is_boolean()) {
     issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*value), arg("boolean")});
@@ -126,7 +126,7 @@ std::optional<bool> SchemaReader::boolean(const Json& object, const std::string&
 
 const Json* SchemaReader::non_empty_array(const Json& object, const std::string& pointer, std::string_view key,
                                           bool required) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "array");
   if (!value) {
     if (required) missing(pointer, key);
     return nullptr;
@@ -202,7 +202,7 @@ std::optional<std::vector<std::int64_t>> SchemaReader::indices(const Json& objec
 }
 
 const Json* SchemaReader::object(const Json& object, const std::string& pointer, std::string_view key, bool required) {
-  const Json* value = find(object, key);
+  const Json* value = find(object, pointer, key, "object");
   if (!value) {
     if (required) missing(pointer, key);
     return nullptr;

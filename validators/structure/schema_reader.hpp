@@ -77,8 +77,20 @@ class SchemaReader {
   Context& context() { return context_; }
 
  private:
+  // The value under `key`, or nullptr when it is absent or null. A null is of no type: it is a
+  // TYPE_MISMATCH against the `type` the schema wants, then counts as absent (a required property
+  // is also UNDEFINED_PROPERTY), as in the reference.
+  const Json* find(const Json& object, const std::string& pointer, std::string_view key, const char* type) {
+    auto found = object.find(std::string(key));
+    if (found == object.end()) return nullptr;
+    if (found->is_null()) {
+      issues_.at("TYPE_MISMATCH", child(pointer, key), {arg_json(*found), arg(type)});
+      return nullptr;
+    }
+    return &*found;
+  }
+  // extras may hold any JSON value, null included.
   const Json* find(const Json& object, std::string_view key) const {
-    // The reference reads JSON into Dart maps, where a null value and a missing key are the same.
     auto found = object.find(std::string(key));
     return found == object.end() || found->is_null() ? nullptr : &*found;
   }
