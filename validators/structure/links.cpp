@@ -328,6 +328,7 @@ class Linker {
     if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
     BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
     if (!view.object) return;
+    view.used = true;  // even through an accessor that is not linked itself (one missing a property)
     if (view.usage_target == 0) {
       view.usage_target = usage;
       view.usage_name = name;

@@ -698,14 +698,7 @@ class Walker {
     for (const auto& [name, value] : o.items()) {
       const std::string ap = p + "/" + escape_pointer_token(name);
       std::int64_t index = -1;
-      const std::optional<std::int64_t> integer = integer_value(value);
-      if (!integer) {
-        context_.issues.at("TYPE_MISMATCH", ap, {arg_json(value), arg("integer")});
-      } else if (*integer < 0) {
-        context_.issues.at("INVALID_INDEX", ap);
-      } else {
-        index = *integer;
-      }
+      // The name first, then the value: anything but a non-negative integer is an invalid index.
       std::string base;
       int set;
       if (!valid_semantic(name, target, &base, &set)) {
@@ -713,6 +706,11 @@ class Walker {
       } else if (set >= 0) {
         sets[base].push_back(set);
       }
+      const std::int64_t value_index = integer_value(value).value_or(-1);
+      if (value_index < 0)
+        context_.issues.at("INVALID_INDEX", ap);
+      else
+        index = value_index;
       result.emplace_back(name, index);
     }
     if (!target) {
@@ -838,11 +836,18 @@ class Walker {
       const double determinant = a[0] * (a[5] * a[10] - a[9] * a[6]) - a[4] * (a[1] * a[10] - a[9] * a[2]) +
                                  a[8] * (a[1] * a[6] - a[5] * a[2]);
       const bool affine = a[3] == 0 && a[7] == 0 && a[11] == 0 && a[15] == 1;
+      // Spec 3.5.2: a matrix decomposes into translation, rotation and scale, so it cannot skew or
+      // shear: its first three columns are orthogonal (each scaled by its own factor).
+      auto dot = [&](int i, int j) { return a[4 * i] * a[4 * j] + a[4 * i + 1] * a[4 * j + 1] + a[4 * i + 2] * a[4 * j + 2]; };
+      bool sheared = false;
+      for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+          sheared = sheared || std::fabs(dot(i, j)) > 1e-5 * std::sqrt(dot(i, i) * dot(j, j));
       if (m.has_trs)
         context_.issues.at("NODE_MATRIX_TRS", p + "/matrix");
       else if (is_identity)
         context_.issues.at("NODE_MATRIX_DEFAULT", p + "/matrix");
-      else if (!affine || determinant == 0)
+      else if (!affine || determinant == 0 || sheared)
         context_.issues.at("NODE_MATRIX_NON_TRS", p + "/matrix");
       m.is_identity_transform = is_identity;
     }
