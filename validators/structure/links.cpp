@@ -286,10 +286,15 @@ class Linker {
     }
   }
 
+  // Indices, inverse bind matrices and animation data: no stride allowed. Whatever reads an
+  // accessor also uses its buffer view, even when the accessor itself is not linked for missing a
+  // property (the reference marks the view through its reader).
   void stride_forbidden(const AccessorModel& accessor, const std::string& pointer, const char* code) {
     if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
-    const BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
-    if (view.object && view.byte_stride > 0) issues_.at(code, pointer);
+    BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+    if (!view.object) return;
+    view.used = true;
+    if (view.byte_stride > 0) issues_.at(code, pointer);
   }
 
   void buffer(std::size_t i) {
@@ -451,7 +456,7 @@ class Linker {
         const bool valid =
             indices->type == "SCALAR" && !indices->normalized &&
             (indices->component_type == 5121 || indices->component_type == 5123 || indices->component_type == 5125);
-        if (!valid && !indices->type.empty() && indices->component_type != 0)
+        if (!valid)
           issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
                      {arg(format_name(indices->type, indices->component_type, indices->normalized))},
                      {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
@@ -614,7 +619,7 @@ class Linker {
     const std::vector<std::int64_t> roots = common_roots(skin);
     if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
-      if (!ibm->type.empty() && ibm->component_type != 0 && (ibm->type != "MAT4" || ibm->component_type != 5126))
+      if (ibm->type != "MAT4" || ibm->component_type != 5126)
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
       stride_forbidden(*ibm, p + "/inverseBindMatrices", "SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE");
