@@ -224,8 +224,7 @@ class ExtensionReader {
         const std::int64_t light = read_.index(o, p, "light", true);
         tail(o, p);
         hooks_.node()->light = light >= 0 ? light : -2;
-        if (!root_extension("KHR_lights_punctual"))
-          issues_.at("UNSATISFIED_DEPENDENCY", p, {arg("/extensions/KHR_lights_punctual")});
+        hooks_.node()->light_pointer = p;  // the root's lights are required when the node is linked
       } else {
         lights(o, p);
       }
@@ -238,12 +237,6 @@ class ExtensionReader {
   }
 
  private:
-  bool root_extension(const char* name) {
-    const Json& root = read_.context().root;
-    auto extensions = root.find("extensions");
-    return extensions != root.end() && extensions->is_object() && extensions->contains(name);
-  }
-
   static bool has_sibling(const Json& owner_object, const char* name) {
     auto extensions = owner_object.find("extensions");
     return extensions != owner_object.end() && extensions->is_object() && extensions->contains(name);
@@ -358,8 +351,7 @@ class ExtensionReader {
         if (material >= 0) primitive.variant_materials.emplace_back(mp + "/material", material);
         read_.string(mapping, mp, "name");
         tail(mapping, mp);
-        if (!root_extension("KHR_materials_variants"))
-          issues_.at("UNSATISFIED_DEPENDENCY", mp, {arg("/extensions/KHR_materials_variants")});
+        primitive.variant_mappings.push_back(mp);  // the root's variants are required when linked
       }
       primitive.variant_pointers = variant_pointers_;
     }

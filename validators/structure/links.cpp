@@ -483,6 +483,10 @@ class Linker {
         }
       };
       // KHR_materials_variants: the mappings are linked before the primitive's own material.
+      // Extension dependencies are checked when the extension object is linked, as in the reference.
+      if (!doc_.has_variants_root)
+        for (const std::string& mapping : primitive.variant_mappings)
+          issues_.at("UNSATISFIED_DEPENDENCY", mapping, {arg("/extensions/KHR_materials_variants")});
       if (doc_.has_variants_root) {
         for (std::size_t v = 0; v < primitive.variant_refs.size(); ++v)
           resolve(doc_.variants, primitive.variant_refs[v], primitive.variant_pointers[v]);
@@ -596,6 +600,8 @@ class Linker {
         child_node->parent = static_cast<std::int64_t>(i);
     }
     // Without the root KHR_lights_punctual object the dependency error stands alone.
+    if (!node.light_pointer.empty() && !doc_.has_lights_root)
+      issues_.at("UNSATISFIED_DEPENDENCY", node.light_pointer, {arg("/extensions/KHR_lights_punctual")});
     if (node.light >= 0 && doc_.has_lights_root)
       resolve(doc_.lights, node.light, p + "/extensions/KHR_lights_punctual/light");
   }

@@ -100,7 +100,10 @@ class Walker {
     if (!list) return;
     models.resize(list->size());
     for (std::size_t i = 0; i < list->size(); ++i) {
-      if (!(*list)[i]) continue;
+      if (!(*list)[i]) {
+        read_.element_not_object(root[std::string(key)], "/" + std::string(key), i);
+        continue;
+      }
       models[i].object = true;
       const std::size_t missing_before = read_.missing_count();
       fn(*(*list)[i], "/" + std::string(key) + "/" + std::to_string(i), models[i]);

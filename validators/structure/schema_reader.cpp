@@ -229,13 +229,11 @@ std::optional<std::vector<const Json*>> SchemaReader::object_array(const Json& o
       result.push_back(&item);
       continue;
     }
-    // Top-level collections name the element and keep the others; a nested array names itself
-    // and is dropped whole, as if absent (the reference reads none of its elements then).
+    // Top-level collections keep the other elements (the caller names this one in turn, see
+    // type_mismatch_of_element); a nested array names itself and is dropped whole, as if absent
+    // (the reference reads none of its elements then).
     all_objects = false;
-    if (root_level)
-      issues_.at("TYPE_MISMATCH", child(here, i), {arg_json(item), arg("object")});
-    else
-      issues_.at("ARRAY_TYPE_MISMATCH", here, {arg_json(item), arg("object")});
+    if (!root_level) issues_.at("ARRAY_TYPE_MISMATCH", here, {arg_json(item), arg("object")});
     result.push_back(nullptr);
   }
   if (!root_level && !all_objects) {

@@ -52,11 +52,15 @@ class SchemaReader {
   std::optional<std::vector<std::int64_t>> indices(const Json& object, const std::string& pointer, std::string_view key,
                                                    bool required = false);
   const Json* object(const Json& object, const std::string& pointer, std::string_view key, bool required = false);
-  // The array of objects under `key`; non-objects are reported and given as nullptr so that the
-  // caller's indices stay aligned with the document's.
+  // The array of objects under `key`. In a nested array a non-object is reported and the array
+  // dropped; at the root, non-objects are given as nullptr (indices stay aligned with the
+  // document's) for the caller to report in document order with element_not_object.
   std::optional<std::vector<const Json*>> object_array(const Json& object, const std::string& pointer,
                                                        std::string_view key, bool required, bool root_level);
   void extras(const Json& object, const std::string& pointer);
+  void element_not_object(const Json& array, const std::string& pointer, std::size_t index) {
+    issues_.at("TYPE_MISMATCH", child(pointer, index), {arg_json(array[index]), arg("object")});
+  }
 
   // The array under `key`, or nullptr after reporting why not: absent (UNDEFINED_PROPERTY when required), not
   // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY). Only an absent required property makes its

@@ -153,6 +153,7 @@ struct PrimitiveModel {
   bool draco = false;
   std::int64_t draco_buffer_view = -1;
   std::map<std::string, std::int64_t> draco_attributes;
+  std::vector<std::string> variant_mappings;  // pointers of its KHR_materials_variants mappings
   std::vector<std::int64_t> variant_refs;
   std::vector<std::string> variant_pointers;                            // beside variant_refs
   std::vector<std::pair<std::string, std::int64_t>> variant_materials;  // pointer, material index
@@ -169,6 +170,7 @@ struct MeshModel : EntityModel {
 
 struct NodeModel : EntityModel {
   std::int64_t camera = -1, skin = -1, mesh = -1, light = -1;
+  std::string light_pointer;  // of its KHR_lights_punctual object, when it has one
   std::vector<std::int64_t> children;
   bool has_matrix = false, has_trs = false;
   bool is_identity_transform = true;
