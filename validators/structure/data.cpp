@@ -55,19 +55,8 @@ class AccessorData {
   }
 
  private:
-  // The bytes of a buffer view, when its buffer has loaded and the view fits it.
-  std::optional<std::span<const std::uint8_t>> view_bytes(std::int64_t index) {
-    if (index < 0 || static_cast<std::size_t>(index) >= doc_.buffer_views.size()) return std::nullopt;
-    const BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(index)];
-    if (!view.object || view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= doc_.buffers.size())
-      return std::nullopt;
-    const BufferModel& buffer = doc_.buffers[static_cast<std::size_t>(view.buffer)];
-    if (!buffer.data_loaded || view.byte_length <= 0) return std::nullopt;
-    const std::uint64_t end =
-        static_cast<std::uint64_t>(view.byte_offset) + static_cast<std::uint64_t>(view.byte_length);
-    if (end > buffer.data.size() || (buffer.byte_length > 0 && end > static_cast<std::uint64_t>(buffer.byte_length)))
-      return std::nullopt;
-    return buffer.data.subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
+  std::optional<std::span<const std::uint8_t>> view_bytes(std::int64_t index) const {
+    return buffer_view_bytes(doc_, index);
   }
 
   // Decodes elements [first, first + count) of the accessor (sparse substitution applied) into
@@ -600,6 +589,23 @@ class AccessorData {
   Document& doc_;
   Values values_;  // the chunk being checked
 };
+
+}  // namespace
+
+std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& doc, std::int64_t index) {
+  if (index < 0 || static_cast<std::size_t>(index) >= doc.buffer_views.size()) return std::nullopt;
+  const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(index)];
+  if (!view.object || view.byte_offset < 0 || view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= doc.buffers.size())
+    return std::nullopt;
+  const BufferModel& buffer = doc.buffers[static_cast<std::size_t>(view.buffer)];
+  if (!buffer.data_loaded || view.byte_length <= 0) return std::nullopt;
+  const std::uint64_t end = static_cast<std::uint64_t>(view.byte_offset) + static_cast<std::uint64_t>(view.byte_length);
+  if (end > buffer.data.size() || (buffer.byte_length > 0 && end > static_cast<std::uint64_t>(buffer.byte_length)))
+    return std::nullopt;
+  return buffer.data.subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
+}
+
+namespace {
 
 void load_buffers(Context& context) {
   Document& doc = context.doc;

@@ -13,18 +13,6 @@ namespace gltf_pbr::structure {
 
 namespace {
 
-std::optional<std::span<const std::uint8_t>> view_bytes(const Document& doc, std::int64_t index) {
-  if (index < 0 || static_cast<std::size_t>(index) >= doc.buffer_views.size()) return std::nullopt;
-  const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(index)];
-  if (!view.object || view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= doc.buffers.size())
-    return std::nullopt;
-  const BufferModel& buffer = doc.buffers[static_cast<std::size_t>(view.buffer)];
-  const std::uint64_t end = static_cast<std::uint64_t>(view.byte_offset) + static_cast<std::uint64_t>(view.byte_length);
-  if (!buffer.data_loaded || view.byte_length <= 0 || end > buffer.data.size()) return std::nullopt;
-  return std::span<const std::uint8_t>(buffer.data)
-      .subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
-}
-
 void check_decoded_attribute(Context& context, const AccessorModel& accessor, std::size_t accessor_index,
                              const std::string& semantic, const std::string& pointer, const std::vector<float>& values,
                              int components) {
@@ -82,7 +70,7 @@ void check_decoded_attribute(Context& context, const AccessorModel& accessor, st
 void check_primitive(Context& context, const PrimitiveModel& primitive) {
   Document& doc = context.doc;
   const std::string p = primitive.pointer + "/extensions/KHR_draco_mesh_compression";
-  auto bytes = view_bytes(doc, primitive.draco_buffer_view);
+  auto bytes = buffer_view_bytes(doc, primitive.draco_buffer_view);
   if (!bytes) return;  // unresolved or unloaded: reported elsewhere
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes->data()), bytes->size());

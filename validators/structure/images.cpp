@@ -205,19 +205,12 @@ void check_images(Context& context) {
       }
     } else if (image.buffer_view >= 0 && static_cast<std::size_t>(image.buffer_view) < doc.buffer_views.size()) {
       storage = "buffer-view";
-      const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(image.buffer_view)];
       // Strided views cannot hold an image (IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE): not read.
-      if (view.object && view.byte_stride == 0 && view.buffer >= 0 &&
-          static_cast<std::size_t>(view.buffer) < doc.buffers.size()) {
-        const BufferModel& buffer = doc.buffers[static_cast<std::size_t>(view.buffer)];
-        const std::uint64_t end = static_cast<std::uint64_t>(view.byte_offset) +
-                                  static_cast<std::uint64_t>(std::max<std::int64_t>(view.byte_length, 0));
-        if (buffer.data_loaded && view.byte_length > 0 && end <= buffer.data.size()) {
-          bytes = std::span<const std::uint8_t>(buffer.data)
-                      .subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
+      if (doc.buffer_views[static_cast<std::size_t>(image.buffer_view)].byte_stride == 0)
+        if (auto view_bytes = buffer_view_bytes(doc, image.buffer_view)) {
+          bytes = *view_bytes;
           have = true;
         }
-      }
     }
     ImageHeader header;
     if (have) header = read_header(bytes);

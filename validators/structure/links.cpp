@@ -108,13 +108,16 @@ class Linker {
     // Spec 3.6.2.4 "Data Alignment": an accessor's offset is a multiple of its component size.
     if (a.has_byte_offset && size > 0 && a.byte_offset % size != 0)
       issues_.at("ACCESSOR_OFFSET_ALIGNMENT", p + "/byteOffset", {arg(a.byte_offset), arg(size)});
-    if (view && size > 0 && !a.type.empty()) {
+    // Misaligned data is not read (the reference checks no values of it).
+    const bool aligned = !(a.has_byte_offset && size > 0 && a.byte_offset % size != 0);
+    if (view && view->byte_offset >= 0 && size > 0 && !a.type.empty()) {
       const std::int64_t total = view->byte_offset + a.byte_offset;
-      if (total % size != 0) issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", p, {arg(total), arg(size)});
+      const bool total_aligned = total % size == 0;
+      if (!total_aligned) issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", p, {arg(total), arg(size)});
       const std::int64_t element = element_size(a);
       if (view->byte_stride > 0 && view->byte_stride < element)
         issues_.at("ACCESSOR_SMALL_BYTESTRIDE", p, {arg(view->byte_stride), arg(element)});
-      a.fits = a.count > 0 && view->byte_length > 0;
+      a.fits = aligned && total_aligned && a.count > 0 && view->byte_length > 0;
       const std::int64_t view_length = std::max<std::int64_t>(view->byte_length, 0);
       if (a.count > 0) {
         const std::int64_t stride = view->byte_stride > 0 ? view->byte_stride : element;
@@ -308,7 +311,7 @@ class Linker {
     BufferViewModel& view = doc_.buffer_views[i];
     const std::string p = at("bufferViews", i);
     BufferModel* buffer = resolve(doc_.buffers, view.buffer, p + "/buffer");
-    if (buffer && buffer->byte_length > 0 && view.byte_length > 0 &&
+    if (buffer && buffer->byte_length > 0 && view.byte_length > 0 && view.byte_offset >= 0 &&
         view.byte_offset + view.byte_length > buffer->byte_length)
       issues_.at("BUFFER_VIEW_TOO_LONG",
                  view.byte_offset >= buffer->byte_length ? p + "/byteOffset" : p + "/byteLength",
@@ -357,7 +360,7 @@ class Linker {
       if (view.object) {
         // Spec 3.6.2.4: vertex attribute data starts on 4-byte boundaries (strides are multiples of 4
         // by the schema). Tightly packed 3-byte elements are not reported: the reference does not.
-        if (size > 0 && ((accessor.byte_offset % 4) != 0 || ((view.byte_offset + accessor.byte_offset) % 4) != 0))
+        if (size > 0 && accessor.byte_offset % 4 != 0)
           issues_.at("MESH_PRIMITIVE_ACCESSOR_UNALIGNED", pointer);
         const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
         auto& users = view_accessors_[accessor.buffer_view];

@@ -213,6 +213,32 @@ class Walker {
     return major == 2;
   }
 
+  // accessor.min or max: one number per component. For integer component types (spec 3.6.2.5:
+  // bounds are in the stored, unnormalized values) each is an integer the type can hold; a bound
+  // list with any other value is reported at the list and not compared with the data.
+  std::optional<std::vector<double>> bounds(const Json& o, const std::string& p, const char* key, int components,
+                                            int component_type) {
+    auto numbers = read_.numbers(o, p, key, {components});
+    if (!numbers || component_type == 5126) return numbers;
+    static const std::map<int, std::pair<double, double>> ranges = {
+        {5120, {-128, 127}}, {5121, {0, 255}}, {5122, {-32768, 32767}}, {5123, {0, 65535}}, {5125, {0, 4294967295.0}}};
+    const auto range = ranges.find(component_type);
+    if (range == ranges.end()) return numbers;
+    const std::string pointer = p + "/" + key;
+    bool usable = true;
+    for (const Json& item : o[key]) {
+      if (!integer_value(item)) {
+        context_.issues.at("ARRAY_TYPE_MISMATCH", pointer, {arg_json(item), arg("integer")});
+        usable = false;
+      } else if (const double value = item.get<double>(); value < range->second.first || value > range->second.second) {
+        context_.issues.at("INVALID_GL_VALUE", pointer, {arg_json(item), arg(component_type_name(component_type))});
+        usable = false;
+      }
+    }
+    if (!usable) return std::nullopt;
+    return numbers;
+  }
+
   void accessor(const Json& o, const std::string& p, AccessorModel& m) {
     read_.check_members(o, p,
                         {"bufferView", "byteOffset", "componentType", "normalized", "count", "type", "max", "min",
@@ -240,9 +266,9 @@ class Walker {
     const int components = component_count(m.type);
     if (components > 0 && m.component_type != 0) {
       if (present(o, "min"))
-        if (auto numbers = read_.numbers(o, p, "min", {components})) m.has_min = true, m.min = *numbers;
+        if (auto numbers = bounds(o, p, "min", components, m.component_type)) m.has_min = true, m.min = *numbers;
       if (present(o, "max"))
-        if (auto numbers = read_.numbers(o, p, "max", {components})) m.has_max = true, m.max = *numbers;
+        if (auto numbers = bounds(o, p, "max", components, m.component_type)) m.has_max = true, m.max = *numbers;
     }
     if (const Json* sparse = read_.object(o, p, "sparse")) this->sparse(*sparse, p + "/sparse", m);
     read_.string(o, p, "name");
@@ -507,7 +533,10 @@ class Walker {
     if (m.byte_stride > 0 && m.target == 34963)
       context_.issues.at("BUFFER_VIEW_INVALID_BYTE_STRIDE", p + "/byteStride");
     m.buffer = read_.index(o, p, "buffer", true);
-    if (auto offset = read_.integer(o, p, "byteOffset", false, {0})) m.byte_offset = *offset;
+    if (auto offset = read_.integer(o, p, "byteOffset", false, {0}))
+      m.byte_offset = *offset;
+    else if (present(o, "byteOffset"))
+      m.byte_offset = -1;  // unusable: where its accessors' data starts is unknown
     read_.string(o, p, "name");
     extensions(o, p, Owner::BufferView);
     read_.extras(o, p);
