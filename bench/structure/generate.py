@@ -179,7 +179,9 @@ def mutate_value(value, doc):
     if isinstance(value, bool):
         return rng.choice([not value, 0, 1, 'true', None])
     if isinstance(value, int):
-        choices = [value + 1, value - 1, value + rng.choice([2, 5, 100]), -1, 0, 2 ** 32, 2 ** 53 + 1, 0.5,
+        # 2^53 + 2: beyond the doubles' exact integers, yet representable in one (2^53 + 1 is not,
+        # and the npm build, compiled to JavaScript, would read it as 2^53).
+        choices = [value + 1, value - 1, value + rng.choice([2, 5, 100]), -1, 0, 2 ** 32, 2 ** 53 + 2, 0.5,
                    str(value), None, [value], rng.choice(GL_VALUES)]
         return rng.choice(choices + int_forms(value) * 2)
     if isinstance(value, float):

@@ -389,12 +389,13 @@ void read_extensions(SchemaReader& read, const Json& object, const std::string& 
       issues.at("UNDECLARED_EXTENSION", p);  // an undeclared object is not read further
       continue;
     }
-    if (!value.is_object()) continue;
     if (!place) continue;
+    // Placement is judged whatever the value is (a misplaced non-object gets both issues).
     if (std::find(place->owners.begin(), place->owners.end(), owner) == place->owners.end()) {
       issues.at("UNEXPECTED_EXTENSION_OBJECT", p);
       continue;
     }
+    if (!value.is_object()) continue;
     // A required property missing inside an extension invalidates the extension, not its owner.
     const std::size_t missing_before = read.missing_count();
     ExtensionReader(read, hooks).read(name, object, value, p);

@@ -626,6 +626,7 @@ class Linker {
         joint->joint = true;
     }
     const std::vector<std::int64_t> roots = common_roots(skin);
+    skin.has_common_root = !roots.empty();
     if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
       if (ibm->type != "MAT4" || ibm->component_type != 5126)
@@ -639,7 +640,8 @@ class Linker {
     }
     // A skeleton names a node without putting it into use (reference behaviour; joints do).
     // Spec 3.7.3.1: when defined, it is the common root of the joints' hierarchy.
-    if (resolve(doc_.nodes, skin.skeleton, p + "/skeleton", false) && !roots.empty() &&
+    // Without a common root no skeleton can be one.
+    if (resolve(doc_.nodes, skin.skeleton, p + "/skeleton", false) &&
         std::find(roots.begin(), roots.end(), skin.skeleton) == roots.end())
       issues_.at("SKIN_SKELETON_INVALID", p + "/skeleton");
   }
@@ -761,7 +763,9 @@ class Linker {
       }
       for (std::size_t n = 0; n < doc_.nodes.size(); ++n) {
         const NodeModel& node = doc_.nodes[n];
-        if (!in_scene[n] || node.mesh < 0 || node.skin < 0 || static_cast<std::size_t>(node.skin) >= doc_.skins.size())
+        // A skin without a common root is reported as such (SKIN_NO_COMMON_ROOT), not here.
+        if (!in_scene[n] || node.mesh < 0 || node.skin < 0 || static_cast<std::size_t>(node.skin) >= doc_.skins.size() ||
+            !doc_.skins[node.skin].has_common_root)
           continue;
         for (std::int64_t joint : doc_.skins[node.skin].joints)
           if (joint >= 0 && static_cast<std::size_t>(joint) < doc_.nodes.size() && !in_scene[joint]) flagged[n] = 1;

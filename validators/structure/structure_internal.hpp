@@ -189,6 +189,7 @@ struct NodeModel : EntityModel {
 struct SkinModel : EntityModel {
   std::int64_t inverse_bind_matrices = -1, skeleton = -1;
   std::vector<std::int64_t> joints;
+  bool has_common_root = true;  // set when linked
 };
 
 struct AnimationSamplerModel : EntityModel {
