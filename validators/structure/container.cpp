@@ -56,7 +56,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
   // Chunks follow until the declared length; the stream's real end bounds every read.
   while (offset < declared_length && offset < bytes.size()) {
     if (bytes.size() - offset < 8) {
-      issues.at_offset("GLB_UNEXPECTED_END_OF_CHUNK_HEADER", bytes.size());
+      context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_HEADER", bytes.size(), {}});
       return json;
     }
     const std::uint64_t chunk_start = offset;
@@ -85,7 +85,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
       issues.at_offset("GLB_UNKNOWN_CHUNK_TYPE", chunk_start, {arg_raw(hex32(chunk_type))});
     }
     if (bytes.size() - offset < chunk_length) {
-      issues.at_offset("GLB_UNEXPECTED_END_OF_CHUNK_DATA", bytes.size());
+      context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_DATA", bytes.size(), {}});
       return json;
     }
     const auto data = bytes.subspan(offset, chunk_length);
@@ -101,9 +101,9 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
     ++chunk_index;
   }
   if (offset != declared_length) {
-    issues.at_offset("GLB_LENGTH_MISMATCH", offset, {arg(declared_length), arg(offset)});
+    context.glb_end_issues.push_back({"GLB_LENGTH_MISMATCH", offset, {arg(declared_length), arg(offset)}});
   } else if (bytes.size() > offset) {
-    issues.at_offset("GLB_EXTRA_DATA", offset);
+    context.glb_end_issues.push_back({"GLB_EXTRA_DATA", offset, {}});
   }
   return json;
 }

@@ -400,11 +400,13 @@ class AccessorData {
         const double length = std::sqrt(x * x + y * y + z * z);
         const std::uint64_t index = (first + e) * components;
         const double w = components == 4 ? normalized(a, v[3]) : 1.0;
-        for (const std::string& use : uses) {
-          if (std::fabs(length - 1.0) > 0.0005)
+        // Check by check, each at every use.
+        if (std::fabs(length - 1.0) > 0.0005)
+          for (const std::string& use : uses)
             issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(index), arg(index + 2), arg_double(length)});
-          if (w != 1.0 && w != -1.0) issues_.at("ACCESSOR_INVALID_SIGN", use, {arg(index), arg(index + 3), arg_double(w)});
-        }
+        if (w != 1.0 && w != -1.0)
+          for (const std::string& use : uses)
+            issues_.at("ACCESSOR_INVALID_SIGN", use, {arg(index), arg(index + 3), arg_double(w)});
       }
     } else if (semantic.starts_with("COLOR_") && a.component_type == 5126) {
       for (std::size_t k = 0; k < values_.size(); ++k)

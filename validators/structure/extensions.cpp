@@ -112,7 +112,6 @@ class ExtensionReader {
       auto minimum = read_.number(o, p, "iridescenceThicknessMinimum", false, kNonNegative);
       auto maximum = read_.number(o, p, "iridescenceThicknessMaximum", false, kNonNegative);
       texture(o, p, "iridescenceThicknessTexture");
-      tail(o, p);
       const double min_value = minimum.value_or(100.0), max_value = maximum.value_or(400.0);
       if (o.contains("iridescenceThicknessTexture")) {
         if (min_value == max_value)
@@ -120,6 +119,7 @@ class ExtensionReader {
       } else if (o.contains("iridescenceThicknessMinimum")) {
         issues_.at("KHR_MATERIALS_IRIDESCENCE_THICKNESS_RANGE_WITHOUT_TEXTURE", p + "/iridescenceThicknessMinimum");
       }
+      tail(o, p);  // the reference reads extensions and extras after the rules between properties
     } else if (name == "KHR_materials_pbrSpecularGlossiness") {
       read_.check_members(o, p,
                           {"diffuseFactor", "diffuseTexture", "specularFactor", "glossinessFactor",
@@ -331,29 +331,22 @@ class ExtensionReader {
   void variant_mappings(const Json& o, const std::string& p, PrimitiveModel& primitive) {
     read_.check_members(o, p, {"mappings", "extensions", "extras"});
     if (auto list = read_.object_array(o, p, "mappings", true, false)) {
-      std::set<std::int64_t> seen;
       for (std::size_t i = 0; i < list->size(); ++i) {
         if (!(*list)[i]) continue;
         const Json& mapping = *(*list)[i];
-        const std::string mp = p + "/mappings/" + std::to_string(i);
+        PrimitiveModel::VariantMapping model;
+        model.pointer = p + "/mappings/" + std::to_string(i);
+        const std::string& mp = model.pointer;
         read_.check_members(mapping, mp, {"variants", "material", "name", "extensions", "extras"});
-        if (auto variants = read_.indices(mapping, mp, "variants", true)) {
-          for (std::size_t v = 0; v < variants->size(); ++v) {
-            const std::int64_t variant = (*variants)[v];
-            if (variant < 0) continue;
-            if (!seen.insert(variant).second)
-              issues_.at("KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT", mp + "/variants/" + std::to_string(v));
-            primitive.variant_refs.push_back(variant);
-            variant_pointers_.push_back(mp + "/variants/" + std::to_string(v));
-          }
-        }
-        const std::int64_t material = read_.index(mapping, mp, "material", true);
-        if (material >= 0) primitive.variant_materials.emplace_back(mp + "/material", material);
+        if (auto variants = read_.indices(mapping, mp, "variants", true))
+          for (std::size_t v = 0; v < variants->size(); ++v)
+            if ((*variants)[v] >= 0) model.variants.emplace_back(mp + "/variants/" + std::to_string(v), (*variants)[v]);
+        model.material = read_.index(mapping, mp, "material", true);
+        model.material_pointer = mp + "/material";
         read_.string(mapping, mp, "name");
         tail(mapping, mp);
-        primitive.variant_mappings.push_back(mp);  // the root's variants are required when linked
+        primitive.variant_mappings.push_back(std::move(model));
       }
-      primitive.variant_pointers = variant_pointers_;
     }
     tail(o, p);
   }
@@ -361,7 +354,6 @@ class ExtensionReader {
   SchemaReader& read_;
   IssueSink& issues_;
   const ExtensionHooks& hooks_;
-  std::vector<std::string> variant_pointers_;
 };
 
 }  // namespace
@@ -396,15 +388,16 @@ void read_extensions(SchemaReader& read, const Json& object, const std::string& 
       continue;
     }
     if (!value.is_object()) continue;
+    // Unlit and specular-glossiness replace the core shading model, so other material extensions
+    // may not combine with them (their specifications' "Extension compatibility" sections).
+    // Reported before the extension's own content, as the reference does.
+    if (owner == Owner::Material && found->size() > 1 &&
+        (name == "KHR_materials_unlit" || name == "KHR_materials_pbrSpecularGlossiness"))
+      issues.at("MULTIPLE_EXTENSIONS", p);
     // A required property missing inside an extension invalidates the extension, not its owner.
     const std::size_t missing_before = read.missing_count();
     ExtensionReader(read, hooks).read(name, object, value, p);
     read.set_missing_count(missing_before);
-    // Unlit and specular-glossiness replace the core shading model, so other material extensions
-    // may not combine with them (their specifications' "Extension compatibility" sections).
-    if (owner == Owner::Material && found->size() > 1 &&
-        (name == "KHR_materials_unlit" || name == "KHR_materials_pbrSpecularGlossiness"))
-      issues.at("MULTIPLE_EXTENSIONS", p);
   }
 }
 

@@ -166,6 +166,7 @@ class Linker {
       if (!sampler.object) continue;
       const std::string sp = p + "/samplers/" + std::to_string(s);
       if (AccessorModel* input = resolve(doc_.accessors, sampler.input, sp + "/input")) {
+        use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
         if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
                      {arg(format_name(input->type, input->component_type, input->normalized))},
@@ -173,7 +174,6 @@ class Linker {
         if (!input->has_min || !input->has_max)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_WITHOUT_BOUNDS", sp + "/input");
         stride_forbidden(*input, sp + "/input", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
-        use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
         if (sampler.interpolation == "CUBICSPLINE" && input->count > 0 && input->count < 2)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS", sp + "/input",
                      {arg("CUBICSPLINE"), arg(2), arg(input->count)});
@@ -279,7 +279,7 @@ class Linker {
   // matrices or keyframes); the first use fixes it and where the data checks report.
   void use_accessor(AccessorModel& accessor, AccessorModel::Usage usage, const std::string& pointer) {
     static const char* names[] = {
-        "None", "VertexAttribute", "IndexBuffer", "AnimationInput", "AnimationOutput", "InverseBindMatrices", "Other"};
+        "None", "VertexAttribute", "IndexBuffer", "AnimationInput", "AnimationOutput", "IBM", "Other"};
     if (accessor.usage == AccessorModel::Usage::None) {
       accessor.usage = usage;
       accessor.usage_pointer = pointer;
@@ -355,6 +355,7 @@ class Linker {
     } else {
       attribute_format(accessor, name, pointer);
     }
+    use_view_as(accessor, 34962, "VertexBuffer", pointer);
     if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
       BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
       if (view.object) {
@@ -371,7 +372,6 @@ class Linker {
         }
       }
     }
-    use_view_as(accessor, 34962, "VertexBuffer", pointer);
   }
 
   // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
@@ -455,25 +455,6 @@ class Linker {
           issues_.at("MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT", ap);
         }
       }
-      if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
-        const bool valid =
-            indices->type == "SCALAR" && !indices->normalized &&
-            (indices->component_type == 5121 || indices->component_type == 5123 || indices->component_type == 5125);
-        if (!valid)
-          issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
-                     {arg(format_name(indices->type, indices->component_type, indices->normalized))},
-                     {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
-        stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
-        use_view_as(*indices, 34963, "IndexBuffer", p + "/indices");
-        use_accessor(*indices, AccessorModel::Usage::Index, p + "/indices");
-        if (indices->vertex_limit < 0) {
-          indices->vertex_limit = vertex_count;
-          indices->primitive_mode = primitive.mode;
-        }
-        incompatible_mode(primitive, indices->count, p);
-      } else if (primitive.indices < 0 && vertex_count > 0) {
-        incompatible_mode(primitive, vertex_count, p);
-      }
       std::set<std::int64_t> used_sets;
       // Each texture binding of a material needs its TEXCOORD_n here.
       auto texture_coordinates = [&](const MaterialModel& bound, const std::string& pointer) {
@@ -485,17 +466,41 @@ class Linker {
           if (!present) issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", pointer, {arg(ref.pointer), arg(ref.tex_coord)});
         }
       };
-      // KHR_materials_variants: the mappings are linked before the primitive's own material.
-      // Extension dependencies are checked when the extension object is linked, as in the reference.
-      if (!doc_.has_variants_root)
-        for (const std::string& mapping : primitive.variant_mappings)
-          issues_.at("UNSATISFIED_DEPENDENCY", mapping, {arg("/extensions/KHR_materials_variants")});
-      if (doc_.has_variants_root) {
-        for (std::size_t v = 0; v < primitive.variant_refs.size(); ++v)
-          resolve(doc_.variants, primitive.variant_refs[v], primitive.variant_pointers[v]);
-        for (const auto& [pointer, index] : primitive.variant_materials)
-          if (MaterialModel* variant_material = resolve(doc_.materials, index, pointer))
-            texture_coordinates(*variant_material, pointer);
+      // KHR_materials_variants: each mapping is linked in turn (its dependency on the root's
+      // variants, its variants, which no other mapping of the primitive may repeat, and its
+      // material), after the attributes and before the indices, as in the reference.
+      std::set<std::int64_t> mapped_variants;
+      for (const PrimitiveModel::VariantMapping& mapping : primitive.variant_mappings) {
+        if (!doc_.has_variants_root) {
+          issues_.at("UNSATISFIED_DEPENDENCY", mapping.pointer, {arg("/extensions/KHR_materials_variants")});
+          continue;
+        }
+        for (const auto& [pointer, variant] : mapping.variants) {
+          if (!mapped_variants.insert(variant).second) issues_.at("KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT", pointer);
+          resolve(doc_.variants, variant, pointer);
+        }
+        if (MaterialModel* variant_material = resolve(doc_.materials, mapping.material, mapping.material_pointer))
+          texture_coordinates(*variant_material, mapping.material_pointer);
+      }
+      if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
+        const bool valid =
+            indices->type == "SCALAR" && !indices->normalized &&
+            (indices->component_type == 5121 || indices->component_type == 5123 || indices->component_type == 5125);
+        // As the reference: the uses first (accessor, then buffer view), then the format.
+        use_accessor(*indices, AccessorModel::Usage::Index, p + "/indices");
+        use_view_as(*indices, 34963, "IndexBuffer", p + "/indices");
+        if (!valid)
+          issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
+                     {arg(format_name(indices->type, indices->component_type, indices->normalized))},
+                     {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
+        stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
+        if (indices->vertex_limit < 0) {
+          indices->vertex_limit = vertex_count;
+          indices->primitive_mode = primitive.mode;
+        }
+        incompatible_mode(primitive, indices->count, p);
+      } else if (primitive.indices < 0 && vertex_count > 0) {
+        incompatible_mode(primitive, vertex_count, p);
       }
       MaterialModel* material = resolve(doc_.materials, primitive.material, p + "/material");
       if (material) {
@@ -629,6 +634,7 @@ class Linker {
     skin.has_common_root = !roots.empty();
     if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
+      use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
       if (ibm->type != "MAT4" || ibm->component_type != 5126)
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
@@ -636,7 +642,6 @@ class Linker {
       if (ibm->count > 0 && ibm->count < static_cast<std::int64_t>(skin.joints.size()))
         issues_.at("INVALID_IBM_ACCESSOR_COUNT", p + "/inverseBindMatrices",
                    {arg(static_cast<std::uint64_t>(skin.joints.size())), arg(ibm->count)});
-      use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
     }
     // A skeleton names a node without putting it into use (reference behaviour; joints do).
     // Spec 3.7.3.1: when defined, it is the common root of the joints' hierarchy.

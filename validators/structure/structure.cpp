@@ -17,19 +17,27 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
                                         bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F');
   report.mime_type = context.glb ? "model/gltf-binary" : "model/gltf+json";
 
+  auto stream_end = [&] {
+    for (const auto& [code, offset, args] : context.glb_end_issues) context.issues.at_offset(code, offset, args);
+  };
   std::span<const std::uint8_t> json_text = bytes;
   if (context.glb) {
     bool empty_duplicate = false;
     auto json = read_glb(bytes, context, empty_duplicate);
     if (!json) {
       if (empty_duplicate) parse_json({}, context);
+      stream_end();
       return context.issues.found_error();
     }
     json_text = *json;
   }
-  if (!parse_json(json_text, context) || !walk_schema(context)) return context.issues.found_error();
+  if (!parse_json(json_text, context) || !walk_schema(context)) {
+    stream_end();
+    return context.issues.found_error();
+  }
   check_links(context);
   report_unused(context);
+  stream_end();
   check_resources(context);
   fill_info(context);
   return context.issues.found_error();

@@ -159,10 +159,14 @@ struct PrimitiveModel {
   bool draco = false;
   std::int64_t draco_buffer_view = -1;
   std::map<std::string, std::int64_t> draco_attributes;
-  std::vector<std::string> variant_mappings;  // pointers of its KHR_materials_variants mappings
-  std::vector<std::int64_t> variant_refs;
-  std::vector<std::string> variant_pointers;                            // beside variant_refs
-  std::vector<std::pair<std::string, std::int64_t>> variant_materials;  // pointer, material index
+  // KHR_materials_variants mappings, in document order; each is linked as a whole.
+  struct VariantMapping {
+    std::string pointer;
+    std::vector<std::pair<std::string, std::int64_t>> variants;  // (pointer, variant index)
+    std::string material_pointer;
+    std::int64_t material = -1;
+  };
+  std::vector<VariantMapping> variant_mappings;
 };
 
 struct MeshModel : EntityModel {
@@ -262,6 +266,15 @@ struct Context {
   std::filesystem::path base_dir;
   bool glb = false;
   std::optional<std::span<const std::uint8_t>> glb_bin;  // the GLB BIN chunk, when present
+  // GLB issues found where the stream ends (data cut short, a length that does not add up): the
+  // reference reads the container as a stream and validates the JSON chunk as soon as it has it,
+  // so these follow the document's schema, link and unused issues.
+  struct OffsetIssue {
+    std::string code;
+    std::uint64_t offset;
+    std::vector<MessageArg> args;
+  };
+  std::vector<OffsetIssue> glb_end_issues;
   Json root;
   Document doc;
   nlohmann::ordered_json resources = nlohmann::ordered_json::array();  // info.resources, in order
