@@ -74,6 +74,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
         if (json_was_empty && chunk_length == 0) json_empty_duplicate = true;
       }
     } else if (chunk_type == kChunkBin) {
+      context.glb_bin_chunk = true;
       if (chunk_index == 0)
         issues.at_offset("GLB_UNEXPECTED_FIRST_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
       else if (chunk_index != 1 && !bin_seen)

@@ -387,16 +387,18 @@ void read_extensions(SchemaReader& read, const Json& object, const std::string& 
       issues.at("UNEXPECTED_EXTENSION_OBJECT", p);
       continue;
     }
-    if (!value.is_object()) continue;
     // Unlit and specular-glossiness replace the core shading model, so other material extensions
     // may not combine with them (their specifications' "Extension compatibility" sections).
     // Reported before the extension's own content, as the reference does.
     if (owner == Owner::Material && found->size() > 1 &&
         (name == "KHR_materials_unlit" || name == "KHR_materials_pbrSpecularGlossiness"))
       issues.at("MULTIPLE_EXTENSIONS", p);
+    // A non-object is read as an empty object (its required properties are then undefined).
+    static const Json empty_object = Json::object();
+    const Json& body = value.is_object() ? value : empty_object;
     // A required property missing inside an extension invalidates the extension, not its owner.
     const std::size_t missing_before = read.missing_count();
-    ExtensionReader(read, hooks).read(name, object, value, p);
+    ExtensionReader(read, hooks).read(name, object, body, p);
     read.set_missing_count(missing_before);
   }
 }

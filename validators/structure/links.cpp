@@ -303,7 +303,7 @@ class Linker {
   void buffer(std::size_t i) {
     BufferModel& buffer = doc_.buffers[i];
     // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk.
-    if (context_.glb && i == 0 && !buffer.has_uri && !context_.glb_bin)
+    if (context_.glb && i == 0 && !buffer.has_uri && !context_.glb_bin_chunk)
       issues_.at("BUFFER_MISSING_GLB_DATA", at("buffers", i));
   }
 
@@ -447,8 +447,9 @@ class Linker {
         use_accessor(*accessor, AccessorModel::Usage::Vertex, ap);
         if (accessor->usage == AccessorModel::Usage::Vertex && accessor->semantic == name)
           accessor->vertex_uses.push_back(ap);
-        // An accessor without a usable count (-1) differs from one with a count, as in the reference.
-        if (!have_count) {
+        // The first accessor with a usable count sets the vertex count; a later one without a
+        // usable count (-1) differs from it, as in the reference.
+        if (!have_count || vertex_count < 0) {
           vertex_count = accessor->count;
           have_count = true;
         } else if (vertex_count != accessor->count) {
@@ -527,8 +528,12 @@ class Linker {
         for (const auto& [name, index] : primitive.target_attributes[t]) {
           const std::string tp = p + "/targets/" + std::to_string(t) + "/" + escape_pointer_token(name);
           const std::string& semantic = name;  // C++20 lambdas may not capture a structured binding in clang 14
-          const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
-                                           [&](const auto& attribute) { return attribute.first == semantic; });
+          // The base attribute counts when its accessor is an object.
+          const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
+            return attribute.first == semantic && attribute.second >= 0 &&
+                   static_cast<std::size_t>(attribute.second) < doc_.accessors.size() &&
+                   doc_.accessors[static_cast<std::size_t>(attribute.second)].object;
+          });
           if (!in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (!accessor) continue;
@@ -591,7 +596,7 @@ class Linker {
       }
       if (node.weights >= 0 && node.weights != targets)
         issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});
-      if (skinned && !skin && node.skin < 0) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);
+      if (skinned && !skin) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);  // absent or unresolved
       if (skinned && skin) {
         mesh->skin = node.skin;
         mesh->joint_count = static_cast<std::int64_t>(skin->joints.size());

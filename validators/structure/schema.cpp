@@ -558,7 +558,8 @@ class Walker {
         out.push_back(static_cast<std::uint8_t>((accumulator >> bits) & 0xFF));
       }
     }
-    return padding <= 2;
+    // RFC 4648 section 3.2: padding fills the last quantum, so a padded text is whole quanta.
+    return padding <= 2 && (padding == 0 || text.size() % 4 == 0);
   }
 
   void buffer_view(const Json& o, const std::string& p, BufferViewModel& m) {

@@ -266,6 +266,7 @@ struct Context {
   std::filesystem::path base_dir;
   bool glb = false;
   std::optional<std::span<const std::uint8_t>> glb_bin;  // the GLB BIN chunk, when present
+  bool glb_bin_chunk = false;  // a BIN chunk header was read (its data may be cut short)
   // GLB issues found where the stream ends (data cut short, a length that does not add up): the
   // reference reads the container as a stream and validates the JSON chunk as soon as it has it,
   // so these follow the document's schema, link and unused issues.
