@@ -528,13 +528,15 @@ class Linker {
         for (const auto& [name, index] : primitive.target_attributes[t]) {
           const std::string tp = p + "/targets/" + std::to_string(t) + "/" + escape_pointer_token(name);
           const std::string& semantic = name;  // C++20 lambdas may not capture a structured binding in clang 14
-          // The base attribute counts when its accessor is an object.
+          // A target attribute with a valid index needs its base attribute. That attribute is
+          // missing when absent or when its index names a slot of the accessors that is not an
+          // object (an index outside the list is only unresolved), as in the reference.
           const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
-            return attribute.first == semantic && attribute.second >= 0 &&
-                   static_cast<std::size_t>(attribute.second) < doc_.accessors.size() &&
-                   doc_.accessors[static_cast<std::size_t>(attribute.second)].object;
+            const auto slot = static_cast<std::size_t>(attribute.second);
+            return attribute.first == semantic &&
+                   !(attribute.second >= 0 && slot < doc_.accessors.size() && !doc_.accessors[slot].object);
           });
-          if (!in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
+          if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (!accessor) continue;
           use_view_as(*accessor, 34962, "VertexBuffer", tp);
