@@ -332,6 +332,12 @@ class Linker {
     for (const auto& [code, pointer] : material.extension_issues) issues_.at(code, pointer);
   }
 
+  const AccessorModel* accessor_object(std::int64_t index) const {
+    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
+    const AccessorModel& accessor = doc_.accessors[static_cast<std::size_t>(index)];
+    return accessor.object ? &accessor : nullptr;
+  }
+
   void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
     if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
     BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
@@ -542,8 +548,11 @@ class Linker {
           use_view_as(*accessor, 34962, "VertexBuffer", tp);
           if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
             issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
-          if (have_count && accessor->count != vertex_count)
-            issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
+          // Against the base accessor of the same semantic, an unknown count (-1) included.
+          for (const auto& [base_name, base_index] : primitive.attributes)
+            if (base_name == semantic)
+              if (const AccessorModel* base = accessor_object(base_index); base && base->count != accessor->count)
+                issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
         }
       }
