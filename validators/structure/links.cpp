@@ -167,6 +167,7 @@ class Linker {
       const std::string sp = p + "/samplers/" + std::to_string(s);
       if (AccessorModel* input = resolve(doc_.accessors, sampler.input, sp + "/input")) {
         use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
+        use_view_as(*input, 1, "AnimationInput", sp + "/input");
         if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
                      {arg(format_name(input->type, input->component_type, input->normalized))},
@@ -346,7 +347,8 @@ class Linker {
     if (view.usage_target == 0) {
       view.usage_target = usage;
       view.usage_name = name;
-      if (view.target == 0) issues_.at("BUFFER_VIEW_TARGET_MISSING", pointer);
+      // Only vertex and index data need a target (other data, usage 1, has none to set).
+      if (view.target == 0 && usage != 1) issues_.at("BUFFER_VIEW_TARGET_MISSING", pointer);
     } else if (view.usage_target != usage) {
       issues_.at("BUFFER_VIEW_TARGET_OVERRIDE", pointer, {arg(view.usage_name), arg(name)});
     }
@@ -651,6 +653,7 @@ class Linker {
     if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
       use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
+      use_view_as(*ibm, 1, "IBM", p + "/inverseBindMatrices");
       if (ibm->type != "MAT4" || ibm->component_type != 5126)
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
