@@ -356,6 +356,7 @@ class Linker {
 
   void vertex_attribute(AccessorModel& accessor, const std::string& name, const std::string& pointer) {
     const int size = component_size(accessor.component_type);
+    use_view_as(accessor, 34962, "VertexBuffer", pointer);
     if (name == "POSITION" && (!accessor.has_min || !accessor.has_max))
       issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", pointer);
     if (accessor.component_type == 5125) {
@@ -363,13 +364,13 @@ class Linker {
     } else {
       attribute_format(accessor, name, pointer);
     }
-    use_view_as(accessor, 34962, "VertexBuffer", pointer);
     if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
       BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
       if (view.object) {
-        // Spec 3.6.2.4: vertex attribute data starts on 4-byte boundaries (strides are multiples of 4
-        // by the schema). Tightly packed 3-byte elements are not reported: the reference does not.
-        if (size > 0 && accessor.byte_offset % 4 != 0)
+        // Spec 3.6.2.4: each vertex attribute element starts on a 4-byte boundary: the accessor's
+        // offset, and without a stride (strides are multiples of 4 by the schema) the element size.
+        const std::int64_t element = static_cast<std::int64_t>(size) * component_count(accessor.type);
+        if (size > 0 && (accessor.byte_offset % 4 != 0 || (view.byte_stride == 0 && element % 4 != 0)))
           issues_.at("MESH_PRIMITIVE_ACCESSOR_UNALIGNED", pointer);
         const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
         auto& users = view_accessors_[accessor.buffer_view];
@@ -607,7 +608,7 @@ class Linker {
         for (const auto& [name, index] : primitive.attributes)
           if (name.starts_with("JOINTS_")) skinned = true;
       }
-      if (node.weights >= 0 && node.weights != targets)
+      if (node.weights >= 0 && mesh->primitives_known && node.weights != targets)
         issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});
       if (skinned && !skin) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);  // absent or unresolved
       if (skinned && skin) {

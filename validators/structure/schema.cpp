@@ -855,7 +855,9 @@ class Walker {
   void mesh(const Json& o, const std::string& p, MeshModel& m) {
     read_.check_members(o, p, {"primitives", "weights", "name", "extensions", "extras"});
     auto weights = read_.numbers(o, p, "weights");
-    if (auto primitives = read_.object_array(o, p, "primitives", true, false)) {
+    auto primitives = read_.object_array(o, p, "primitives", true, false);
+    m.primitives_known = primitives.has_value();
+    if (primitives) {
       m.primitives.resize(primitives->size());
       // Spec 3.7.2.2 "Morph Targets": every primitive of a mesh has the same number of targets;
       // each primitive is compared with the first as soon as it is read.
@@ -877,8 +879,8 @@ class Walker {
                              read.targets >= 0 ? read.pointer + "/targets" : read.pointer);
       }
     }
-    if (weights) {
-      m.weights = static_cast<std::int64_t>(weights->size());
+    if (weights) m.weights = static_cast<std::int64_t>(weights->size());
+    if (weights && primitives) {  // without readable primitives the number of targets is unknown
       std::int64_t targets = -1;
       for (const auto& primitive : m.primitives)
         if (primitive.object && primitive.targets >= 0) targets = primitive.targets;

@@ -171,6 +171,7 @@ struct PrimitiveModel {
 
 struct MeshModel : EntityModel {
   std::vector<PrimitiveModel> primitives;
+  bool primitives_known = false;  // its primitives array could be read
   std::int64_t weights = -1;
   // The skin of the last node, in node order, that draws this mesh with a skin: the joints are
   // checked against it.
