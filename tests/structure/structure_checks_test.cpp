@@ -302,8 +302,8 @@ TEST(StructureChecks, LargeAccessorsAreCheckedAcrossChunkBoundaries) {
 
 // A GLB holding the smallest document in its JSON chunk, with header `version`, declaring the
 // length it really has, followed by `trailing` zero bytes it does not declare.
-std::vector<std::uint8_t> minimal_glb(std::uint32_t version, std::size_t trailing = 0) {
-  std::string json = R"({"asset":{"version":"2.0"}})";
+std::vector<std::uint8_t> minimal_glb(std::uint32_t version, std::size_t trailing = 0,
+                                      std::string json = R"({"asset":{"version":"2.0"}})") {
   while (json.size() % 4) json += ' ';
   const std::size_t length = 12 + 8 + json.size();
   std::vector<std::uint8_t> glb(length + trailing, 0);
@@ -354,6 +354,163 @@ TEST(StructureChecks, SpotLightWithOuterConeInsideInnerIsAnError) {
   const Issue* issue = find(report, "KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES");
   ASSERT_NE(issue, nullptr);
   EXPECT_EQ(issue->pointer, "/extensions/KHR_lights_punctual/lights/0/spot");
+}
+
+
+// Codes, pointers and severities in report order, for comparing whole reports.
+std::vector<std::string> keys(const Report& report) {
+  std::vector<std::string> out;
+  for (const Issue& issue : report.messages)
+    out.push_back(issue.code + " " + (issue.offset ? std::to_string(*issue.offset) : issue.pointer));
+  return out;
+}
+
+// JSON Schema (2020-12, 6.1.1): an integer is any number with a zero fractional part.
+TEST(StructureChecks, IntegersWrittenWithAFractionOrAnExponentAreIntegers) {
+  for (const char* index : {"0.0", "0e0", "0E+0"}) {
+    const Report report = validate_text(std::string(R"({"asset":{"version":"2.0"},"scene":)") + index +
+                                        R"(,"scenes":[{"nodes":[]}]})");
+    EXPECT_EQ(find(report, "TYPE_MISMATCH"), nullptr) << index;
+  }
+  const Report fraction = validate_text(R"({"asset":{"version":"2.0"},"scene":0.5,"scenes":[{}]})");
+  ASSERT_NE(find(fraction, "TYPE_MISMATCH"), nullptr);
+  EXPECT_EQ(find(fraction, "TYPE_MISMATCH")->pointer, "/scene");
+}
+
+// A null has no type: it mismatches the schema's, then counts as absent.
+TEST(StructureChecks, ANullValueIsATypeMismatchAndThenAbsent) {
+  const Report report =
+      validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4}],"bufferViews":[{"buffer":null,"byteLength":4}]})");
+  EXPECT_EQ(keys(report), (std::vector<std::string>{"TYPE_MISMATCH /bufferViews/0/buffer",
+                                                    "UNDEFINED_PROPERTY /bufferViews/0", "UNUSED_OBJECT /buffers/0",
+                                                    "UNUSED_OBJECT /bufferViews/0"}));
+  EXPECT_EQ(report.messages[0].message, "Type mismatch. Property value null is not a 'integer'.");
+}
+
+// A nested array of objects with a non-object element is reported at the array and read as absent:
+// none of its elements is checked, and its owner is not linked.
+TEST(StructureChecks, ANestedArrayWithANonObjectIsDroppedWhole) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[null,5,{"attributes":{},"foo":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})");
+  EXPECT_EQ(keys(report), (std::vector<std::string>{"ARRAY_TYPE_MISMATCH /meshes/0/primitives",
+                                                    "ARRAY_TYPE_MISMATCH /meshes/0/primitives"}));
+}
+
+// Spec 3.7.2.2: a target holds displacements, so its TANGENT is a VEC3 (no handedness).
+TEST(StructureChecks, AMorphTargetTangentIsAVec3) {
+  auto with_target_tangent = [](const char* type) {
+    const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0});
+    return validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":144,"uri":")" + buffer +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":36,"target":34962},)"
+        R"({"buffer":0,"byteOffset":72,"byteLength":48,"target":34962},{"buffer":0,"byteOffset":120,"byteLength":24,"target":34962}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+        R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"},)"
+        R"({"bufferView":3,"componentType":5126,"count":3,"type":")" + std::string(type) + R"("}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TANGENT":2},"targets":[{"TANGENT":3}]}]}]})");
+  };
+  EXPECT_EQ(find(with_target_tangent("VEC3"), "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT"), nullptr);
+  const Report vec2 = with_target_tangent("VEC2");
+  const Issue* issue = find(vec2, "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/meshes/0/primitives/0/targets/0/TANGENT");
+  EXPECT_NE(issue->message.find("('{VEC3, FLOAT}')"), std::string::npos) << issue->message;
+}
+
+// Spec 3.6.2.5: bounds of integer accessors are stored values, integers the type can hold; a
+// bound list that is not is reported and not compared with the data.
+TEST(StructureChecks, IntegerAccessorBoundsMustFitTheirComponentType) {
+  const std::vector<std::uint8_t> indices = {0, 1, 2, 0};
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + data_uri(indices) +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":4,"target":34963}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5121,"count":3,"type":"SCALAR","min":[0.5],"max":[256]}]})");
+  EXPECT_EQ(keys(report), (std::vector<std::string>{"ARRAY_TYPE_MISMATCH /accessors/0/min", "INVALID_GL_VALUE /accessors/0/max",
+                                                    "UNUSED_OBJECT /accessors/0"}));
+  EXPECT_EQ(report.messages[1].message, "Invalid value 256 for GL type 'UNSIGNED_BYTE'.");
+}
+
+// Spec 3.5.2: a matrix decomposes into TRS. Judged by the round trip through a quaternion, with
+// the tolerance measured against the reference (bench/RESULTS.md).
+TEST(StructureChecks, AShearedNodeMatrixIsNotTrs) {
+  auto node_matrix = [](const char* matrix) {
+    return validate_text(std::string(R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[)") + matrix +
+                         R"(]}],"scenes":[{"nodes":[0]}]})");
+  };
+  ASSERT_NE(find(node_matrix("1,0,1.5,0, 0,1,0,0, 0,0,1,0, 1,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr);
+  EXPECT_EQ(find(node_matrix("0,1,0,0, -2,0,0,0, 0,0,3,0, 5,6,7,1"), "NODE_MATRIX_NON_TRS"), nullptr)
+      << "a rotation with scale is TRS";
+  EXPECT_NE(find(node_matrix("1,0,0,0, 0,1,0,0, 0,0,1e40,0, 0,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr)
+      << "beyond single precision";
+}
+
+// The reference reads a GLB as a stream and validates the JSON chunk as soon as it has it: what is
+// wrong at the stream's end is reported after the document's own issues.
+TEST(StructureChecks, GlbStreamEndIssuesFollowTheDocumentsIssues) {
+  std::vector<std::uint8_t> glb =
+      minimal_glb(2, 0, R"({"asset":{"version":"2.0"},"cameras":[{"type":"perspective","perspective":{"yfov":1,"znear":1}}]})");
+  glb[8] += 4;  // declares 4 bytes more than there are
+  Report report;
+  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  ASSERT_EQ(report.messages.size(), 2u);
+  EXPECT_EQ(report.messages[0].code, "UNUSED_OBJECT");
+  EXPECT_EQ(report.messages[1].code, "GLB_LENGTH_MISMATCH");
+}
+
+// Rules between a material's properties are checked when the material is linked, after its own
+// texture references.
+TEST(StructureChecks, MaterialExtensionRulesAreReportedWhenTheMaterialIsLinked) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_materials_volume"],)"
+      R"("materials":[{"occlusionTexture":{"index":9},"extensions":{"KHR_materials_volume":{"thicknessFactor":1}}}],)"
+      R"("nodes":[{"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}],"scenes":[{"nodes":[0]}]})");
+  EXPECT_EQ(keys(report), (std::vector<std::string>{"NODE_MATRIX_DEFAULT /nodes/0/matrix",
+                                                    "UNRESOLVED_REFERENCE /materials/0/occlusionTexture/index",
+                                                    "KHR_MATERIALS_VOLUME_NO_TRANSMISSION /materials/0/extensions/KHR_materials_volume",
+                                                    "NODE_EMPTY /nodes/0", "UNUSED_OBJECT /materials/0"}));
+}
+
+// Spec 3.6.2.4: without a stride, a vertex attribute element whose size is not a multiple of 4
+// cannot start every element on a 4-byte boundary.
+TEST(StructureChecks, TwoByteVertexElementsWithoutAStrideAreUnaligned) {
+  auto texcoords_of = [](int component_type, const char* type) {
+    const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+    return validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":72,"uri":")" + buffer +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":36,"target":34962}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+        R"({"bufferView":1,"componentType":)" + std::to_string(component_type) + R"(,"normalized":true,"count":3,"type":")" + type +
+        R"("}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1}}]}]})");
+  };
+  EXPECT_NE(find(texcoords_of(5121, "VEC2"), "MESH_PRIMITIVE_ACCESSOR_UNALIGNED"), nullptr);
+  EXPECT_EQ(find(texcoords_of(5123, "VEC2"), "MESH_PRIMITIVE_ACCESSOR_UNALIGNED"), nullptr);
+}
+
+// Each element's checks run for every attribute that reads the accessor, check by check.
+TEST(StructureChecks, AVertexCheckIsReportedAtEveryUseOfTheAccessor) {
+  const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 1, 0, 0, 1});
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":72,"uri":")" + buffer +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":36,"target":34962}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+      R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1}},{"attributes":{"POSITION":0,"NORMAL":1},"mode":0}]}]})");
+  std::vector<std::string> non_unit;
+  for (const Issue& issue : report.messages)
+    if (issue.code == "ACCESSOR_VECTOR3_NON_UNIT") non_unit.push_back(issue.pointer);
+  EXPECT_EQ(non_unit, (std::vector<std::string>{"/meshes/0/primitives/0/attributes/NORMAL",
+                                                "/meshes/0/primitives/1/attributes/NORMAL"}));
+}
+
+TEST(StructureChecks, ADataUriImageInAGlbIsReported) {
+  std::vector<std::uint8_t> glb = minimal_glb(
+      2, 0, R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}]})");
+  Report report;
+  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  const std::vector<std::string> all = keys(report);
+  ASSERT_GE(all.size(), 2u);
+  EXPECT_EQ(all[0], "URI_GLB /images/0/uri");
+  EXPECT_EQ(all[1], "DATA_URI_GLB /images/0/uri");
 }
 
 }  // namespace

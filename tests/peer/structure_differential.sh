@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# A bounded sample of the structure differential (bench/structure/differential.sh runs 10,000):
+# inputs made by bench/structure/generate.py from a seed other than the one the rules were
+# studied on, validated by our structure step and by the npm gltf-validator as a black box. The
+# ordered (code, pointer or offset, severity) lists must agree on at least MIN_AGREEMENT percent.
+#   structure_differential.sh STRUCTURE_BENCH_BINARY [COUNT=600] [SEED=15] [MIN_AGREEMENT=95]
+set -euo pipefail
+bench_binary=$1 count=${2:-600} seed=${3:-15} minimum=${4:-95}
+here=$(cd "$(dirname "$0")" && pwd)
+
+# The validator is installed from npm into a cache folder, never into the repo.
+cache="${GLTF_PBR_CACHE:-$HOME/.cache/gltf-pbr}/validator"
+if [ ! -f "$cache/node_modules/gltf-validator/package.json" ]; then
+  if ! npm install --prefix "$cache" --no-audit --no-fund --loglevel=error gltf-validator@2.0.0-dev.3.10 >&2; then
+    echo "cannot install gltf-validator@2.0.0-dev.3.10 from npm into $cache: see npm's error above" >&2
+    exit 1
+  fi
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$here/../../bench/structure/differential.sh" "$bench_binary" "$cache/node_modules" "$work/run" "$count" "$seed" > "$work/summary.txt"
+head -25 "$work/summary.txt"
+agreement=$(sed -n 's/^agree [0-9]* of [0-9]* (\([0-9.]*\)%.*/\1/p' "$work/summary.txt")
+[ -n "$agreement" ] || { echo "no agreement figure in the comparison's output" >&2; exit 1; }
+if ! awk -v a="$agreement" -v m="$minimum" 'BEGIN { exit !(a >= m) }'; then
+  echo "agreement $agreement% is below $minimum% (seed $seed, $count inputs)" >&2
+  exit 1
+fi
+echo "agreement $agreement% (at least $minimum%) on $count generated inputs, seed $seed"
