@@ -118,8 +118,10 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   // GLB container that does not parse whole is cut. A value outside its schema range that is kept
   // as written (gold's specular 1.022, a lowercase alphaMode, a dangling index) is not a loss:
   // the conversion handles or keeps it (DESIGN.md: F0 above 1 must convert).
+  // INVALID_INDEX is how the structure step names any non-integer (or negative) index, as the
+  // reference does: tinygltf reads such an element as absent or as a wrapped integer.
   static const std::set<std::string> kDroppedCodes{"ARRAY_TYPE_MISMATCH", "TYPE_MISMATCH", "INVALID_JSON",
-                                                   "UNDEFINED_PROPERTY"};
+                                                   "UNDEFINED_PROPERTY", "INVALID_INDEX"};
   static const std::set<std::string> kUnsignedProperties{"byteOffset", "byteLength", "byteStride", "count"};
   const std::optional<MappedFile> mapped = MappedFile::open(file);
   if (!mapped) return std::nullopt;
@@ -131,7 +133,9 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   for (const Issue& issue : report.messages) {
     if (issue.severity != Severity::Error) continue;
     const std::string property = issue.pointer.substr(issue.pointer.rfind('/') + 1);
-    if (kDroppedCodes.contains(issue.code) || issue.code.rfind("GLB_", 0) == 0 ||
+    // A null (some exporters write one for an absent value) is a type mismatch that drops nothing.
+    const bool null_value = issue.code == "TYPE_MISMATCH" && issue.message.find(" value null is not ") != std::string::npos;
+    if ((kDroppedCodes.contains(issue.code) && !null_value) || issue.code.rfind("GLB_", 0) == 0 ||
         (issue.code == "VALUE_NOT_IN_RANGE" && kUnsignedProperties.contains(property)))
       return issue;
   }
