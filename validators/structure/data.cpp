@@ -368,7 +368,7 @@ class AccessorData {
 
   void index_checks(const AccessorModel& a, const std::string& use, std::size_t first, Carry& carry) {
     const double restart = a.component_type == 5121 ? 255.0 : a.component_type == 5123 ? 65535.0 : 4294967295.0;
-    const double limit = a.vertex_limit > 0 ? static_cast<double>(a.vertex_limit) : INFINITY;
+    const double limit = a.vertex_limit >= 0 ? static_cast<double>(a.vertex_limit) : INFINITY;  // -1: unknown
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
       if (value == restart) {
@@ -499,15 +499,16 @@ class AccessorData {
               const double raw_weight = set.weight_values[local + c];
               const double weight = normalized(*set.weights, raw_weight);
               bool left_out = false;
-              if (weight == 0.0) {
-                if (joint != 0)
-                  issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", set.joints_pointer,
-                             {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
-              } else if (primitive.joint_count >= 0 && joint >= static_cast<double>(primitive.joint_count)) {
+              // The skin's range first, whatever the weight; then a zero weight's joint; then repeats.
+              if (primitive.joint_count >= 0 && joint >= static_cast<double>(primitive.joint_count)) {
                 issues_.at("ACCESSOR_JOINTS_INDEX_OOB", set.joints_pointer,
                            {arg(index), arg(c), arg(static_cast<std::int64_t>(joint)), arg(primitive.joint_count - 1),
                             arg(primitive.skin)});
                 left_out = true;
+              } else if (weight == 0.0) {
+                if (joint != 0)
+                  issues_.at("ACCESSOR_JOINTS_USED_ZERO_WEIGHT", set.joints_pointer,
+                             {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});
               } else if (std::find(used.begin(), used.end(), joint) != used.end()) {
                 issues_.at("ACCESSOR_JOINTS_INDEX_DUPLICATE", set.joints_pointer,
                            {arg(index), arg(c), arg(static_cast<std::int64_t>(joint))});

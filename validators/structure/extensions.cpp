@@ -62,7 +62,6 @@ class ExtensionReader {
       read_.number(o, p, "anisotropyRotation");
       texture(o, p, "anisotropyTexture");
       tail(o, p);
-      if (MaterialModel* material = hooks_.material()) material->needs_tangents = true;
       same_tex_coord(owner_object, o, p, "anisotropyTexture", "KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD");
     } else if (name == "KHR_materials_clearcoat") {
       read_.check_members(o, p,

@@ -505,7 +505,8 @@ class Linker {
                      {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
         stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
         if (indices->vertex_limit < 0) {
-          indices->vertex_limit = vertex_count;
+          // A primitive without attributes has no vertices: every index is out of range.
+          indices->vertex_limit = primitive.attributes.empty() ? 0 : vertex_count;
           indices->primitive_mode = primitive.mode;
         }
         incompatible_mode(primitive, indices->count, p);

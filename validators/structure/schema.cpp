@@ -708,9 +708,13 @@ class Walker {
           if (const auto set = integer_value(*coord); set && *set >= 0) ref.tex_coord = *set;
       }
     }
-    if (kind == 1) {
+    // The core normal map gives a tangent space to generate; the textures of extensions that are
+    // defined in tangent space (a clearcoat normal map, an anisotropy direction map) need one.
+    if (key == "normalTexture") {
       material.has_normal_texture = true;
       material.normal_tex_coord = ref.tex_coord;
+    } else if (key == "clearcoatNormalTexture" || key == "anisotropyTexture") {
+      material.needs_tangents = true;
     }
     material.textures.push_back(ref);
   }

@@ -141,7 +141,7 @@ struct TextureRef {
 struct MaterialModel : EntityModel {
   std::vector<TextureRef> textures;  // in the order the reference lists texture bindings
   bool has_normal_texture = false;
-  bool needs_tangents = false;  // KHR_materials_anisotropy shades along tangents
+  bool needs_tangents = false;  // a texture defined in tangent space (clearcoat normal, anisotropy)
   std::int64_t normal_tex_coord = 0;
   // (code, pointer) of what its extensions' rules found: reported when the material is linked.
   std::vector<std::pair<std::string, std::string>> extension_issues;
