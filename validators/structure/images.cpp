@@ -5,6 +5,17 @@
 
 namespace gltf_pbr::structure {
 
+std::string image_mime_of(std::span<const std::uint8_t> bytes) {
+  static constexpr std::uint8_t png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  static constexpr std::uint8_t ktx2[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  if (bytes.size() >= 8 && std::memcmp(bytes.data(), png, 8) == 0) return "image/png";
+  if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return "image/jpeg";
+  if (bytes.size() >= 12 && std::memcmp(bytes.data(), "RIFF", 4) == 0 && std::memcmp(bytes.data() + 8, "WEBP", 4) == 0)
+    return "image/webp";
+  if (bytes.size() >= 12 && std::memcmp(bytes.data(), ktx2, 12) == 0) return "image/ktx2";
+  return {};
+}
+
 namespace {
 
 struct ImageHeader {
@@ -152,22 +163,22 @@ void read_webp(std::span<const std::uint8_t> b, ImageHeader& header) {
 
 ImageHeader read_header(std::span<const std::uint8_t> b) {
   ImageHeader header;
-  static constexpr std::uint8_t png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
-  static constexpr std::uint8_t ktx2[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
-  if (b.size() >= 8 && std::memcmp(b.data(), png, 8) == 0)
+  const std::string mime = image_mime_of(b);
+  if (mime == "image/png")
     read_png(b, header);
-  else if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF)
+  else if (mime == "image/jpeg")
     read_jpeg(b, header);
-  else if (b.size() >= 12 && std::memcmp(b.data(), "RIFF", 4) == 0 && std::memcmp(b.data() + 8, "WEBP", 4) == 0)
+  else if (mime == "image/webp")
     read_webp(b, header);
-  else if (b.size() >= 12 && std::memcmp(b.data(), ktx2, 12) == 0)
-    header.mime = "image/ktx2";
+  else if (mime == "image/ktx2")
+    header.mime = mime;
   return header;
 }
 
 bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)) == 0; }
 
 }  // namespace
+
 
 void check_images(Context& context) {
   Document& doc = context.doc;

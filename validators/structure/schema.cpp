@@ -7,6 +7,7 @@
 #include <set>
 
 #include "validators/structure/extensions.hpp"
+#include "validators/structure/images.hpp"
 #include "validators/structure/schema_reader.hpp"
 
 namespace gltf_pbr::structure {
@@ -662,8 +663,13 @@ class Walker {
       // As for buffers: a GLB should carry its images in buffer views, not beside it or in data URIs.
       if (context_.glb) context_.issues.at("URI_GLB", p + "/uri");
       m.uri_valid = check_uri(*uri, p + "/uri", false, m.data_uri, m.data, &m.data_uri_mime);
-      if (m.uri_valid && m.data_uri && !m.data_uri_mime.empty() && m.data_uri_mime != "image/png" &&
-          m.data_uri_mime != "image/jpeg" && m.data_uri_mime != "image/webp" && m.data_uri_mime != "image/ktx2") {
+      // An image data URI names an image type, and its bytes are of that type when their
+      // signature names one.
+      const std::string content = m.data_uri ? image_mime_of(m.data) : std::string();
+      if (m.uri_valid && m.data_uri &&
+          ((m.data_uri_mime != "image/png" && m.data_uri_mime != "image/jpeg" && m.data_uri_mime != "image/webp" &&
+            m.data_uri_mime != "image/ktx2") ||
+           (!content.empty() && content != m.data_uri_mime))) {
         context_.issues.at("INVALID_URI", p + "/uri",
                            {arg(*uri), arg_raw("\nThe declared mediatype does not match the embedded content.")});
         m.uri_valid = false;
