@@ -132,12 +132,16 @@ const Json* SchemaReader::non_empty_array(const Json& object, const std::string&
     return nullptr;
   }
   const std::string here = child(pointer, key);
+  // A required array that is not one, or is empty, leaves its object unusable (the reference does
+  // not link it), unlike a wrong scalar.
   if (!value->is_array()) {
     issues_.at("TYPE_MISMATCH", here, {arg_json(*value), arg("array")});
+    if (required) ++missing_count_;
     return nullptr;
   }
   if (value->empty()) {
     issues_.at("EMPTY_ENTITY", here);
+    if (required) ++missing_count_;
     return nullptr;
   }
   return value;

@@ -63,9 +63,9 @@ class SchemaReader {
   }
 
   // The array under `key`, or nullptr after reporting why not: absent (UNDEFINED_PROPERTY when required), not
-  // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY). Only an absent required property makes its
-  // object unusable: a present one of the wrong type or value leaves the object linked, as in the
-  // reference.
+  // an array (TYPE_MISMATCH) or empty (EMPTY_ENTITY); a required one in either case leaves its
+  // object unusable. (A required scalar of the wrong type or value does not: the reference still
+  // links its object.)
   const Json* non_empty_array(const Json& object, const std::string& pointer, std::string_view key, bool required);
 
   // UNDEFINED_PROPERTY, counted: an object that misses a required property is reported but not
