@@ -115,9 +115,10 @@ class Linker {
       const bool total_aligned = total % size == 0;
       if (!total_aligned) issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", p, {arg(total), arg(size)});
       const std::int64_t element = element_size(a);
-      if (view->byte_stride > 0 && view->byte_stride < element)
-        issues_.at("ACCESSOR_SMALL_BYTESTRIDE", p, {arg(view->byte_stride), arg(element)});
-      a.fits = aligned && total_aligned && a.count > 0 && view->byte_length > 0;
+      const bool stride_fits = !(view->byte_stride > 0 && view->byte_stride < element);
+      if (!stride_fits) issues_.at("ACCESSOR_SMALL_BYTESTRIDE", p, {arg(view->byte_stride), arg(element)});
+      // Data is read only from where it is known to be, element by element as declared.
+      a.fits = aligned && total_aligned && stride_fits && !a.offset_unusable && a.count > 0 && view->byte_length > 0;
       const std::int64_t view_length = std::max<std::int64_t>(view->byte_length, 0);
       if (a.count > 0) {
         const std::int64_t stride = view->byte_stride > 0 ? view->byte_stride : element;

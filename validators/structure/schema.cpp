@@ -302,6 +302,8 @@ class Walker {
         context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/byteOffset", {arg("bufferView")});
       else if ((offset = read_.integer(o, p, "byteOffset", false, {0})))
         m.byte_offset = *offset;
+      else
+        m.offset_unusable = true;  // where its data starts is unknown: none of it is read
     }
     if (auto type = read_.integer(o, p, "componentType", true, {}, kComponentTypes)) m.component_type = int(*type);
     if (auto count = read_.integer(o, p, "count", true, {1})) m.count = *count;

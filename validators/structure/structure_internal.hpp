@@ -82,6 +82,7 @@ struct AccessorModel : EntityModel {
   std::int64_t buffer_view = -1;
   std::int64_t byte_offset = 0;
   bool has_byte_offset = false;
+  bool offset_unusable = false;  // a byteOffset of the wrong type or range
   int component_type = 0;  // 0: absent or invalid
   std::int64_t count = -1;
   std::string type;  // "" when absent or invalid
