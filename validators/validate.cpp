@@ -134,7 +134,8 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
     if (issue.severity != Severity::Error) continue;
     const std::string property = issue.pointer.substr(issue.pointer.rfind('/') + 1);
     // A null (some exporters write one for an absent value) is a type mismatch that drops nothing.
-    const bool null_value = issue.code == "TYPE_MISMATCH" && issue.message.find(" value null is not ") != std::string::npos;
+    const bool null_value =
+        issue.code == "TYPE_MISMATCH" && issue.message.find(" value null is not ") != std::string::npos;
     if ((kDroppedCodes.contains(issue.code) && !null_value) || issue.code.rfind("GLB_", 0) == 0 ||
         (issue.code == "VALUE_NOT_IN_RANGE" && kUnsignedProperties.contains(property)))
       return issue;

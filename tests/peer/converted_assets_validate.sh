@@ -8,16 +8,7 @@ cli=$1
 shared=$2
 here=$(cd "$(dirname "$0")" && pwd)
 
-# The validator is installed from npm into a cache folder, never into the repo.
-cache="${GLTF_PBR_CACHE:-$HOME/.cache/gltf-pbr}/validator"
-if [ ! -f "$cache/node_modules/gltf-validator/package.json" ]; then
-  # npm's own error (an unreachable registry, a full disk) is printed, not silenced.
-  if ! npm install --prefix "$cache" --no-audit --no-fund --loglevel=error gltf-validator@2.0.0-dev.3.10 >&2; then
-    echo "cannot install gltf-validator@2.0.0-dev.3.10 from npm into $cache: see npm's error above" >&2
-    exit 1
-  fi
-fi
-export GLTF_PBR_NODE_MODULES="$cache/node_modules"
+source "$here/npm_validator.sh"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -8,18 +8,11 @@ set -euo pipefail
 bench_binary=$1 count=${2:-600} seed=${3:-15} minimum=${4:-95}
 here=$(cd "$(dirname "$0")" && pwd)
 
-# The validator is installed from npm into a cache folder, never into the repo.
-cache="${GLTF_PBR_CACHE:-$HOME/.cache/gltf-pbr}/validator"
-if [ ! -f "$cache/node_modules/gltf-validator/package.json" ]; then
-  if ! npm install --prefix "$cache" --no-audit --no-fund --loglevel=error gltf-validator@2.0.0-dev.3.10 >&2; then
-    echo "cannot install gltf-validator@2.0.0-dev.3.10 from npm into $cache: see npm's error above" >&2
-    exit 1
-  fi
-fi
+source "$here/npm_validator.sh"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$here/../../bench/structure/differential.sh" "$bench_binary" "$cache/node_modules" "$work/run" "$count" "$seed" > "$work/summary.txt"
+"$here/../../bench/structure/differential.sh" "$bench_binary" "$GLTF_PBR_NODE_MODULES" "$work/run" "$count" "$seed" > "$work/summary.txt"
 head -25 "$work/summary.txt"
 agreement=$(sed -n 's/^agree [0-9]* of [0-9]* (\([0-9.]*\)%.*/\1/p' "$work/summary.txt")
 [ -n "$agreement" ] || { echo "no agreement figure in the comparison's output" >&2; exit 1; }

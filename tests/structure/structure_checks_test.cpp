@@ -99,7 +99,8 @@ Report skinned_triangle(const SkinnedSets& sets, const std::string& extra_nodes 
   const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   append(positions.data(), positions.size() * 4);
   std::string views = R"({"buffer":0,"byteLength":36,"target":34962})";
-  std::string accessors = R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]})";
+  std::string accessors =
+      R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]})";
   std::string attributes = R"("POSITION":0)";
   for (std::size_t set = 0; set < sets.joints.size(); ++set) {
     for (const auto& [data, size, type] :
@@ -128,8 +129,8 @@ Report skinned_triangle(const SkinnedSets& sets, const std::string& extra_nodes 
                        R"(,"uri":")" + data_uri(bytes) + R"("}],"bufferViews":[)" + views + R"(],"accessors":[)" +
                        accessors + R"(],"meshes":[{"primitives":[{"attributes":{)" + attributes +
                        R"(}}]}],"skins":[{"joints":[1,2,3],"inverseBindMatrices":)" + std::to_string(ibm_view) +
-                       R"(})" + extra_skins + R"(],"nodes":[{"mesh":0,"skin":0},{"children":[2]},{"children":[3]},{})" + extra_nodes +
-                       R"(],"scenes":[{"nodes":[0,1]}]})");
+                       R"(})" + extra_skins + R"(],"nodes":[{"mesh":0,"skin":0},{"children":[2]},{"children":[3]},{})" +
+                       extra_nodes + R"(],"scenes":[{"nodes":[0,1]}]})");
 }
 
 std::vector<std::string> codes_and_pointers(const Report& report) {
@@ -172,8 +173,8 @@ TEST(StructureChecks, WeightsAreSummedAcrossEverySetAndReportedAtEach) {
 // A weight whose joint is out of the skin's range, repeats a joint of the vertex, or is negative is
 // reported and left out of the vertex's sum; component by component, the joint before the weight.
 TEST(StructureChecks, AReportedWeightIsLeftOutOfTheVertexSum) {
-  const Report report = skinned_triangle({{{7, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0}},
-                                          {{0.5f, 0.5f, 0, 0, 0.5f, -0.5f, 0, 0, 0.5f, 0.5f, 0, 0}}});
+  const Report report = skinned_triangle(
+      {{{7, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0}}, {{0.5f, 0.5f, 0, 0, 0.5f, -0.5f, 0, 0, 0.5f, 0.5f, 0, 0}}});
   ASSERT_EQ(codes_and_pointers(report),
             (std::vector<std::string>{"ACCESSOR_JOINTS_INDEX_OOB /meshes/0/primitives/0/attributes/JOINTS_0",
                                       "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0",
@@ -222,7 +223,8 @@ Report morph_mesh_under(const std::string& nodes) {
       R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962}],)"
       R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
       R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":0}]}],"weights":[0.5]}],)"
-      R"("nodes":)" + nodes + R"(,"scenes":[{"nodes":[0]}]})");
+      R"("nodes":)" +
+      nodes + R"(,"scenes":[{"nodes":[0]}]})");
 }
 
 TEST(StructureChecks, MeshWeightsThatEveryNodeOverridesAreUnused) {
@@ -246,7 +248,8 @@ Report skinned_mesh_with_joint_in_scene(int joint_scene) {
       R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC4"},)"
       R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC4"}],)"
       R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}}]}],)"
-      R"("skins":[{"joints":[1]}],"nodes":[{"mesh":0,"skin":0},{}],"scenes":)" + scenes + "}");
+      R"("skins":[{"joints":[1]}],"nodes":[{"mesh":0,"skin":0},{}],"scenes":)" +
+      scenes + "}");
 }
 
 TEST(StructureChecks, SkinnedMeshInASceneWithoutItsJointsIsAnError) {
@@ -356,7 +359,6 @@ TEST(StructureChecks, SpotLightWithOuterConeInsideInnerIsAnError) {
   EXPECT_EQ(issue->pointer, "/extensions/KHR_lights_punctual/lights/0/spot");
 }
 
-
 // Codes, pointers and severities in report order, for comparing whole reports.
 std::vector<std::string> keys(const Report& report) {
   std::vector<std::string> out;
@@ -368,8 +370,8 @@ std::vector<std::string> keys(const Report& report) {
 // JSON Schema (2020-12, 6.1.1): an integer is any number with a zero fractional part.
 TEST(StructureChecks, IntegersWrittenWithAFractionOrAnExponentAreIntegers) {
   for (const char* index : {"0.0", "0e0", "0E+0"}) {
-    const Report report = validate_text(std::string(R"({"asset":{"version":"2.0"},"scene":)") + index +
-                                        R"(,"scenes":[{"nodes":[]}]})");
+    const Report report =
+        validate_text(std::string(R"({"asset":{"version":"2.0"},"scene":)") + index + R"(,"scenes":[{"nodes":[]}]})");
     EXPECT_EQ(find(report, "TYPE_MISMATCH"), nullptr) << index;
   }
   const Report fraction = validate_text(R"({"asset":{"version":"2.0"},"scene":0.5,"scenes":[{}]})");
@@ -379,11 +381,11 @@ TEST(StructureChecks, IntegersWrittenWithAFractionOrAnExponentAreIntegers) {
 
 // A null has no type: it mismatches the schema's, then counts as absent.
 TEST(StructureChecks, ANullValueIsATypeMismatchAndThenAbsent) {
-  const Report report =
-      validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4}],"bufferViews":[{"buffer":null,"byteLength":4}]})");
-  EXPECT_EQ(keys(report), (std::vector<std::string>{"TYPE_MISMATCH /bufferViews/0/buffer",
-                                                    "UNDEFINED_PROPERTY /bufferViews/0", "UNUSED_OBJECT /buffers/0",
-                                                    "UNUSED_OBJECT /bufferViews/0"}));
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4}],"bufferViews":[{"buffer":null,"byteLength":4}]})");
+  EXPECT_EQ(keys(report),
+            (std::vector<std::string>{"TYPE_MISMATCH /bufferViews/0/buffer", "UNDEFINED_PROPERTY /bufferViews/0",
+                                      "UNUSED_OBJECT /buffers/0", "UNUSED_OBJECT /bufferViews/0"}));
   EXPECT_EQ(report.messages[0].message, "Type mismatch. Property value null is not a 'integer'.");
 }
 
@@ -399,14 +401,17 @@ TEST(StructureChecks, ANestedArrayWithANonObjectIsDroppedWhole) {
 // Spec 3.7.2.2: a target holds displacements, so its TANGENT is a VEC3 (no handedness).
 TEST(StructureChecks, AMorphTargetTangentIsAVec3) {
   auto with_target_tangent = [](const char* type) {
-    const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0});
+    const std::string buffer = float_buffer(
+        {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0});
     return validate_text(
         R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":144,"uri":")" + buffer +
         R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":36,"target":34962},)"
         R"({"buffer":0,"byteOffset":72,"byteLength":48,"target":34962},{"buffer":0,"byteOffset":120,"byteLength":24,"target":34962}],)"
         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
         R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"},)"
-        R"({"bufferView":3,"componentType":5126,"count":3,"type":")" + std::string(type) + R"("}],)"
+        R"({"bufferView":3,"componentType":5126,"count":3,"type":")" +
+        std::string(type) +
+        R"("}],)"
         R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TANGENT":2},"targets":[{"TANGENT":3}]}]}]})");
   };
   EXPECT_EQ(find(with_target_tangent("VEC3"), "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT"), nullptr);
@@ -425,8 +430,9 @@ TEST(StructureChecks, IntegerAccessorBoundsMustFitTheirComponentType) {
       R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + data_uri(indices) +
       R"("}],"bufferViews":[{"buffer":0,"byteLength":4,"target":34963}],)"
       R"("accessors":[{"bufferView":0,"componentType":5121,"count":3,"type":"SCALAR","min":[0.5],"max":[256]}]})");
-  EXPECT_EQ(keys(report), (std::vector<std::string>{"ARRAY_TYPE_MISMATCH /accessors/0/min", "INVALID_GL_VALUE /accessors/0/max",
-                                                    "UNUSED_OBJECT /accessors/0"}));
+  EXPECT_EQ(keys(report),
+            (std::vector<std::string>{"ARRAY_TYPE_MISMATCH /accessors/0/min", "INVALID_GL_VALUE /accessors/0/max",
+                                      "UNUSED_OBJECT /accessors/0"}));
   EXPECT_EQ(report.messages[1].message, "Invalid value 256 for GL type 'UNSIGNED_BYTE'.");
 }
 
@@ -447,8 +453,8 @@ TEST(StructureChecks, AShearedNodeMatrixIsNotTrs) {
 // The reference reads a GLB as a stream and validates the JSON chunk as soon as it has it: what is
 // wrong at the stream's end is reported after the document's own issues.
 TEST(StructureChecks, GlbStreamEndIssuesFollowTheDocumentsIssues) {
-  std::vector<std::uint8_t> glb =
-      minimal_glb(2, 0, R"({"asset":{"version":"2.0"},"cameras":[{"type":"perspective","perspective":{"yfov":1,"znear":1}}]})");
+  std::vector<std::uint8_t> glb = minimal_glb(
+      2, 0, R"({"asset":{"version":"2.0"},"cameras":[{"type":"perspective","perspective":{"yfov":1,"znear":1}}]})");
   glb[8] += 4;  // declares 4 bytes more than there are
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
@@ -464,10 +470,11 @@ TEST(StructureChecks, MaterialExtensionRulesAreReportedWhenTheMaterialIsLinked) 
       R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_materials_volume"],)"
       R"("materials":[{"occlusionTexture":{"index":9},"extensions":{"KHR_materials_volume":{"thicknessFactor":1}}}],)"
       R"("nodes":[{"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}],"scenes":[{"nodes":[0]}]})");
-  EXPECT_EQ(keys(report), (std::vector<std::string>{"NODE_MATRIX_DEFAULT /nodes/0/matrix",
-                                                    "UNRESOLVED_REFERENCE /materials/0/occlusionTexture/index",
-                                                    "KHR_MATERIALS_VOLUME_NO_TRANSMISSION /materials/0/extensions/KHR_materials_volume",
-                                                    "NODE_EMPTY /nodes/0", "UNUSED_OBJECT /materials/0"}));
+  EXPECT_EQ(keys(report),
+            (std::vector<std::string>{
+                "NODE_MATRIX_DEFAULT /nodes/0/matrix", "UNRESOLVED_REFERENCE /materials/0/occlusionTexture/index",
+                "KHR_MATERIALS_VOLUME_NO_TRANSMISSION /materials/0/extensions/KHR_materials_volume",
+                "NODE_EMPTY /nodes/0", "UNUSED_OBJECT /materials/0"}));
 }
 
 // Spec 3.6.2.4: without a stride, a vertex attribute element whose size is not a multiple of 4
@@ -479,7 +486,8 @@ TEST(StructureChecks, TwoByteVertexElementsWithoutAStrideAreUnaligned) {
         R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":72,"uri":")" + buffer +
         R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":36,"target":34962}],)"
         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
-        R"({"bufferView":1,"componentType":)" + std::to_string(component_type) + R"(,"normalized":true,"count":3,"type":")" + type +
+        R"({"bufferView":1,"componentType":)" +
+        std::to_string(component_type) + R"(,"normalized":true,"count":3,"type":")" + type +
         R"("}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1}}]}]})");
   };
   EXPECT_NE(find(texcoords_of(5121, "VEC2"), "MESH_PRIMITIVE_ACCESSOR_UNALIGNED"), nullptr);
@@ -503,8 +511,8 @@ TEST(StructureChecks, AVertexCheckIsReportedAtEveryUseOfTheAccessor) {
 }
 
 TEST(StructureChecks, ADataUriImageInAGlbIsReported) {
-  std::vector<std::uint8_t> glb = minimal_glb(
-      2, 0, R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}]})");
+  std::vector<std::uint8_t> glb =
+      minimal_glb(2, 0, R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}]})");
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
   const std::vector<std::string> all = keys(report);

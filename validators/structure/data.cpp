@@ -241,7 +241,9 @@ class AccessorData {
     // Pass 1: invalid floats in element order, then the declared bounds against the actual ones.
     // Declared bounds of float accessors are compared at float precision: the JSON double is
     // what a writer printed for the float it stored.
-    auto as_stored = [&](double declared) { return is_float ? static_cast<double>(static_cast<float>(declared)) : declared; };
+    auto as_stored = [&](double declared) {
+      return is_float ? static_cast<double>(static_cast<float>(declared)) : declared;
+    };
     const bool min_declared = a.has_min && static_cast<int>(a.min.size()) == components;
     const bool max_declared = a.has_max && static_cast<int>(a.max.size()) == components;
     std::array<double, 16> actual_min, actual_max, declared_min, declared_max;
@@ -267,7 +269,8 @@ class AccessorData {
         for (int c = 0; c < components; ++c, ++value) {
           const double v = *value;
           if (is_float && !std::isfinite(v)) {
-            issues_.at("ACCESSOR_INVALID_FLOAT", use, {arg(static_cast<std::uint64_t>(e * components + c)), arg_double(v)});
+            issues_.at("ACCESSOR_INVALID_FLOAT", use,
+                       {arg(static_cast<std::uint64_t>(e * components + c)), arg_double(v)});
             invalid_float = true;
             continue;
           }
@@ -447,7 +450,8 @@ class AccessorData {
         for (const auto& [name, index] : primitive.attributes) {
           const std::string& semantic = name;
           if (auto set = set_number(semantic, "JOINTS_")) by_set.try_emplace(*set, -1, -1).first->second.first = index;
-          if (auto set = set_number(semantic, "WEIGHTS_")) by_set.try_emplace(*set, -1, -1).first->second.second = index;
+          if (auto set = set_number(semantic, "WEIGHTS_"))
+            by_set.try_emplace(*set, -1, -1).first->second.second = index;
         }
         SkinnedPrimitive skinned{{}, -1, mesh.skin, mesh.joint_count, 0.0};
         bool readable = !by_set.empty();
@@ -460,8 +464,12 @@ class AccessorData {
           if (!readable) break;
           skinned.count = joints->count;
           const std::string attributes = primitive.pointer + "/attributes/";
-          skinned.sets.push_back({joints, weights, attributes + "JOINTS_" + std::to_string(set),
-                                  attributes + "WEIGHTS_" + std::to_string(set), {}, {}});
+          skinned.sets.push_back({joints,
+                                  weights,
+                                  attributes + "JOINTS_" + std::to_string(set),
+                                  attributes + "WEIGHTS_" + std::to_string(set),
+                                  {},
+                                  {}});
         }
         if (readable && skinned.count > 0) primitives.push_back(std::move(skinned));
       }
@@ -598,7 +606,8 @@ class AccessorData {
 std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& doc, std::int64_t index) {
   if (index < 0 || static_cast<std::size_t>(index) >= doc.buffer_views.size()) return std::nullopt;
   const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(index)];
-  if (!view.object || view.byte_offset < 0 || view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= doc.buffers.size())
+  if (!view.object || view.byte_offset < 0 || view.buffer < 0 ||
+      static_cast<std::size_t>(view.buffer) >= doc.buffers.size())
     return std::nullopt;
   const BufferModel& buffer = doc.buffers[static_cast<std::size_t>(view.buffer)];
   if (!buffer.data_loaded || view.byte_length <= 0) return std::nullopt;

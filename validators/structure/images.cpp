@@ -179,7 +179,6 @@ bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)
 
 }  // namespace
 
-
 void check_images(Context& context) {
   Document& doc = context.doc;
   IssueSink& issues = context.issues;

@@ -6,8 +6,8 @@
 #include <functional>
 #include <map>
 #include <optional>
-#include <string_view>
 #include <set>
+#include <string_view>
 
 #include "validators/structure/structure_internal.hpp"
 
@@ -280,8 +280,8 @@ class Linker {
   // An accessor serves one purpose (spec 3.6.2: its data is read as indices, vertex attributes,
   // matrices or keyframes); the first use fixes it and where the data checks report.
   void use_accessor(AccessorModel& accessor, AccessorModel::Usage usage, const std::string& pointer) {
-    static const char* names[] = {
-        "None", "VertexAttribute", "IndexBuffer", "AnimationInput", "AnimationOutput", "IBM", "Other"};
+    static const char* names[] = {"None", "VertexAttribute", "IndexBuffer", "AnimationInput", "AnimationOutput", "IBM",
+                                  "Other"};
     if (accessor.usage == AccessorModel::Usage::None) {
       accessor.usage = usage;
       accessor.usage_pointer = pointer;
@@ -542,11 +542,12 @@ class Linker {
           // A target attribute with a valid index needs its base attribute. That attribute is
           // missing when absent or when its index names a slot of the accessors that is not an
           // object (an index outside the list is only unresolved), as in the reference.
-          const bool in_base = std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
-            const auto slot = static_cast<std::size_t>(attribute.second);
-            return attribute.first == semantic &&
-                   !(attribute.second >= 0 && slot < doc_.accessors.size() && !doc_.accessors[slot].object);
-          });
+          const bool in_base =
+              std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
+                const auto slot = static_cast<std::size_t>(attribute.second);
+                return attribute.first == semantic &&
+                       !(attribute.second >= 0 && slot < doc_.accessors.size() && !doc_.accessors[slot].object);
+              });
           if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (!accessor) continue;
@@ -791,8 +792,8 @@ class Linker {
       for (std::size_t n = 0; n < doc_.nodes.size(); ++n) {
         const NodeModel& node = doc_.nodes[n];
         // A skin without a common root is reported as such (SKIN_NO_COMMON_ROOT), not here.
-        if (!in_scene[n] || node.mesh < 0 || node.skin < 0 || static_cast<std::size_t>(node.skin) >= doc_.skins.size() ||
-            !doc_.skins[node.skin].has_common_root)
+        if (!in_scene[n] || node.mesh < 0 || node.skin < 0 ||
+            static_cast<std::size_t>(node.skin) >= doc_.skins.size() || !doc_.skins[node.skin].has_common_root)
           continue;
         for (std::int64_t joint : doc_.skins[node.skin].joints)
           if (joint >= 0 && static_cast<std::size_t>(joint) < doc_.nodes.size() && !in_scene[joint]) flagged[n] = 1;

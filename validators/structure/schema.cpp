@@ -220,8 +220,8 @@ class Walker {
   // difference relative to the matrix's. A shear changes the rotation the quaternion can hold.
   static double trs_round_trip_error(const std::vector<double>& a) {
     double scale[3], r[3][3];  // r[row][column]
-    const double determinant = a[0] * (a[5] * a[10] - a[9] * a[6]) - a[4] * (a[1] * a[10] - a[9] * a[2]) +
-                               a[8] * (a[1] * a[6] - a[5] * a[2]);
+    const double determinant =
+        a[0] * (a[5] * a[10] - a[9] * a[6]) - a[4] * (a[1] * a[10] - a[9] * a[2]) + a[8] * (a[1] * a[6] - a[5] * a[2]);
     for (int c = 0; c < 3; ++c) {
       scale[c] = std::sqrt(a[4 * c] * a[4 * c] + a[4 * c + 1] * a[4 * c + 1] + a[4 * c + 2] * a[4 * c + 2]);
       if (c == 0 && determinant < 0) scale[c] = -scale[c];
@@ -934,7 +934,8 @@ class Walker {
       const bool affine = a[3] == 0 && a[7] == 0 && a[11] == 0 && a[15] == 1;
       // Spec 3.5.2: the matrix must decompose into translation, rotation and scale (no skew or
       // shear). Judged as the reference does: decompose, recompose, compare (trs_round_trip_error).
-      const bool beyond_float = std::any_of(a.begin(), a.end(), [](double v) { return std::fabs(v) > 3.4028234663852886e38; });
+      const bool beyond_float =
+          std::any_of(a.begin(), a.end(), [](double v) { return std::fabs(v) > 3.4028234663852886e38; });
       const bool not_trs = beyond_float || (affine && determinant != 0 && trs_round_trip_error(a) > kTrsTolerance);
       if (m.has_trs)
         context_.issues.at("NODE_MATRIX_TRS", p + "/matrix");

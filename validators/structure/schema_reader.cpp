@@ -8,7 +8,8 @@ namespace gltf_pbr::structure {
 
 std::optional<std::int64_t> integer_value(const Json& value) {
   constexpr auto most = std::numeric_limits<std::int64_t>::max();
-  if (value.is_number_unsigned()) return static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), most));
+  if (value.is_number_unsigned())
+    return static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), most));
   if (value.is_number_integer()) return value.get<std::int64_t>();
   if (!value.is_number_float()) return std::nullopt;
   const double number = value.get<double>();

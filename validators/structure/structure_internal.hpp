@@ -83,7 +83,7 @@ struct AccessorModel : EntityModel {
   std::int64_t byte_offset = 0;
   bool has_byte_offset = false;
   bool offset_unusable = false;  // a byteOffset of the wrong type or range
-  int component_type = 0;  // 0: absent or invalid
+  int component_type = 0;        // 0: absent or invalid
   std::int64_t count = -1;
   std::string type;  // "" when absent or invalid
   bool normalized = false;
@@ -231,8 +231,7 @@ struct TextureModel : EntityModel {
   std::vector<std::pair<std::string, std::int64_t>> extension_sources;  // pointer, image index
 };
 
-struct SimpleModel : EntityModel {
-};
+struct SimpleModel : EntityModel {};
 
 struct Document {
   std::vector<AccessorModel> accessors;
@@ -268,7 +267,7 @@ struct Context {
   std::filesystem::path base_dir;
   bool glb = false;
   std::optional<std::span<const std::uint8_t>> glb_bin;  // the GLB BIN chunk, when present
-  bool glb_bin_chunk = false;  // a BIN chunk header was read (its data may be cut short)
+  bool glb_bin_chunk = false;                            // a BIN chunk header was read (its data may be cut short)
   // GLB issues found where the stream ends (data cut short, a length that does not add up): the
   // reference reads the container as a stream and validates the JSON chunk as soon as it has it,
   // so these follow the document's schema, link and unused issues.
