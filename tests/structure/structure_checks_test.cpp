@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "tests/structure/coverage.hpp"
 #include "validators/structure/structure.hpp"
 
 namespace gltf_pbr {
@@ -15,6 +16,7 @@ Report validate_text(const std::string& text) {
   Report report;
   const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   validate_structure("input.gltf", bytes, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   return report;
 }
 
@@ -321,6 +323,7 @@ std::vector<std::uint8_t> minimal_glb(std::uint32_t version, std::size_t trailin
 TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
   Report report;
   validate_structure("x.glb", minimal_glb(1), builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   ASSERT_FALSE(report.messages.empty());
   EXPECT_EQ(report.messages[0].code, "GLB_INVALID_VERSION");
   EXPECT_EQ(report.messages[0].offset, 4u);
@@ -330,6 +333,7 @@ TEST(StructureChecks, BytesAfterTheDeclaredGlbLengthAreExtraData) {
   const std::vector<std::uint8_t> glb = minimal_glb(2, 4);
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   ASSERT_EQ(report.messages.size(), 1u);
   EXPECT_EQ(report.messages[0].code, "GLB_EXTRA_DATA");
   EXPECT_EQ(report.messages[0].offset, glb.size() - 4);
@@ -458,6 +462,7 @@ TEST(StructureChecks, GlbStreamEndIssuesFollowTheDocumentsIssues) {
   glb[8] += 4;  // declares 4 bytes more than there are
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   ASSERT_EQ(report.messages.size(), 2u);
   EXPECT_EQ(report.messages[0].code, "UNUSED_OBJECT");
   EXPECT_EQ(report.messages[1].code, "GLB_LENGTH_MISMATCH");
@@ -515,6 +520,7 @@ TEST(StructureChecks, ADataUriImageInAGlbIsReported) {
       minimal_glb(2, 0, R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}]})");
   Report report;
   validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   const std::vector<std::string> all = keys(report);
   ASSERT_GE(all.size(), 2u);
   EXPECT_EQ(all[0], "URI_GLB /images/0/uri");

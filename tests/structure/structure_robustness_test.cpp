@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/structure/coverage.hpp"
 #include "validators/structure/structure.hpp"
 
 namespace gltf_pbr {
@@ -16,6 +17,7 @@ Report validate_text(const std::string& text, const std::string& name = "input.g
   Report report;
   const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   validate_structure(name, bytes, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   return report;
 }
 
@@ -57,6 +59,7 @@ TEST(StructureRobustness, TruncatedGlbHeaderIsReportedAtItsEnd) {
   Report report;
   const std::vector<std::uint8_t> bytes = {'g', 'l', 'T', 'F', 2, 0};
   validate_structure("x.glb", bytes, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   ASSERT_EQ(report.messages.size(), 1u);
   EXPECT_EQ(report.messages[0].code, "GLB_UNEXPECTED_END_OF_HEADER");
   EXPECT_EQ(report.messages[0].offset, 6u);
@@ -67,6 +70,7 @@ TEST(StructureRobustness, GlbChunkLengthBeyondFileStopsAtTheEnd) {
   std::vector<std::uint8_t> bytes = {'g',  'l',  'T', 'F', 2,   0,   0,   0,   28,  0,   0,   0,   0xFF, 0xFF,
                                      0xFF, 0xFF, 'J', 'S', 'O', 'N', '{', '}', ' ', ' ', ' ', ' ', ' ',  ' '};
   validate_structure("x.glb", bytes, builtin_rules(), StructureOptions{}, report);
+  coverage::record_constructed(report);
   ASSERT_FALSE(report.messages.empty());
   EXPECT_EQ(report.messages.back().code, "GLB_UNEXPECTED_END_OF_CHUNK_DATA");
 }
