@@ -180,8 +180,12 @@ class Linker {
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS", sp + "/input",
                      {arg("CUBICSPLINE"), arg(2), arg(input->count)});
       }
-      if (AccessorModel* output = resolve(doc_.accessors, sampler.output, sp + "/output"))
+      if (AccessorModel* output = resolve(doc_.accessors, sampler.output, sp + "/output")) {
+        // The sampler puts its output to use (an override is reported here, as the reference does);
+        // the data checks report at the first channel that reads it, which knows the path.
+        use_accessor(*output, AccessorModel::Usage::AnimationOutput, sp + "/output");
         stride_forbidden(*output, sp + "/output", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
+      }
     }
     for (std::size_t c = 0; c < animation.channels.size(); ++c) {
       AnimationChannelModel& channel = animation.channels[c];
@@ -270,11 +274,11 @@ class Linker {
         }
       }
     }
-    if (output.usage == AccessorModel::Usage::None) {
+    if (output.usage == AccessorModel::Usage::AnimationOutput && output.animation_path.empty()) {
       output.animation_path = channel.path;
       output.interpolation = sampler.interpolation;
+      output.usage_pointer = pointer;
     }
-    use_accessor(output, AccessorModel::Usage::AnimationOutput, pointer);
   }
 
   // An accessor serves one purpose (spec 3.6.2: its data is read as indices, vertex attributes,
@@ -334,6 +338,13 @@ class Linker {
     for (const auto& [code, pointer] : material.extension_issues) issues_.at(code, pointer);
   }
 
+  const BufferViewModel* view_of(const AccessorModel& accessor) const {
+    if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size())
+      return nullptr;
+    const BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+    return view.object ? &view : nullptr;
+  }
+
   const AccessorModel* accessor_object(std::int64_t index) const {
     if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
     const AccessorModel& accessor = doc_.accessors[static_cast<std::size_t>(index)];
@@ -355,8 +366,16 @@ class Linker {
     }
   }
 
-  void vertex_attribute(AccessorModel& accessor, const std::string& name, const std::string& pointer) {
+  // Spec 3.6.2.4: each vertex attribute element starts on a 4-byte boundary: the accessor's
+  // offset, and without a stride (strides are multiples of 4 by the schema) the element size.
+  void vertex_alignment(const AccessorModel& accessor, const BufferViewModel& view, const std::string& pointer) {
     const int size = component_size(accessor.component_type);
+    const std::int64_t element = static_cast<std::int64_t>(size) * component_count(accessor.type);
+    if (size > 0 && (accessor.byte_offset % 4 != 0 || (view.byte_stride == 0 && element % 4 != 0)))
+      issues_.at("MESH_PRIMITIVE_ACCESSOR_UNALIGNED", pointer);
+  }
+
+  void vertex_attribute(AccessorModel& accessor, const std::string& name, const std::string& pointer) {
     use_view_as(accessor, 34962, "VertexBuffer", pointer);
     if (name == "POSITION" && (!accessor.has_min || !accessor.has_max))
       issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", pointer);
@@ -368,11 +387,7 @@ class Linker {
     if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
       BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
       if (view.object) {
-        // Spec 3.6.2.4: each vertex attribute element starts on a 4-byte boundary: the accessor's
-        // offset, and without a stride (strides are multiples of 4 by the schema) the element size.
-        const std::int64_t element = static_cast<std::int64_t>(size) * component_count(accessor.type);
-        if (size > 0 && (accessor.byte_offset % 4 != 0 || (view.byte_stride == 0 && element % 4 != 0)))
-          issues_.at("MESH_PRIMITIVE_ACCESSOR_UNALIGNED", pointer);
+        vertex_alignment(accessor, view, pointer);
         const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
         auto& users = view_accessors_[accessor.buffer_view];
         if (std::find(users.begin(), users.end(), accessor_index) == users.end()) users.push_back(accessor_index);
@@ -539,6 +554,9 @@ class Linker {
         for (const auto& [name, index] : primitive.target_attributes[t]) {
           const std::string tp = p + "/targets/" + std::to_string(t) + "/" + escape_pointer_token(name);
           const std::string& semantic = name;  // C++20 lambdas may not capture a structured binding in clang 14
+          // In the reference's order: the buffer view's use, the base, then the accessor's checks.
+          AccessorModel* accessor = resolve(doc_.accessors, index, tp);
+          if (accessor) use_view_as(*accessor, 34962, "VertexBuffer", tp);
           // A target attribute with a valid index needs its base attribute. That attribute is
           // missing when absent or when its index names a slot of the accessors that is not an
           // object (an index outside the list is only unresolved), as in the reference.
@@ -549,9 +567,7 @@ class Linker {
                        !(attribute.second >= 0 && slot < doc_.accessors.size() && !doc_.accessors[slot].object);
               });
           if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
-          AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (!accessor) continue;
-          use_view_as(*accessor, 34962, "VertexBuffer", tp);
           if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
             issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
           // Against the base accessor of the same semantic, an unknown count (-1) included.
@@ -560,6 +576,7 @@ class Linker {
               if (const AccessorModel* base = accessor_object(base_index); base && base->count != accessor->count)
                 issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
+          if (const BufferViewModel* view = view_of(*accessor)) vertex_alignment(*accessor, *view, tp);
         }
       }
       if (primitive.draco)
@@ -662,7 +679,7 @@ class Linker {
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
       stride_forbidden(*ibm, p + "/inverseBindMatrices", "SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE");
-      if (ibm->count > 0 && ibm->count < static_cast<std::int64_t>(skin.joints.size()))
+      if (ibm->count < static_cast<std::int64_t>(skin.joints.size()))  // an unknown count (-1) too
         issues_.at("INVALID_IBM_ACCESSOR_COUNT", p + "/inverseBindMatrices",
                    {arg(static_cast<std::uint64_t>(skin.joints.size())), arg(ibm->count)});
     }

@@ -128,6 +128,9 @@ class Walker {
     }
     if (auto required = string_list(root, "extensionsRequired")) {
       doc_.extensions_required = *required;
+      // Schema: extensionsRequired depends on extensionsUsed.
+      if (!present(root, "extensionsUsed"))
+        context_.issues.at("UNSATISFIED_DEPENDENCY", "/extensionsRequired", {arg("extensionsUsed")});
       for (std::size_t i = 0; i < required->size(); ++i) {
         if (!context_.declared((*required)[i]))
           context_.issues.at("UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/" + std::to_string(i),
@@ -917,11 +920,12 @@ class Walker {
     if (auto children = read_.indices(o, p, "children")) m.children = *children;
     m.mesh = read_.index(o, p, "mesh");
     m.skin = read_.index(o, p, "skin");
-    if (present(o, "skin") && !present(o, "mesh"))
-      context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/skin", {arg("mesh")});
+    // A mesh of the wrong type is as good as none (the reference keeps no value for it).
+    const bool has_mesh = present(o, "mesh") && is_integer(o["mesh"]);
+    if (present(o, "skin") && !has_mesh) context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/skin", {arg("mesh")});
     if (auto weights = read_.numbers(o, p, "weights")) {
       m.weights = static_cast<std::int64_t>(weights->size());
-      if (!present(o, "mesh")) context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/weights", {arg("mesh")});
+      if (!has_mesh) context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/weights", {arg("mesh")});
     }
     m.has_matrix = matrix.has_value();  // an invalid matrix is ignored
     m.has_trs = present(o, "rotation") || present(o, "scale") || present(o, "translation");
