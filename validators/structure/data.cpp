@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/files.hpp"
 #include "validators/structure/images.hpp"
@@ -75,7 +76,11 @@ class AccessorData {
     } else if (!a.sparse) {
       return false;  // all zeros: nothing to check
     }
-    const std::uint64_t total = static_cast<std::uint64_t>(count) * static_cast<std::uint64_t>(components);
+    // count and components come from the JSON: a product that does not fit is no real accessor.
+    std::uint64_t total = 0;
+    if (__builtin_mul_overflow(static_cast<std::uint64_t>(count), static_cast<std::uint64_t>(components), &total) ||
+        total > std::numeric_limits<std::size_t>::max() / sizeof(double))
+      return false;
     // Without a buffer view the JSON alone sets the count: refuse what no real file could hold.
     if (!bytes && total > (1u << 26)) return false;
     // Every value is written below (or is zero for sparse-only accessors).
@@ -189,7 +194,8 @@ class AccessorData {
             number = load<float>(v);
             break;
         }
-        out[static_cast<std::size_t>(index * components + c)] = number;
+        const auto at = static_cast<std::size_t>(index) * static_cast<std::size_t>(components) + c;
+        if (at < out.size()) out[at] = number;  // out holds the whole accessor (sparse is decoded whole)
       }
     }
     return true;
@@ -420,12 +426,15 @@ class AccessorData {
     }
   }
 
-  // One JOINTS_n/WEIGHTS_n pair of a skinned primitive, with the elements of the current chunk.
+  // One JOINTS_n/WEIGHTS_n pair of a skinned primitive, with the elements it holds: a window of
+  // the current chunk, or (when either accessor is sparse, decoded whole) all of them.
   struct SkinSet {
     const AccessorModel* joints;
     const AccessorModel* weights;
     std::string joints_pointer, weights_pointer;
     Values joint_values, weight_values;
+    std::int64_t held_first = 0, held_count = 0;
+    bool whole() const { return joints->sparse || weights->sparse; }
   };
   struct SkinnedPrimitive {
     std::vector<SkinSet> sets;  // by set number
@@ -433,6 +442,24 @@ class AccessorData {
     std::int64_t skin = -1, joint_count = -1;
     double sum = 0;  // the current vertex's weights that passed their checks
   };
+
+  // Whether decode() can read the accessor: in its buffer view, or sparse over zeros.
+  static bool readable(const AccessorModel& a) {
+    return a.object && a.valid && component_count(a.type) == 4 && (a.buffer_view >= 0 ? a.fits : a.sparse);
+  }
+
+  // Makes `set` hold elements [first, first + n) (a whole set once); false when they cannot be read.
+  bool hold(SkinSet& set, std::int64_t first, std::int64_t n) {
+    if (set.whole()) {
+      if (set.held_count > 0) return true;
+      first = 0, n = set.joints->count;
+    }
+    if (!decode(*set.joints, false, first, n, set.joint_values) ||
+        !decode(*set.weights, false, first, n, set.weight_values))
+      return false;
+    set.held_first = first, set.held_count = n;
+    return true;
+  }
 
   // Spec 3.7.3.3: a vertex names each joint of its skin at most once among its non-zero weights,
   // a zero weight pairs with joint 0, weights are not negative, and all the vertex's weights, over
@@ -454,53 +481,54 @@ class AccessorData {
             by_set.try_emplace(*set, -1, -1).first->second.second = index;
         }
         SkinnedPrimitive skinned{{}, -1, mesh.skin, mesh.joint_count, 0.0};
-        bool readable = !by_set.empty();
+        // Joints are unsigned integers and weights floats or normalized unsigned integers (their
+        // formats are reported by the link pass); other data is not read as joints or weights.
+        bool usable = !by_set.empty();
         for (const auto& [set, pair] : by_set) {
           const AccessorModel* joints = accessor_at(pair.first);
           const AccessorModel* weights = accessor_at(pair.second);
-          readable = readable && joints && weights && joints->valid && weights->valid &&
-                     component_count(joints->type) == 4 && component_count(weights->type) == 4 &&
-                     joints->count == weights->count && (skinned.count < 0 || joints->count == skinned.count);
-          if (!readable) break;
+          usable =
+              usable && joints && weights && readable(*joints) && readable(*weights) &&
+              (joints->component_type == 5121 || joints->component_type == 5123) &&
+              (weights->component_type == 5126 || weights->component_type == 5121 || weights->component_type == 5123) &&
+              joints->count == weights->count && (skinned.count < 0 || joints->count == skinned.count);
+          if (!usable) break;
           skinned.count = joints->count;
           const std::string attributes = primitive.pointer + "/attributes/";
-          skinned.sets.push_back({joints,
-                                  weights,
-                                  attributes + "JOINTS_" + std::to_string(set),
-                                  attributes + "WEIGHTS_" + std::to_string(set),
-                                  {},
-                                  {}});
+          skinned.sets.push_back({joints, weights, attributes + "JOINTS_" + std::to_string(set),
+                                  attributes + "WEIGHTS_" + std::to_string(set)});
         }
-        if (readable && skinned.count > 0) primitives.push_back(std::move(skinned));
+        if (usable && skinned.count > 0) primitives.push_back(std::move(skinned));
       }
     }
-    std::int64_t vertices = 0;
-    for (const SkinnedPrimitive& primitive : primitives) vertices = std::max(vertices, primitive.count);
-    // Sparse accessors are decoded whole; the others chunk by chunk.
-    bool whole = false;
-    for (const SkinnedPrimitive& primitive : primitives)
-      for (const SkinSet& set : primitive.sets) whole = whole || set.joints->sparse || set.weights->sparse;
-    const std::int64_t chunk = whole ? vertices : kChunkElements;
+    // Memory stays bounded however many primitives there are: a chunk holds at most
+    // kSkinWindow set-elements over all chunked sets (sparse sets are held whole, as in accessor()).
+    constexpr std::int64_t kSkinWindow = std::int64_t{1} << 20;
+    std::int64_t chunked_sets = 0, vertices = 0;
+    for (const SkinnedPrimitive& primitive : primitives) {
+      vertices = std::max(vertices, primitive.count);
+      for (const SkinSet& set : primitive.sets) chunked_sets += !set.whole();
+    }
+    const std::int64_t chunk =
+        std::clamp<std::int64_t>(kSkinWindow / std::max<std::int64_t>(chunked_sets, 1), 1, kChunkElements);
     std::vector<double> used;
-    for (std::int64_t first = 0; first < vertices; first += chunk) {
-      // Drop a primitive whose data cannot be read: its sums would be wrong.
+    for (std::int64_t first = 0; first < vertices && !primitives.empty(); first += chunk) {
+      // Finished primitives leave; a primitive whose data cannot be read leaves too (its sums would be wrong).
       std::erase_if(primitives, [&](SkinnedPrimitive& primitive) {
-        if (first >= primitive.count) return false;
+        if (first >= primitive.count) return true;
         const std::int64_t n = std::min(chunk, primitive.count - first);
         for (SkinSet& set : primitive.sets)
-          if (!decode(*set.joints, false, first, n, set.joint_values) ||
-              !decode(*set.weights, false, first, n, set.weight_values))
-            return true;
+          if (!hold(set, first, n)) return true;
         return false;
       });
       const std::int64_t end = std::min(vertices, first + chunk);
       for (std::int64_t vertex = first; vertex < end; ++vertex) {
-        const std::size_t local = static_cast<std::size_t>(vertex - first) * 4;
         for (SkinnedPrimitive& primitive : primitives) {
           if (vertex >= primitive.count) continue;
           used.clear();
           primitive.sum = 0;
           for (const SkinSet& set : primitive.sets) {
+            const std::size_t local = static_cast<std::size_t>(vertex - set.held_first) * 4;
             for (int c = 0; c < 4; ++c) {
               const std::uint64_t index = static_cast<std::uint64_t>(vertex) * 4 + static_cast<std::uint64_t>(c);
               const double joint = set.joint_values[local + c];
@@ -634,7 +662,8 @@ void load_buffers(Context& context) {
         buffer.data_loaded = true;
         resource["storage"] = "glb";
         // Spec 4.4.3.3: the BIN chunk is byteLength padded to 4 bytes; more is waste.
-        const std::int64_t padded = (buffer.byte_length + 3) / 4 * 4;
+        const std::int64_t padded =
+            buffer.byte_length > 0 ? (std::min<std::int64_t>(buffer.byte_length, INT64_MAX - 3) + 3) / 4 * 4 : 0;
         if (buffer.byte_length > 0 && static_cast<std::int64_t>(buffer.data.size()) > padded)
           context.issues.at("BUFFER_GLB_CHUNK_TOO_BIG", p,
                             {arg(static_cast<std::int64_t>(buffer.data.size()) - padded)});

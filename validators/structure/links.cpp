@@ -4,6 +4,7 @@
 // UNUSED_OBJECT pass over whatever nothing references.
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -111,7 +112,9 @@ class Linker {
     // Misaligned data is not read (the reference checks no values of it).
     const bool aligned = !(a.has_byte_offset && size > 0 && a.byte_offset % size != 0);
     if (view && view->byte_offset >= 0 && size > 0 && !a.type.empty()) {
-      const std::int64_t total = view->byte_offset + a.byte_offset;
+      std::int64_t total = 0;  // offsets come from the JSON: a sum beyond int64 is no real offset
+      if (__builtin_add_overflow(view->byte_offset, a.byte_offset, &total))
+        total = std::numeric_limits<std::int64_t>::max();
       const bool total_aligned = total % size == 0;
       if (!total_aligned) issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", p, {arg(total), arg(size)});
       const std::int64_t element = element_size(a);
@@ -266,11 +269,13 @@ class Linker {
     if (sampler.input >= 0 && static_cast<std::size_t>(sampler.input) < doc_.accessors.size()) {
       const AccessorModel& input = doc_.accessors[static_cast<std::size_t>(sampler.input)];
       if (input.object && input.count > 0 && output.count > 0) {
-        std::int64_t expected = input.count * (sampler.interpolation == "CUBICSPLINE" ? 3 : 1);
-        if (channel.path == "weights") expected *= std::max<std::int64_t>(morph_targets, 0);
+        // In long double: counts come from the JSON and their product need not fit an int64.
+        long double expected = static_cast<long double>(input.count) * (sampler.interpolation == "CUBICSPLINE" ? 3 : 1);
+        if (channel.path == "weights") expected *= static_cast<long double>(std::max<std::int64_t>(morph_targets, 0));
         if (channel.path != "weights" || morph_targets > 0) {
-          if (expected != output.count)
-            issues_.at("ANIMATION_SAMPLER_OUTPUT_ACCESSOR_INVALID_COUNT", pointer, {arg(expected), arg(output.count)});
+          if (expected != static_cast<long double>(output.count))
+            issues_.at("ANIMATION_SAMPLER_OUTPUT_ACCESSOR_INVALID_COUNT", pointer,
+                       {arg(static_cast<std::int64_t>(std::min<long double>(expected, 9e18L))), arg(output.count)});
         }
       }
     }
@@ -318,7 +323,8 @@ class Linker {
     const std::string p = at("bufferViews", i);
     BufferModel* buffer = resolve(doc_.buffers, view.buffer, p + "/buffer");
     if (buffer && buffer->byte_length > 0 && view.byte_length > 0 && view.byte_offset >= 0 &&
-        view.byte_offset + view.byte_length > buffer->byte_length)
+        static_cast<long double>(view.byte_offset) + static_cast<long double>(view.byte_length) >
+            static_cast<long double>(buffer->byte_length))
       issues_.at("BUFFER_VIEW_TOO_LONG",
                  view.byte_offset >= buffer->byte_length ? p + "/byteOffset" : p + "/byteLength",
                  {arg(view.buffer), arg(buffer->byte_length)});
@@ -459,7 +465,6 @@ class Linker {
       if (!primitive.object) continue;
       const std::string& p = primitive.pointer;
       std::int64_t vertex_count = -1;
-      bool have_count = false;
       bool has_normal = false, has_tangent = false;
       for (const auto& [name, index] : primitive.attributes) {
         const std::string ap = p + "/attributes/" + escape_pointer_token(name);
@@ -474,9 +479,8 @@ class Linker {
           accessor->vertex_uses.push_back(ap);
         // The first accessor with a usable count sets the vertex count; a later one without a
         // usable count (-1) differs from it, as in the reference.
-        if (!have_count || vertex_count < 0) {
+        if (vertex_count < 0) {
           vertex_count = accessor->count;
-          have_count = true;
         } else if (vertex_count != accessor->count) {
           issues_.at("MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT", ap);
         }
@@ -520,7 +524,8 @@ class Linker {
                      {arg(format_name(indices->type, indices->component_type, indices->normalized))},
                      {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
         stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
-        if (indices->vertex_limit < 0) {
+        if (!indices->vertex_limit_set) {
+          indices->vertex_limit_set = true;
           // A primitive without attributes has no vertices: every index is out of range.
           indices->vertex_limit = primitive.attributes.empty() ? 0 : vertex_count;
           indices->primitive_mode = primitive.mode;
@@ -631,7 +636,7 @@ class Linker {
       if (node.weights >= 0 && mesh->primitives_known && node.weights != targets)
         issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});
       if (skinned && !skin) issues_.at("NODE_SKINNED_MESH_WITHOUT_SKIN", p);  // absent or unresolved
-      if (skinned && skin) {
+      if (skinned && skin && !skin->joints.empty()) {                         // a skin without joints bounds nothing
         mesh->skin = node.skin;
         mesh->joint_count = static_cast<std::int64_t>(skin->joints.size());
       }

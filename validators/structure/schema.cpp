@@ -299,7 +299,9 @@ class Walker {
     // Read in the reference's order, which is its report order.
     m.buffer_view = read_.index(o, p, "bufferView");
     std::optional<std::int64_t> offset;
-    if (present(o, "byteOffset")) {
+    if (o.contains("byteOffset") && o["byteOffset"].is_null()) {
+      read_.integer(o, p, "byteOffset");  // a null is reported, then absent
+    } else if (present(o, "byteOffset")) {
       // Without a usable bufferView the offset means nothing: only the dependency is reported.
       if (m.buffer_view < 0)
         context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/byteOffset", {arg("bufferView")});
@@ -320,9 +322,9 @@ class Walker {
     // not read at all.
     const int components = component_count(m.type);
     if (components > 0 && m.component_type != 0) {
-      if (present(o, "min"))
+      if (o.contains("min"))  // a null is reported by the read
         if (auto numbers = bounds(o, p, "min", components, m.component_type)) m.has_min = true, m.min = *numbers;
-      if (present(o, "max"))
+      if (o.contains("max"))
         if (auto numbers = bounds(o, p, "max", components, m.component_type)) m.has_max = true, m.max = *numbers;
     }
     if (const Json* sparse = read_.object(o, p, "sparse")) this->sparse(*sparse, p + "/sparse", m);
@@ -940,7 +942,8 @@ class Walker {
       // shear). Judged as the reference does: decompose, recompose, compare (trs_round_trip_error).
       const bool beyond_float =
           std::any_of(a.begin(), a.end(), [](double v) { return std::fabs(v) > 3.4028234663852886e38; });
-      const bool not_trs = beyond_float || (affine && determinant != 0 && trs_round_trip_error(a) > kTrsTolerance);
+      const bool not_trs =
+          beyond_float || (affine && determinant != 0 && !(trs_round_trip_error(a) <= kTrsTolerance));  // NaN fails
       if (m.has_trs)
         context_.issues.at("NODE_MATRIX_TRS", p + "/matrix");
       else if (is_identity)

@@ -235,7 +235,7 @@ std::optional<std::vector<const Json*>> SchemaReader::object_array(const Json& o
       continue;
     }
     // Top-level collections keep the other elements (the caller names this one in turn, see
-    // type_mismatch_of_element); a nested array names itself and is dropped whole, as if absent
+    // element_not_object); a nested array names itself and is dropped whole, as if absent
     // (the reference reads none of its elements then).
     all_objects = false;
     if (!root_level) issues_.at("ARRAY_TYPE_MISMATCH", here, {arg_json(item), arg("object")});

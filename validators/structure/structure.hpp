@@ -12,8 +12,8 @@
 namespace gltf_pbr {
 
 struct StructureOptions {
-  bool validate_resources = true;  // read external buffers and images, and check their data
-  bool decode_draco = true;        // run the data checks inside KHR_draco_mesh_compression
+  bool validate_resources = true;   // read external buffers and images, and check their data
+  bool decode_draco = true;         // run the data checks inside KHR_draco_mesh_compression
   bool allow_outside_uris = false;  // core's resolve_uri policy, as for every command
 };
 

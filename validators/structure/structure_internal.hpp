@@ -102,7 +102,8 @@ struct AccessorModel : EntityModel {
   std::string animation_path;  // for AnimationOutput
   std::string interpolation;
   // Indices: the vertex count and drawing mode of the first primitive that draws with them.
-  std::int64_t vertex_limit = -1;
+  std::int64_t vertex_limit = -1;  // -1: unknown
+  bool vertex_limit_set = false;
   int primitive_mode = 4;
   bool fits = false;  // the link pass found it inside its buffer view
   // Every mesh attribute that reads it with its first semantic: the reference checks the data
