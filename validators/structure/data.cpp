@@ -194,8 +194,8 @@ class AccessorData {
             number = load<float>(v);
             break;
         }
-        const auto at = static_cast<std::size_t>(index) * static_cast<std::size_t>(components) + c;
-        if (at < out.size()) out[at] = number;  // out holds the whole accessor (sparse is decoded whole)
+        const auto slot = static_cast<std::size_t>(index) * static_cast<std::size_t>(components) + c;
+        if (slot < out.size()) out[slot] = number;  // out holds the whole accessor (sparse is decoded whole)
       }
     }
     return true;
@@ -495,8 +495,9 @@ class AccessorData {
           if (!usable) break;
           skinned.count = joints->count;
           const std::string attributes = primitive.pointer + "/attributes/";
-          skinned.sets.push_back({joints, weights, attributes + "JOINTS_" + std::to_string(set),
-                                  attributes + "WEIGHTS_" + std::to_string(set)});
+          SkinSet pair_of_set{joints, weights, attributes + "JOINTS_" + std::to_string(set),
+                              attributes + "WEIGHTS_" + std::to_string(set), {}, {}, 0, 0};
+          skinned.sets.push_back(std::move(pair_of_set));
         }
         if (usable && skinned.count > 0) primitives.push_back(std::move(skinned));
       }
