@@ -5,13 +5,17 @@
 #include <cstdio>
 
 #include "rules/rule_set.hpp"
+#include "validators/structure/structure.hpp"
 
 namespace gltf_pbr::coverage {
 
-void record_constructed(const Report& report) {
+Report validate_and_record(const std::filesystem::path& name, std::span<const std::uint8_t> bytes) {
+  Report report;
+  validate_structure(name, bytes, builtin_rules(), StructureOptions{}, report);
   const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string name = test ? std::string(test->test_suite_name()) + "." + test->name() : "?";
-  for (const Issue& issue : report.messages) table().constructed[issue.code].insert(name);
+  const std::string test_name = test ? std::string(test->test_suite_name()) + "." + test->name() : "?";
+  for (const Issue& issue : report.messages) table().constructed[issue.code].insert(test_name);
+  return report;
 }
 
 namespace {

@@ -12,13 +12,7 @@
 namespace gltf_pbr {
 namespace {
 
-Report validate_text(const std::string& text) {
-  Report report;
-  const std::vector<std::uint8_t> bytes(text.begin(), text.end());
-  validate_structure("input.gltf", bytes, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
-  return report;
-}
+using coverage::validate_text;
 
 const Issue* find(const Report& report, const std::string& code) {
   for (const Issue& issue : report.messages)
@@ -321,9 +315,7 @@ std::vector<std::uint8_t> minimal_glb(std::uint32_t version, std::size_t trailin
 }
 
 TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
-  Report report;
-  validate_structure("x.glb", minimal_glb(1), builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const Report report = coverage::validate_and_record("x.glb", minimal_glb(1));
   ASSERT_FALSE(report.messages.empty());
   EXPECT_EQ(report.messages[0].code, "GLB_INVALID_VERSION");
   EXPECT_EQ(report.messages[0].offset, 4u);
@@ -331,9 +323,7 @@ TEST(StructureChecks, GlbVersionOtherThanTwoIsReportedAtItsOffset) {
 
 TEST(StructureChecks, BytesAfterTheDeclaredGlbLengthAreExtraData) {
   const std::vector<std::uint8_t> glb = minimal_glb(2, 4);
-  Report report;
-  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const Report report = coverage::validate_and_record("x.glb", glb);
   ASSERT_EQ(report.messages.size(), 1u);
   EXPECT_EQ(report.messages[0].code, "GLB_EXTRA_DATA");
   EXPECT_EQ(report.messages[0].offset, glb.size() - 4);
@@ -460,9 +450,7 @@ TEST(StructureChecks, GlbStreamEndIssuesFollowTheDocumentsIssues) {
   std::vector<std::uint8_t> glb = minimal_glb(
       2, 0, R"({"asset":{"version":"2.0"},"cameras":[{"type":"perspective","perspective":{"yfov":1,"znear":1}}]})");
   glb[8] += 4;  // declares 4 bytes more than there are
-  Report report;
-  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const Report report = coverage::validate_and_record("x.glb", glb);
   ASSERT_EQ(report.messages.size(), 2u);
   EXPECT_EQ(report.messages[0].code, "UNUSED_OBJECT");
   EXPECT_EQ(report.messages[1].code, "GLB_LENGTH_MISMATCH");
@@ -518,9 +506,7 @@ TEST(StructureChecks, AVertexCheckIsReportedAtEveryUseOfTheAccessor) {
 TEST(StructureChecks, ADataUriImageInAGlbIsReported) {
   std::vector<std::uint8_t> glb =
       minimal_glb(2, 0, R"({"asset":{"version":"2.0"},"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}]})");
-  Report report;
-  validate_structure("x.glb", glb, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const Report report = coverage::validate_and_record("x.glb", glb);
   const std::vector<std::string> all = keys(report);
   ASSERT_GE(all.size(), 2u);
   EXPECT_EQ(all[0], "URI_GLB /images/0/uri");

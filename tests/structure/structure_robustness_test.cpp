@@ -13,13 +13,7 @@
 namespace gltf_pbr {
 namespace {
 
-Report validate_text(const std::string& text, const std::string& name = "input.gltf") {
-  Report report;
-  const std::vector<std::uint8_t> bytes(text.begin(), text.end());
-  validate_structure(name, bytes, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
-  return report;
-}
+using coverage::validate_text;
 
 bool has(const Report& report, const std::string& code, const std::string& pointer) {
   for (const Issue& issue : report.messages)
@@ -56,21 +50,17 @@ TEST(StructureRobustness, NumbersBeyondDoubleRangeAreInfinite) {
 }
 
 TEST(StructureRobustness, TruncatedGlbHeaderIsReportedAtItsEnd) {
-  Report report;
   const std::vector<std::uint8_t> bytes = {'g', 'l', 'T', 'F', 2, 0};
-  validate_structure("x.glb", bytes, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const Report report = coverage::validate_and_record("x.glb", bytes);
   ASSERT_EQ(report.messages.size(), 1u);
   EXPECT_EQ(report.messages[0].code, "GLB_UNEXPECTED_END_OF_HEADER");
   EXPECT_EQ(report.messages[0].offset, 6u);
 }
 
 TEST(StructureRobustness, GlbChunkLengthBeyondFileStopsAtTheEnd) {
-  Report report;
-  std::vector<std::uint8_t> bytes = {'g',  'l',  'T', 'F', 2,   0,   0,   0,   28,  0,   0,   0,   0xFF, 0xFF,
-                                     0xFF, 0xFF, 'J', 'S', 'O', 'N', '{', '}', ' ', ' ', ' ', ' ', ' ',  ' '};
-  validate_structure("x.glb", bytes, builtin_rules(), StructureOptions{}, report);
-  coverage::record_constructed(report);
+  const std::vector<std::uint8_t> bytes = {'g',  'l',  'T', 'F', 2,   0,   0,   0,   28,  0,   0,   0,   0xFF, 0xFF,
+                                           0xFF, 0xFF, 'J', 'S', 'O', 'N', '{', '}', ' ', ' ', ' ', ' ', ' ',  ' '};
+  const Report report = coverage::validate_and_record("x.glb", bytes);
   ASSERT_FALSE(report.messages.empty());
   EXPECT_EQ(report.messages.back().code, "GLB_UNEXPECTED_END_OF_CHUNK_DATA");
 }

@@ -222,12 +222,6 @@ class AccessorData {
     }
   }
 
-  const AccessorModel* accessor_at(std::int64_t index) const {
-    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
-    const AccessorModel& a = doc_.accessors[static_cast<std::size_t>(index)];
-    return a.object ? &a : nullptr;
-  }
-
   // State carried from chunk to chunk by the usage checks.
   struct Carry {
     std::uint64_t degenerate_triangles = 0;
@@ -485,8 +479,8 @@ class AccessorData {
         // formats are reported by the link pass); other data is not read as joints or weights.
         bool usable = !by_set.empty();
         for (const auto& [set, pair] : by_set) {
-          const AccessorModel* joints = accessor_at(pair.first);
-          const AccessorModel* weights = accessor_at(pair.second);
+          const AccessorModel* joints = accessor_object(doc_, pair.first);
+          const AccessorModel* weights = accessor_object(doc_, pair.second);
           usable =
               usable && joints && weights && readable(*joints) && readable(*weights) &&
               (joints->component_type == 5121 || joints->component_type == 5123) &&
@@ -495,8 +489,14 @@ class AccessorData {
           if (!usable) break;
           skinned.count = joints->count;
           const std::string attributes = primitive.pointer + "/attributes/";
-          SkinSet pair_of_set{joints, weights, attributes + "JOINTS_" + std::to_string(set),
-                              attributes + "WEIGHTS_" + std::to_string(set), {}, {}, 0, 0};
+          SkinSet pair_of_set{joints,
+                              weights,
+                              attributes + "JOINTS_" + std::to_string(set),
+                              attributes + "WEIGHTS_" + std::to_string(set),
+                              {},
+                              {},
+                              0,
+                              0};
           skinned.sets.push_back(std::move(pair_of_set));
         }
         if (usable && skinned.count > 0) primitives.push_back(std::move(skinned));
@@ -644,6 +644,12 @@ std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& d
   if (end > buffer.data.size() || (buffer.byte_length > 0 && end > static_cast<std::uint64_t>(buffer.byte_length)))
     return std::nullopt;
   return buffer.data.subspan(static_cast<std::size_t>(view.byte_offset), static_cast<std::size_t>(view.byte_length));
+}
+
+const AccessorModel* accessor_object(const Document& doc, std::int64_t index) {
+  if (index < 0 || static_cast<std::size_t>(index) >= doc.accessors.size()) return nullptr;
+  const AccessorModel& accessor = doc.accessors[static_cast<std::size_t>(index)];
+  return accessor.object ? &accessor : nullptr;
 }
 
 namespace {

@@ -351,12 +351,6 @@ class Linker {
     return view.object ? &view : nullptr;
   }
 
-  const AccessorModel* accessor_object(std::int64_t index) const {
-    if (index < 0 || static_cast<std::size_t>(index) >= doc_.accessors.size()) return nullptr;
-    const AccessorModel& accessor = doc_.accessors[static_cast<std::size_t>(index)];
-    return accessor.object ? &accessor : nullptr;
-  }
-
   void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
     if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
     BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
@@ -578,7 +572,7 @@ class Linker {
           // Against the base accessor of the same semantic, an unknown count (-1) included.
           for (const auto& [base_name, base_index] : primitive.attributes)
             if (base_name == semantic)
-              if (const AccessorModel* base = accessor_object(base_index); base && base->count != accessor->count)
+              if (const AccessorModel* base = accessor_object(doc_, base_index); base && base->count != accessor->count)
                 issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
           if (const BufferViewModel* view = view_of(*accessor)) vertex_alignment(*accessor, *view, tp);

@@ -58,10 +58,13 @@ class IssueSink {
 };
 
 struct Document;
+struct AccessorModel;
 // The bytes of buffer view `index` when its buffer has loaded and the view lies inside it (and
 // inside the buffer's declared byteLength); std::nullopt otherwise, and for a view whose offset is
 // unusable (-1).
 std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& doc, std::int64_t index);
+// Accessor `index` when it names a JSON object of the document, else nullptr.
+const AccessorModel* accessor_object(const Document& doc, std::int64_t index);
 
 // The set number n of a semantic PREFIXn ("TEXCOORD_1" → 1), when n is written the schema's way.
 std::optional<int> set_number(const std::string& name, std::string_view prefix);
