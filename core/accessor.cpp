@@ -6,6 +6,7 @@
 
 #include "core/asset.hpp"
 #include "core/error.hpp"
+#include "core/meshopt.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -108,44 +109,87 @@ bool run_fits(std::size_t offset, std::size_t count, std::size_t stride, std::si
   return count - 1 <= (length - offset - element_size) / stride;
 }
 
-// `reference` names the bufferView property (blamed when the view or its buffer is missing),
-// `run` the object whose byteOffset and count place the elements (blamed when they do not fit).
-std::optional<ElementRun> find_elements(const tinygltf::Model& model, int view_index, const std::string& reference,
-                                        const std::string& run, std::size_t byte_offset, std::size_t count,
-                                        std::size_t element_size, bool use_view_stride, AccessorProblem& problem) {
+// The bytes of bufferView `view_index`: a range of its buffer or, when EXT_meshopt_compression
+// compresses it, its decoded bytes, which only an Asset keeps (core/meshopt.hpp). `reference`
+// names the property that refers to the view (blamed when the view does not exist).
+std::optional<std::span<const std::uint8_t>> view_bytes(const tinygltf::Model& model, const Asset* asset,
+                                                        int view_index, const std::string& reference,
+                                                        AccessorProblem& problem) {
   if (view_index < 0 || static_cast<std::size_t>(view_index) >= model.bufferViews.size()) {
     problem = {reference, "bufferView " + std::to_string(view_index) + " does not exist"};
     return std::nullopt;
   }
   const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
-  if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) {
-    problem = {pointer("bufferViews", view_index) + "/buffer",
-               "buffer " + std::to_string(view.buffer) + " does not exist"};
+  const std::string where = pointer("bufferViews", view_index);
+  auto buffer_range = [&](std::int64_t buffer_index, std::uint64_t offset, std::uint64_t length,
+                          const std::string& at) -> std::optional<std::span<const std::uint8_t>> {
+    if (buffer_index < 0 || static_cast<std::size_t>(buffer_index) >= model.buffers.size()) {
+      problem = {at + "/buffer", "buffer " + std::to_string(buffer_index) + " does not exist"};
+      return std::nullopt;
+    }
+    const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(buffer_index)].data;
+    if (offset > buffer.size() || length > buffer.size() - offset) {
+      problem = {at, "byteOffset " + std::to_string(offset) + " + byteLength " + std::to_string(length) +
+                         " exceed its buffer's " + std::to_string(buffer.size()) + " bytes"};
+      return std::nullopt;
+    }
+    return std::span<const std::uint8_t>(buffer.data() + offset, static_cast<std::size_t>(length));
+  };
+  std::string meshopt_problem;
+  const std::optional<MeshoptView> compressed = meshopt_view(view, meshopt_problem);
+  const std::string extension = where + "/extensions/EXT_meshopt_compression";
+  if (!meshopt_problem.empty()) {
+    problem = {extension, meshopt_problem};
     return std::nullopt;
   }
-  const std::vector<unsigned char>& buffer = model.buffers[static_cast<std::size_t>(view.buffer)].data;
-  if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
-    problem = {pointer("bufferViews", view_index), "byteOffset " + std::to_string(view.byteOffset) + " + byteLength " +
-                                                       std::to_string(view.byteLength) + " exceed its buffer's " +
-                                                       std::to_string(buffer.size()) + " bytes"};
+  if (!compressed) return buffer_range(view.buffer, view.byteOffset, view.byteLength, where);
+  if (!asset) {
+    problem = {extension, "a compressed bufferView is read through the Asset that decodes it"};
     return std::nullopt;
   }
+  const std::string layout = meshopt_layout_problem(*compressed, view.byteLength, view.byteStride);
+  if (!layout.empty()) {
+    problem = {extension, layout};
+    return std::nullopt;
+  }
+  const auto source = buffer_range(compressed->buffer, compressed->byte_offset, compressed->byte_length, extension);
+  if (!source) return std::nullopt;
+  std::string decode_problem;
+  const std::vector<std::uint8_t>* decoded = asset->decoded_views.find_or_decode(
+      view_index, [&] { return decode_meshopt(*source, *compressed, decode_problem); });
+  if (!decoded) {
+    problem = {extension, decode_problem};
+    return std::nullopt;
+  }
+  return std::span<const std::uint8_t>(*decoded);
+}
+
+// `reference` names the bufferView property (blamed when the view or its buffer is missing),
+// `run` the object whose byteOffset and count place the elements (blamed when they do not fit).
+std::optional<ElementRun> find_elements(const tinygltf::Model& model, const Asset* asset, int view_index,
+                                        const std::string& reference, const std::string& run, std::size_t byte_offset,
+                                        std::size_t count, std::size_t element_size, bool use_view_stride,
+                                        AccessorProblem& problem) {
+  const auto bytes = view_bytes(model, asset, view_index, reference, problem);
+  if (!bytes) return std::nullopt;
+  const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
   const std::size_t stride = use_view_stride && view.byteStride > 0 ? view.byteStride : element_size;
-  if (!run_fits(byte_offset, count, stride, element_size, view.byteLength)) {
+  if (!run_fits(byte_offset, count, stride, element_size, bytes->size())) {
     problem = {run, std::to_string(count) + " elements of " + std::to_string(element_size) + " bytes, " +
                         std::to_string(stride) + " apart from byteOffset " + std::to_string(byte_offset) +
                         ", do not fit in bufferView " + std::to_string(view_index) + " (" +
-                        std::to_string(view.byteLength) + " bytes)"};
+                        std::to_string(bytes->size()) + " bytes)"};
     return std::nullopt;
   }
-  // Only a non-empty run points into the buffer (an offset past its end is never formed).
-  return ElementRun{count == 0 ? buffer.data() : buffer.data() + view.byteOffset + byte_offset, stride};
+  // Only a non-empty run points into the bytes (an offset past their end is never formed).
+  return ElementRun{count == 0 ? bytes->data() : bytes->data() + byte_offset, stride};
 }
 
 // read_accessor for Number float or double, and std::uint32_t for indices (whose component types
 // the caller has checked to be unsigned integers).
 template <typename Number>
-std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model, int index, AccessorProblem& problem) {
+std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model, const Asset* asset, int index,
+                                                    AccessorProblem& problem) {
   const std::string where = pointer("accessors", index);
   if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
     problem = {where, "accessor does not exist"};
@@ -172,7 +216,7 @@ std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model
   // Bounds first, then the allocation they justify.
   std::optional<ElementRun> dense;
   if (accessor.bufferView >= 0) {
-    dense = find_elements(model, accessor.bufferView, where + "/bufferView", where, accessor.byteOffset, accessor.count,
+    dense = find_elements(model, asset, accessor.bufferView, where + "/bufferView", where, accessor.byteOffset, accessor.count,
                           element_size, true, problem);
     if (!dense) return std::nullopt;
   } else if (accessor.count > kMaxElementsWithoutBufferView) {
@@ -206,11 +250,11 @@ std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model
   const std::size_t sparse_count = static_cast<std::size_t>(sparse.count);
   const std::size_t index_size = component_size(sparse.indices.componentType);
   const auto indices =
-      find_elements(model, sparse.indices.bufferView, sparse_where + "/indices/bufferView", sparse_where + "/indices",
+      find_elements(model, asset, sparse.indices.bufferView, sparse_where + "/indices/bufferView", sparse_where + "/indices",
                     static_cast<std::size_t>(sparse.indices.byteOffset), sparse_count, index_size, false, problem);
   if (!indices) return std::nullopt;
   const auto values =
-      find_elements(model, sparse.values.bufferView, sparse_where + "/values/bufferView", sparse_where + "/values",
+      find_elements(model, asset, sparse.values.bufferView, sparse_where + "/values/bufferView", sparse_where + "/values",
                     static_cast<std::size_t>(sparse.values.byteOffset), sparse_count, element_size, false, problem);
   if (!values) return std::nullopt;
   for (std::size_t s = 0; s < sparse_count; ++s) {
@@ -229,16 +273,10 @@ std::optional<AccessorValues<Number>> read_elements(const tinygltf::Model& model
 
 }  // namespace
 
-template <typename Number>
-std::optional<AccessorValues<Number>> read_accessor(const tinygltf::Model& model, int index, AccessorProblem& problem) {
-  static_assert(std::is_floating_point_v<Number>);
-  return read_elements<Number>(model, index, problem);
-}
-template std::optional<AccessorValues<float>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
-template std::optional<AccessorValues<double>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
+namespace {
 
-std::optional<std::vector<std::uint32_t>> read_index_accessor(const tinygltf::Model& model, int index,
-                                                              AccessorProblem& problem) {
+std::optional<std::vector<std::uint32_t>> read_indices(const tinygltf::Model& model, const Asset* asset, int index,
+                                                       AccessorProblem& problem) {
   if (index >= 0 && static_cast<std::size_t>(index) < model.accessors.size()) {
     const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
     if (accessor.type != TINYGLTF_TYPE_SCALAR || !is_unsigned_index_type(accessor.componentType)) {
@@ -246,23 +284,73 @@ std::optional<std::vector<std::uint32_t>> read_index_accessor(const tinygltf::Mo
       return std::nullopt;
     }
   }
-  auto indices = read_elements<std::uint32_t>(model, index, problem);
+  auto indices = read_elements<std::uint32_t>(model, asset, index, problem);
   if (!indices) return std::nullopt;
   return std::move(indices->values);
 }
 
+}  // namespace
+
+template <typename Number>
+std::optional<AccessorValues<Number>> read_accessor(const tinygltf::Model& model, int index, AccessorProblem& problem) {
+  static_assert(std::is_floating_point_v<Number>);
+  return read_elements<Number>(model, nullptr, index, problem);
+}
+template std::optional<AccessorValues<float>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
+template std::optional<AccessorValues<double>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
+
+template <typename Number>
+std::optional<AccessorValues<Number>> read_accessor(const Asset& asset, int index, AccessorProblem& problem) {
+  static_assert(std::is_floating_point_v<Number>);
+  return read_elements<Number>(asset.model, &asset, index, problem);
+}
+template std::optional<AccessorValues<float>> read_accessor(const Asset&, int, AccessorProblem&);
+template std::optional<AccessorValues<double>> read_accessor(const Asset&, int, AccessorProblem&);
+
+std::optional<std::vector<std::uint32_t>> read_index_accessor(const tinygltf::Model& model, int index,
+                                                              AccessorProblem& problem) {
+  return read_indices(model, nullptr, index, problem);
+}
+
+std::optional<std::vector<std::uint32_t>> read_index_accessor(const Asset& asset, int index, AccessorProblem& problem) {
+  return read_indices(asset.model, &asset, index, problem);
+}
+
 AccessorValues<double> read_accessor_or_throw(const Asset& asset, int index) {
   AccessorProblem problem;
-  auto values = read_accessor<double>(asset.model, index, problem);
+  auto values = read_accessor<double>(asset, index, problem);
   if (!values) throw InputError(asset.path.string(), problem.pointer, problem.reason);
   return std::move(*values);
 }
 
 std::vector<std::uint32_t> read_index_accessor_or_throw(const Asset& asset, int index) {
   AccessorProblem problem;
-  auto indices = read_index_accessor(asset.model, index, problem);
+  auto indices = read_index_accessor(asset, index, problem);
   if (!indices) throw InputError(asset.path.string(), problem.pointer, problem.reason);
   return std::move(*indices);
+}
+
+std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Asset& asset, int index, std::string& problem) {
+  AccessorProblem where;
+  auto bytes = view_bytes(asset.model, &asset, index, pointer("bufferViews", index), where);
+  if (!bytes) problem = where.text();
+  return bytes;
+}
+
+DecodedViews& DecodedViews::operator=(const DecodedViews&) {
+  const std::lock_guard lock(mutex_);
+  views_.clear();
+  return *this;
+}
+
+const std::vector<std::uint8_t>* DecodedViews::find_or_decode(
+    int index, const std::function<std::optional<std::vector<std::uint8_t>>()>& decode) const {
+  const std::lock_guard lock(mutex_);
+  if (const auto found = views_.find(index); found != views_.end()) return &found->second;
+  auto decoded = decode();
+  if (!decoded) return nullptr;
+  ++work_counters().views_decoded;
+  return &views_.emplace(index, std::move(*decoded)).first->second;
 }
 
 int append_buffer_view(tinygltf::Model& model, std::span<const std::uint8_t> bytes) {

@@ -42,10 +42,18 @@ std::optional<AccessorValues<Number>> read_accessor(const tinygltf::Model& model
 extern template std::optional<AccessorValues<float>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
 extern template std::optional<AccessorValues<double>> read_accessor(const tinygltf::Model&, int, AccessorProblem&);
 
+// The same through an Asset, which also reads bufferViews compressed with EXT_meshopt_compression
+// (decoded once, on first read); the Model overloads refuse those.
+template <typename Number>
+std::optional<AccessorValues<Number>> read_accessor(const Asset& asset, int index, AccessorProblem& problem);
+extern template std::optional<AccessorValues<float>> read_accessor(const Asset&, int, AccessorProblem&);
+extern template std::optional<AccessorValues<double>> read_accessor(const Asset&, int, AccessorProblem&);
+
 // An indices accessor: SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT (glTF 2.0 section
 // 3.7.2.1), exactly, sparse or not.
 std::optional<std::vector<std::uint32_t>> read_index_accessor(const tinygltf::Model& model, int index,
                                                               AccessorProblem& problem);
+std::optional<std::vector<std::uint32_t>> read_index_accessor(const Asset& asset, int index, AccessorProblem& problem);
 
 // The same for callers that stop at bad input: throw InputError naming the asset's file, the
 // JSON pointer and the reason.

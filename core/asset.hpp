@@ -6,8 +6,10 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,6 +23,23 @@ struct LoadOptions {
   bool allow_outside_uris = false;  // read absolute or "../" URIs (refused by default)
 };
 
+// The decoded bytes of EXT_meshopt_compression bufferViews (core/meshopt.hpp), by view index,
+// decoded when a step first reads one: convert, which reads no geometry, decodes nothing. A copy
+// starts empty, since prune and save renumber views; the views themselves are immutable bytes.
+class DecodedViews {
+ public:
+  DecodedViews() = default;
+  DecodedViews(const DecodedViews&) {}
+  DecodedViews& operator=(const DecodedViews&);
+  // The bytes of view `index`, from `decode` the first time; nullptr when decoding failed.
+  const std::vector<std::uint8_t>* find_or_decode(
+      int index, const std::function<std::optional<std::vector<std::uint8_t>>()>& decode) const;
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::map<int, std::vector<std::uint8_t>> views_;  // map: element addresses stay put
+};
+
 struct Asset {
   fs::path path;                      // the file it was loaded from
   bool binary = false;                // GLB container
@@ -31,6 +50,7 @@ struct Asset {
   // an image that is only passed through or replaced costs no copy (issue 11). Keyed by the URI
   // as written; copies of the asset share the mappings.
   std::map<std::string, std::shared_ptr<const MappedFile>> image_files;
+  DecodedViews decoded_views;
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references
@@ -66,6 +86,11 @@ std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& ou
 // A GLB container (glTF 2.0 section 4.4) holding the JSON text and the BIN chunk.
 Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin);
 
+// The bytes of bufferView `index`: a range of its buffer or, for a view compressed with
+// EXT_meshopt_compression, its decoded bytes. Nothing, with `problem` set, when the view, its
+// buffer or its compressed source does not exist, does not fit, or does not decode.
+std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Asset& asset, int index, std::string& problem);
+
 // The encoded bytes of image `index`: Image::image when it holds them (a data URI, or an image a
 // step made), else its bufferView, else its mapped file. Empty when there are none.
 std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index);
@@ -79,6 +104,7 @@ struct WorkCounters {
   std::atomic<long> assets_loaded{0};  // load_asset calls: what a run served from a cache did not do
   std::atomic<long> images_decoded{0};
   std::atomic<long> meshes_decoded{0};
+  std::atomic<long> views_decoded{0};  // EXT_meshopt_compression bufferViews
 };
 WorkCounters& work_counters();
 

@@ -7,6 +7,7 @@
 
 #include "core/asset.hpp"
 #include "core/error.hpp"
+#include "core/meshopt.hpp"
 
 namespace gltf_pbr {
 
@@ -20,10 +21,8 @@ std::span<const std::uint8_t> encoded_image_bytes(const Asset& asset, int index)
   const tinygltf::Image& image = model.images.at(static_cast<size_t>(index));
   if (!image.image.empty()) return image.image;
   if (image.bufferView >= 0) {
-    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<size_t>(image.bufferView));
-    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<size_t>(view.buffer));
-    if (view.byteOffset + view.byteLength > buffer.data.size()) return {};
-    return {buffer.data.data() + view.byteOffset, view.byteLength};
+    std::string problem;
+    return buffer_view_bytes(asset, image.bufferView, problem).value_or(std::span<const std::uint8_t>{});
   }
   const auto file = asset.image_files.find(image.uri);
   return file == asset.image_files.end() ? std::span<const std::uint8_t>{} : file->second->bytes();
@@ -156,6 +155,17 @@ std::optional<size_t> too_deep_at(const std::string& json_text) {
   return std::nullopt;
 }
 
+// EXT_meshopt_compression "Fallback buffers": {"fallback": true} marks a buffer that holds no
+// bytes of its own; compressed bufferViews decode into its layout (core/meshopt.hpp).
+bool is_meshopt_fallback(const nlohmann::json& buffer) {
+  const auto extensions = buffer.find("extensions");
+  if (extensions == buffer.end() || !extensions->is_object()) return false;
+  const auto extension = extensions->find("EXT_meshopt_compression");
+  if (extension == extensions->end() || !extension->is_object()) return false;
+  const auto fallback = extension->find("fallback");
+  return fallback != extension->end() && fallback->is_boolean() && fallback->get<bool>();
+}
+
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
 // of buffers and images, and that the JSON parses at all. Maps the image files it checked.
 nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool glb_has_bin,
@@ -198,7 +208,7 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
       const std::string where = pointer(collection, static_cast<int>(i));
       const auto uri = entry.find("uri");
       if (uri == entry.end()) {
-        if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin))
+        if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin) && !is_meshopt_fallback(entry))
           throw InputError(file, where, "buffer has no uri and no GLB BIN chunk to stand for it");
         continue;
       }
@@ -243,6 +253,23 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
     }
   }
   return root;
+}
+
+// tinygltf 2.7 reads every buffer: one without a uri is an error in a .gltf and the BIN chunk in a
+// GLB. A fallback buffer without a uri gets a one-byte data URI for the parse and its emptiness
+// back afterwards (its byteLength is derived again when saved, core/save.cpp).
+std::vector<size_t> hide_meshopt_fallbacks(nlohmann::json& root) {
+  std::vector<size_t> hidden;
+  const auto buffers = root.find("buffers");
+  if (buffers == root.end()) return hidden;
+  for (size_t b = 0; b < buffers->size(); ++b) {
+    nlohmann::json& buffer = (*buffers)[b];
+    if (buffer.contains("uri") || !is_meshopt_fallback(buffer)) continue;
+    buffer["uri"] = "data:application/octet-stream;base64,AA==";
+    buffer["byteLength"] = 1;
+    hidden.push_back(b);
+  }
+  return hidden;
 }
 
 // tinygltf 2.7 without its Draco decoder refuses a Draco primitive's indices accessor, which
@@ -395,7 +422,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, options);
   const HiddenIndices hidden = hide_draco_indices(root);
   const auto relabelled = relabel_foreign_data_images(root);
-  const bool rewritten = !hidden.entries.empty() || !relabelled.empty();
+  const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root);
+  const bool rewritten = !hidden.entries.empty() || !relabelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
   if (rewritten) {
     json_for_tinygltf = root.dump();
@@ -428,6 +456,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   if (!ok) throw InputError(file, "", "cannot load glTF: " + tidy(err.empty() ? warn : err, base_dir));
   if (!warn.empty()) asset.warnings.push_back(tidy(warn, base_dir));
   for (const auto& [image, uri] : relabelled) asset.model.images.at(image).uri = uri;
+  for (size_t buffer : fallbacks) {
+    asset.model.buffers.at(buffer).uri.clear();
+    asset.model.buffers.at(buffer).data.clear();
+  }
   for (const auto& [where, indices] : hidden.entries)
     asset.model.meshes.at(where.first).primitives.at(where.second).indices = indices;
   return asset;

@@ -5,6 +5,8 @@
 #include <set>
 
 #include "core/asset.hpp"
+#include "core/error.hpp"
+#include "core/meshopt.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -22,7 +24,8 @@ bool references_are_known(const std::string& extension) {
                                               "KHR_materials_variants",
                                               "EXT_mesh_gpu_instancing",
                                               "KHR_xmp_json_ld",
-                                              "KHR_materials_pbrSpecularGlossiness"};
+                                              "KHR_materials_pbrSpecularGlossiness",
+                                              "EXT_meshopt_compression"};
   return known.count(extension) || extension.rfind("KHR_materials_", 0) == 0;
 }
 
@@ -167,27 +170,51 @@ PruneResult prune_unused(Asset& asset) {
   result.buffer_views = static_cast<int>(std::count(keep_view.begin(), keep_view.end(), false));
   if (result.buffer_views == 0) return result;
 
-  // Compact each buffer that lost a view: kept views are copied in offset order, 4-byte aligned
-  // (glTF 2.0 section 3.6.2.4: accessor offsets are multiples of their component size, at most 4).
+  // Compact each buffer that lost a view: what stays (kept views, and the compressed sources of
+  // EXT_meshopt_compression views) is copied in offset order, 4-byte aligned (glTF 2.0 section
+  // 3.6.2.4: accessor offsets are multiples of their component size, at most 4). A fallback
+  // placeholder has no bytes to compact.
   std::vector<bool> buffer_lost_view(model.buffers.size(), false);
   for (size_t i = 0; i < keep_view.size(); ++i)
-    if (!keep_view[i]) buffer_lost_view[static_cast<size_t>(model.bufferViews[i].buffer)] = true;
+    if (!keep_view[i] && model.bufferViews[i].buffer >= 0 &&
+        static_cast<size_t>(model.bufferViews[i].buffer) < model.buffers.size())
+      buffer_lost_view[static_cast<size_t>(model.bufferViews[i].buffer)] = true;
   for (size_t b = 0; b < model.buffers.size(); ++b) {
-    if (!buffer_lost_view[b]) continue;
-    std::vector<size_t> views;
-    for (size_t i = 0; i < model.bufferViews.size(); ++i)
-      if (keep_view[i] && static_cast<size_t>(model.bufferViews[i].buffer) == b) views.push_back(i);
-    std::sort(views.begin(), views.end(),
-              [&](size_t x, size_t y) { return model.bufferViews[x].byteOffset < model.bufferViews[y].byteOffset; });
+    if (!buffer_lost_view[b] || is_meshopt_placeholder(model.buffers[b])) continue;
+    struct Range {
+      size_t view;
+      bool compressed_source;
+      std::uint64_t offset, length;
+    };
+    std::vector<Range> ranges;
+    std::string problem;
+    for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+      if (!keep_view[i]) continue;
+      const auto& view = model.bufferViews[i];
+      if (static_cast<size_t>(view.buffer) == b) ranges.push_back({i, false, view.byteOffset, view.byteLength});
+      if (const auto source = meshopt_view(view, problem); source && static_cast<size_t>(source->buffer) == b)
+        ranges.push_back({i, true, source->byte_offset, source->byte_length});
+    }
+    std::sort(ranges.begin(), ranges.end(), [](const Range& x, const Range& y) { return x.offset < y.offset; });
+    const auto& data = model.buffers[b].data;
     Bytes compacted;
-    for (size_t i : views) {
-      auto& view = model.bufferViews[i];
+    for (const Range& range : ranges) {
+      if (range.offset > data.size() || range.length > data.size() - range.offset)
+        throw InputError(asset.path.string(),
+                         pointer("bufferViews", static_cast<int>(range.view)) +
+                             (range.compressed_source ? "/extensions/EXT_meshopt_compression" : ""),
+                         "byteOffset " + std::to_string(range.offset) + " + byteLength " +
+                             std::to_string(range.length) + " exceed its buffer's " + std::to_string(data.size()) +
+                             " bytes");
       compacted.resize((compacted.size() + 3) & ~size_t{3}, 0);
       const size_t offset = compacted.size();
-      const auto& data = model.buffers[b].data;
-      compacted.insert(compacted.end(), data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
-                       data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
-      view.byteOffset = offset;
+      compacted.insert(compacted.end(), data.begin() + static_cast<std::ptrdiff_t>(range.offset),
+                       data.begin() + static_cast<std::ptrdiff_t>(range.offset + range.length));
+      auto& view = model.bufferViews[range.view];
+      if (range.compressed_source)
+        set_meshopt_source(view, static_cast<int>(b), offset);
+      else
+        view.byteOffset = offset;
     }
     model.buffers[b].data = std::move(compacted);
     model.buffers[b].uri.clear();  // new bytes: save_asset names the file anew

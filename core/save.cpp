@@ -7,10 +7,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "core/accessor.hpp"
 #include "core/asset.hpp"
 #include "core/error.hpp"
+#include "core/meshopt.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -29,30 +31,54 @@ bool leaves_folder(const fs::path& relative) {
 
 void pad_to_4(Bytes& bytes) { bytes.resize((bytes.size() + 3) & ~size_t{3}, 0); }
 
-// GLB holds one BIN chunk: every buffer is merged into buffer 0 (bufferViews shifted), and every
-// image moves into a bufferView, so the .glb stands alone.
+// GLB holds one BIN chunk: every buffer is merged into buffer 0 (bufferViews and the compressed
+// sources of EXT_meshopt_compression shifted), and every image moves into a bufferView, so the
+// .glb stands alone. Fallback buffers without bytes stay buffers of their own, after buffer 0
+// (the extension's "Fallback buffers": index 1 or above in a GLB).
 void gather_into_bin(Asset& asset) {
   tinygltf::Model& model = asset.model;
   if (model.buffers.empty()) model.buffers.emplace_back();
+  std::vector<int> new_index(model.buffers.size(), 0);
   std::vector<size_t> base(model.buffers.size(), 0);
-  Bytes& bin = model.buffers[0].data;
-  for (size_t b = 1; b < model.buffers.size(); ++b) {
+  std::vector<tinygltf::Buffer> placeholders;
+  tinygltf::Buffer merged;  // keeps buffer 0's name, extras and extensions
+  Bytes bin;
+  for (size_t b = 0; b < model.buffers.size(); ++b) {
+    if (is_meshopt_placeholder(model.buffers[b])) {
+      placeholders.push_back(std::move(model.buffers[b]));
+      new_index[b] = static_cast<int>(placeholders.size());
+      continue;
+    }
+    if (b == 0) {
+      bin = std::move(model.buffers[0].data);
+      merged = std::move(model.buffers[0]);
+      merged.uri.clear();
+      continue;
+    }
     pad_to_4(bin);
     base[b] = bin.size();
     bin.insert(bin.end(), model.buffers[b].data.begin(), model.buffers[b].data.end());
   }
+  auto moved = [&](int buffer, size_t offset) {
+    const auto b = static_cast<size_t>(buffer);
+    return b < new_index.size() ? std::pair{new_index[b], offset + base[b]} : std::pair{buffer, offset};
+  };
+  std::string problem;
   for (auto& view : model.bufferViews) {
-    view.byteOffset += base[static_cast<size_t>(view.buffer)];
-    view.buffer = 0;
+    if (const auto compressed = meshopt_view(view, problem)) {
+      const auto [buffer, offset] = moved(static_cast<int>(compressed->buffer), compressed->byte_offset);
+      set_meshopt_source(view, buffer, offset);
+    }
+    std::tie(view.buffer, view.byteOffset) = moved(view.buffer, view.byteOffset);
   }
   if (model.buffers.size() > 1) {
-    std::vector<int> remap(model.buffers.size(), 0);
     for (auto& mesh : model.meshes)
       for (auto& primitive : mesh.primitives)
-        for (auto& [name, value] : primitive.extensions) remap_in_value(value, "buffer", remap);
-    model.buffers.resize(1);
+        for (auto& [name, value] : primitive.extensions) remap_in_value(value, "buffer", new_index);
   }
-  model.buffers[0].uri.clear();
+  merged.data = std::move(bin);
+  model.buffers.assign(1, std::move(merged));
+  for (auto& placeholder : placeholders) model.buffers.push_back(std::move(placeholder));
   for (size_t i = 0; i < model.images.size(); ++i) {
     auto& image = model.images[i];
     if (image.bufferView >= 0) continue;
@@ -61,6 +87,48 @@ void gather_into_bin(Asset& asset) {
     image.image.clear();
     image.uri.clear();
   }
+}
+
+// tinygltf 2.7 writes no extensions of buffers and bufferViews (EXT_meshopt_compression lives
+// there): they are written here, from the document's values.
+nlohmann::json json_of(const tinygltf::Value& value) {
+  switch (value.Type()) {
+    case tinygltf::BOOL_TYPE:
+      return value.Get<bool>();
+    case tinygltf::INT_TYPE:
+      return value.Get<int>();
+    case tinygltf::REAL_TYPE:
+      return value.Get<double>();
+    case tinygltf::STRING_TYPE:
+      return value.Get<std::string>();
+    case tinygltf::ARRAY_TYPE: {
+      nlohmann::json array = nlohmann::json::array();
+      for (const auto& element : value.Get<tinygltf::Value::Array>()) array.push_back(json_of(element));
+      return array;
+    }
+    case tinygltf::OBJECT_TYPE: {
+      nlohmann::json object = nlohmann::json::object();
+      for (const auto& [key, member] : value.Get<tinygltf::Value::Object>()) object[key] = json_of(member);
+      return object;
+    }
+    default:
+      return nullptr;
+  }
+}
+
+void write_extensions(const tinygltf::ExtensionMap& extensions, nlohmann::json& entry) {
+  if (extensions.empty()) return;
+  nlohmann::json& out = entry["extensions"];
+  for (const auto& [name, value] : extensions) out[name] = json_of(value);
+}
+
+// A fallback placeholder's byteLength: large enough for every view it holds (the extension's
+// "Fallback buffers"), and at least 1 (glTF 2.0 schema: buffer.byteLength >= 1).
+std::uint64_t placeholder_byte_length(const tinygltf::Model& model, int buffer) {
+  std::uint64_t length = 1;
+  for (const auto& view : model.bufferViews)
+    if (view.buffer == buffer) length = std::max<std::uint64_t>(length, view.byteOffset + view.byteLength);
+  return length;
 }
 
 std::string mime_extension(const std::string& mime) {
@@ -171,8 +239,9 @@ std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool repl
       return uri.empty() || name != percent_decode(uri) ? name : uri;
     };
     for (size_t b = 0; b < model.buffers.size(); ++b)
-      buffer_uris[b] =
-          place(model.buffers[b].uri, model.buffers[b].data, stem + (b ? "_" + std::to_string(b) : "") + ".bin");
+      if (!is_meshopt_placeholder(model.buffers[b]))
+        buffer_uris[b] =
+            place(model.buffers[b].uri, model.buffers[b].data, stem + (b ? "_" + std::to_string(b) : "") + ".bin");
     // An image file keeps its mapping under the URI it is saved with (place() renames one read
     // from outside the folder or whose name is taken), so the saved asset still reads its bytes.
     std::map<std::string, std::shared_ptr<const MappedFile>> saved_files;
@@ -201,12 +270,17 @@ std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool repl
   nlohmann::json document = nlohmann::json::parse(stream.str());
   for (size_t b = 0; b < model.buffers.size(); ++b) {
     nlohmann::json& entry = document["buffers"][b];
-    entry["byteLength"] = model.buffers[b].data.size();
+    entry["byteLength"] = is_meshopt_placeholder(model.buffers[b])
+                              ? placeholder_byte_length(model, static_cast<int>(b))
+                              : model.buffers[b].data.size();
     if (buffer_uris[b].empty())
       entry.erase("uri");
     else
       entry["uri"] = buffer_uris[b];
+    write_extensions(model.buffers[b].extensions, entry);
   }
+  for (size_t v = 0; v < model.bufferViews.size(); ++v)
+    write_extensions(model.bufferViews[v].extensions, document["bufferViews"][v]);
 
   Bytes main_file;
   if (to_glb) {

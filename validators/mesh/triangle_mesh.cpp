@@ -90,7 +90,7 @@ std::optional<TriangleMesh> read_triangle_mesh(const Asset& asset, int mesh_inde
     for (const auto& [semantic, accessor] : primitive.attributes) {
       if (!wanted(semantic)) continue;
       AccessorProblem accessor_problem;
-      auto array = read_accessor<float>(model, accessor, accessor_problem);
+      auto array = read_accessor<float>(asset, accessor, accessor_problem);
       if (!array) {
         problem = "attribute " + semantic + ": " + accessor_problem.text();
         return std::nullopt;
@@ -99,7 +99,7 @@ std::optional<TriangleMesh> read_triangle_mesh(const Asset& asset, int mesh_inde
     }
     if (primitive.indices >= 0) {
       AccessorProblem accessor_problem;
-      auto indices = read_index_accessor(model, primitive.indices, accessor_problem);
+      auto indices = read_index_accessor(asset, primitive.indices, accessor_problem);
       if (!indices) {
         problem = "indices: " + accessor_problem.text();
         return std::nullopt;

@@ -1,0 +1,215 @@
+#include "core/meshopt.hpp"
+
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
+
+namespace gltf_pbr {
+
+std::optional<MeshoptMode> meshopt_mode(std::string_view name) {
+  if (name == "ATTRIBUTES") return MeshoptMode::Attributes;
+  if (name == "TRIANGLES") return MeshoptMode::Triangles;
+  if (name == "INDICES") return MeshoptMode::Indices;
+  return std::nullopt;
+}
+
+std::optional<MeshoptFilter> meshopt_filter(std::string_view name) {
+  if (name == "NONE") return MeshoptFilter::None;
+  if (name == "OCTAHEDRAL") return MeshoptFilter::Octahedral;
+  if (name == "QUATERNION") return MeshoptFilter::Quaternion;
+  if (name == "EXPONENTIAL") return MeshoptFilter::Exponential;
+  return std::nullopt;
+}
+
+std::string meshopt_layout_problem(const MeshoptView& view, std::uint64_t parent_byte_length,
+                                   std::uint64_t parent_byte_stride) {
+  const std::uint64_t stride = view.byte_stride;
+  if (parent_byte_stride != 0 && parent_byte_stride != stride)
+    return "the bufferView's byteStride " + std::to_string(parent_byte_stride) + " differs from the extension's " +
+           std::to_string(stride);
+  if (stride == 0 || view.count > parent_byte_length / stride || view.count * stride != parent_byte_length)
+    return "the bufferView's byteLength " + std::to_string(parent_byte_length) + " is not byteStride " +
+           std::to_string(stride) + " times count " + std::to_string(view.count);
+  switch (view.mode) {
+    case MeshoptMode::Attributes:
+      if (stride % 4 != 0 || stride > 256) return "ATTRIBUTES needs a byteStride divisible by 4 and at most 256, not " +
+                                                  std::to_string(stride);
+      break;
+    case MeshoptMode::Triangles:
+      if (view.count % 3 != 0) return "TRIANGLES needs a count divisible by 3, not " + std::to_string(view.count);
+      [[fallthrough]];
+    case MeshoptMode::Indices:
+      if (stride != 2 && stride != 4) return "TRIANGLES and INDICES need a byteStride of 2 or 4, not " +
+                                             std::to_string(stride);
+      if (view.filter != MeshoptFilter::None) return "TRIANGLES and INDICES take no filter";
+      break;
+  }
+  if (view.filter == MeshoptFilter::Octahedral && stride != 4 && stride != 8)
+    return "OCTAHEDRAL needs a byteStride of 4 or 8, not " + std::to_string(stride);
+  if (view.filter == MeshoptFilter::Quaternion && stride != 8)
+    return "QUATERNION needs a byteStride of 8, not " + std::to_string(stride);
+  if (view.filter == MeshoptFilter::Exponential && stride % 4 != 0)
+    return "EXPONENTIAL needs a byteStride divisible by 4, not " + std::to_string(stride);
+  return {};
+}
+
+namespace {
+
+// The fewest compressed bytes that can hold `count` elements (the extension's Appendix A): an
+// attribute stream spends at least 2 header bits per 16 elements on each byte of the element, a
+// triangle stream one code byte per triangle, an index sequence at least one byte per index.
+// Anything shorter cannot decode, so it is refused before the output is allocated.
+std::uint64_t fewest_compressed_bytes(const MeshoptView& view) {
+  switch (view.mode) {
+    case MeshoptMode::Attributes:
+      return view.byte_stride * ((view.count + 63) / 64);
+    case MeshoptMode::Triangles:
+      return view.count / 3;
+    case MeshoptMode::Indices:
+      return view.count;
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::optional<std::vector<std::uint8_t>> decode_meshopt(std::span<const std::uint8_t> compressed,
+                                                        const MeshoptView& view, std::string& problem) {
+  if (view.byte_stride == 0 || view.count > UINT64_MAX / view.byte_stride) {
+    problem = "byteStride " + std::to_string(view.byte_stride) + " times count " + std::to_string(view.count) +
+              " is no size";
+    return std::nullopt;
+  }
+  problem = meshopt_layout_problem(view, view.count * view.byte_stride, 0);
+  if (!problem.empty()) return std::nullopt;
+  if (compressed.size() < fewest_compressed_bytes(view)) {
+    problem = std::to_string(compressed.size()) + " compressed bytes cannot hold " + std::to_string(view.count) +
+              " elements of " + std::to_string(view.byte_stride) + " bytes";
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> decoded(view.count * view.byte_stride);
+  const auto count = static_cast<std::size_t>(view.count);
+  const auto stride = static_cast<std::size_t>(view.byte_stride);
+  int status = 0;
+  switch (view.mode) {
+    case MeshoptMode::Attributes:
+      status = meshopt_decodeVertexBuffer(decoded.data(), count, stride, compressed.data(), compressed.size());
+      break;
+    case MeshoptMode::Triangles:
+      status = meshopt_decodeIndexBuffer(decoded.data(), count, stride, compressed.data(), compressed.size());
+      break;
+    case MeshoptMode::Indices:
+      status = meshopt_decodeIndexSequence(decoded.data(), count, stride, compressed.data(), compressed.size());
+      break;
+  }
+  if (status != 0) {
+    // meshoptimizer's codes: -1 an unknown header (another codec version), -2 too few bytes,
+    // -3 bytes left over.
+    problem = status == -1   ? "the compressed bytes do not start with a known codec header"
+              : status == -2 ? "the compressed bytes end before " + std::to_string(view.count) + " elements decode"
+              : status == -3 ? "bytes are left over after " + std::to_string(view.count) + " elements decode"
+                             : "meshoptimizer refused the compressed bytes (status " + std::to_string(status) + ")";
+    return std::nullopt;
+  }
+  // Appendix B: each filter transforms the decoded elements in place.
+  switch (view.filter) {
+    case MeshoptFilter::None:
+      break;
+    case MeshoptFilter::Octahedral:
+      meshopt_decodeFilterOct(decoded.data(), count, stride);
+      break;
+    case MeshoptFilter::Quaternion:
+      meshopt_decodeFilterQuat(decoded.data(), count, stride);
+      break;
+    case MeshoptFilter::Exponential:
+      meshopt_decodeFilterExp(decoded.data(), count, stride);
+      break;
+  }
+  return decoded;
+}
+
+namespace {
+
+std::optional<std::uint64_t> unsigned_member(const tinygltf::Value& object, const char* name) {
+  if (!object.Has(name)) return std::nullopt;
+  const tinygltf::Value& value = object.Get(name);
+  if (!value.IsNumber()) return std::nullopt;
+  const double number = value.GetNumberAsDouble();
+  if (number < 0 || number != static_cast<double>(static_cast<std::uint64_t>(number))) return std::nullopt;
+  return static_cast<std::uint64_t>(number);
+}
+
+}  // namespace
+
+std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::string& problem) {
+  problem.clear();
+  const auto found = view.extensions.find("EXT_meshopt_compression");
+  if (found == view.extensions.end()) return std::nullopt;
+  const tinygltf::Value& object = found->second;
+  MeshoptView out;
+  if (!object.IsObject()) {
+    problem = "the extension is not an object";
+    return std::nullopt;
+  }
+  const auto buffer = unsigned_member(object, "buffer");
+  const auto byte_length = unsigned_member(object, "byteLength");
+  const auto byte_stride = unsigned_member(object, "byteStride");
+  const auto count = unsigned_member(object, "count");
+  for (const auto& [member, value] : {std::pair{"buffer", buffer}, std::pair{"byteLength", byte_length},
+                                      std::pair{"byteStride", byte_stride}, std::pair{"count", count}}) {
+    if (!value) {
+      problem = std::string(member) + " is missing or not a non-negative integer";
+      return std::nullopt;
+    }
+  }
+  const auto mode = object.Has("mode") && object.Get("mode").IsString()
+                        ? meshopt_mode(object.Get("mode").Get<std::string>())
+                        : std::nullopt;
+  if (!mode) {
+    problem = "mode is not ATTRIBUTES, TRIANGLES or INDICES";
+    return std::nullopt;
+  }
+  std::optional<MeshoptFilter> filter = MeshoptFilter::None;
+  if (object.Has("filter"))
+    filter = object.Get("filter").IsString() ? meshopt_filter(object.Get("filter").Get<std::string>()) : std::nullopt;
+  if (!filter) {
+    problem = "filter is not NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL";
+    return std::nullopt;
+  }
+  const auto byte_offset = object.Has("byteOffset") ? unsigned_member(object, "byteOffset") : std::uint64_t{0};
+  if (!byte_offset) {
+    problem = "byteOffset is not a non-negative integer";
+    return std::nullopt;
+  }
+  out.buffer = static_cast<std::int64_t>(std::min<std::uint64_t>(*buffer, INT32_MAX));
+  out.byte_offset = *byte_offset;
+  out.byte_length = *byte_length;
+  out.byte_stride = *byte_stride;
+  out.count = *count;
+  out.mode = *mode;
+  out.filter = *filter;
+  return out;
+}
+
+bool is_meshopt_fallback(const tinygltf::Buffer& buffer) {
+  const auto found = buffer.extensions.find("EXT_meshopt_compression");
+  if (found == buffer.extensions.end() || !found->second.IsObject() || !found->second.Has("fallback")) return false;
+  const tinygltf::Value& fallback = found->second.Get("fallback");
+  return fallback.IsBool() && fallback.Get<bool>();
+}
+
+bool is_meshopt_placeholder(const tinygltf::Buffer& buffer) {
+  return is_meshopt_fallback(buffer) && buffer.uri.empty() && buffer.data.empty();
+}
+
+void set_meshopt_source(tinygltf::BufferView& view, int buffer, std::uint64_t byte_offset) {
+  const auto found = view.extensions.find("EXT_meshopt_compression");
+  if (found == view.extensions.end() || !found->second.IsObject()) return;
+  tinygltf::Value::Object object = found->second.Get<tinygltf::Value::Object>();
+  object["buffer"] = tinygltf::Value(buffer);
+  // An int where it fits: tinygltf writes a double with a fraction part ("24516.0").
+  object["byteOffset"] = byte_offset <= INT32_MAX ? tinygltf::Value(static_cast<int>(byte_offset))
+                                                  : tinygltf::Value(static_cast<double>(byte_offset));
+  found->second = tinygltf::Value(std::move(object));
+}
+
+}  // namespace gltf_pbr
