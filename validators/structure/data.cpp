@@ -635,6 +635,8 @@ class AccessorData {
 std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& doc, std::int64_t index) {
   if (index < 0 || static_cast<std::size_t>(index) >= doc.buffer_views.size()) return std::nullopt;
   const BufferViewModel& view = doc.buffer_views[static_cast<std::size_t>(index)];
+  if (view.object && view.meshopt_present)
+    return view.decoded ? std::optional<std::span<const std::uint8_t>>(*view.decoded) : std::nullopt;
   if (!view.object || view.byte_offset < 0 || view.buffer < 0 ||
       static_cast<std::size_t>(view.buffer) >= doc.buffers.size())
     return std::nullopt;
@@ -703,6 +705,7 @@ void load_buffers(Context& context) {
 
 void check_resources(Context& context) {
   load_buffers(context);
+  decode_meshopt_views(context);
   check_images(context);
   AccessorData(context).run();
   check_draco(context);

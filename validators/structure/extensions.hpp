@@ -39,6 +39,8 @@ struct ExtensionHooks {
   std::function<PrimitiveModel*()> primitive;
   std::function<NodeModel*()> node;
   std::function<TextureModel*()> texture;
+  std::function<BufferModel*()> buffer;
+  std::function<BufferViewModel*()> buffer_view;
 };
 
 bool extension_supported(const std::string& name);

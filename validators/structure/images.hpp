@@ -9,5 +9,6 @@ void check_images(Context& context);  // images.cpp
 // The media type the bytes' signature names (image/png, image/jpeg, image/webp, image/ktx2), or "".
 std::string image_mime_of(std::span<const std::uint8_t> bytes);
 void check_draco(Context& context);  // draco.cpp: KHR_draco_mesh_compression data
+void decode_meshopt_views(Context& context);  // meshopt.cpp: EXT_meshopt_compression data
 
 }  // namespace gltf_pbr::structure

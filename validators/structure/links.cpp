@@ -314,8 +314,14 @@ class Linker {
   void buffer(std::size_t i) {
     BufferModel& buffer = doc_.buffers[i];
     // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk.
-    if (context_.glb && i == 0 && !buffer.has_uri && !context_.glb_bin_chunk)
-      issues_.at("BUFFER_MISSING_GLB_DATA", at("buffers", i));
+    const bool glb_bin = context_.glb && i == 0 && !buffer.has_uri;
+    if (glb_bin && !context_.glb_bin_chunk) issues_.at("BUFFER_MISSING_GLB_DATA", at("buffers", i));
+    // EXT_meshopt_compression "Fallback buffers": one with no data of its own can only be read
+    // through the extension, which must then be required.
+    const auto& required = doc_.extensions_required;
+    if (buffer.meshopt_fallback && !buffer.has_uri && !glb_bin &&
+        std::find(required.begin(), required.end(), "EXT_meshopt_compression") == required.end())
+      issues_.at("MESHOPT_EXTENSION_NOT_REQUIRED", at("buffers", i));
   }
 
   void buffer_view(std::size_t i) {
@@ -328,6 +334,27 @@ class Linker {
       issues_.at("BUFFER_VIEW_TOO_LONG",
                  view.byte_offset >= buffer->byte_length ? p + "/byteOffset" : p + "/byteLength",
                  {arg(view.buffer), arg(buffer->byte_length)});
+    if (buffer && buffer->meshopt_fallback && !view.meshopt_present)
+      issues_.at("MESHOPT_FALLBACK_UNCOMPRESSED_VIEW", p + "/buffer", {arg(view.buffer)});
+    if (view.meshopt) meshopt_source(view, p + "/extensions/EXT_meshopt_compression");
+  }
+
+  // EXT_meshopt_compression: the compressed bytes' buffer and range, and the layout rules of the
+  // extension's README ("For the extension object to be valid").
+  void meshopt_source(const BufferViewModel& view, const std::string& p) {
+    const MeshoptView& m = *view.meshopt;
+    if (BufferModel* source = resolve(doc_.buffers, m.buffer, p + "/buffer")) {
+      if (source->meshopt_fallback) issues_.at("MESHOPT_FALLBACK_AS_SOURCE", p + "/buffer", {arg(m.buffer)});
+      const auto length = static_cast<std::uint64_t>(source->byte_length);
+      if (source->byte_length > 0 && (m.byte_offset > length || m.byte_length > length - m.byte_offset))
+        issues_.at("BUFFER_VIEW_TOO_LONG", m.byte_offset >= length ? p + "/byteOffset" : p + "/byteLength",
+                   {arg(m.buffer), arg(source->byte_length)});
+    }
+    if (view.byte_length > 0) {
+      const std::string problem = meshopt_layout_problem(m, static_cast<std::uint64_t>(view.byte_length),
+                                                         static_cast<std::uint64_t>(view.byte_stride));
+      if (!problem.empty()) issues_.at("MESHOPT_INVALID_LAYOUT", p, {arg_raw(problem)});
+    }
   }
 
   void image(std::size_t i) {

@@ -48,6 +48,8 @@ class Walker {
     hooks_.primitive = [this] { return current_primitive_; };
     hooks_.node = [this] { return current_node_; };
     hooks_.texture = [this] { return current_texture_; };
+    hooks_.buffer = [this] { return current_buffer_; };
+    hooks_.buffer_view = [this] { return current_buffer_view_; };
   }
 
   // False when the document cannot be validated further (no usable asset).
@@ -457,7 +459,9 @@ class Walker {
       }
     }
     read_.string(o, p, "name");
+    current_buffer_ = &m;
     extensions(o, p, Owner::Buffer);
+    current_buffer_ = nullptr;
     read_.extras(o, p);
   }
 
@@ -596,7 +600,9 @@ class Walker {
     else if (present(o, "byteOffset"))
       m.byte_offset = -1;  // unusable: where its accessors' data starts is unknown
     read_.string(o, p, "name");
+    current_buffer_view_ = &m;
     extensions(o, p, Owner::BufferView);
+    current_buffer_view_ = nullptr;
     read_.extras(o, p);
   }
 
@@ -1022,6 +1028,8 @@ class Walker {
   PrimitiveModel* current_primitive_ = nullptr;
   NodeModel* current_node_ = nullptr;
   TextureModel* current_texture_ = nullptr;
+  BufferModel* current_buffer_ = nullptr;
+  BufferViewModel* current_buffer_view_ = nullptr;
 };
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/json_pointer.hpp"
+#include "core/meshopt.hpp"
 #include "core/report.hpp"
 #include "rules/rule_set.hpp"
 #include "validators/structure/structure.hpp"
@@ -61,7 +62,8 @@ struct Document;
 struct AccessorModel;
 // The bytes of buffer view `index` when its buffer has loaded and the view lies inside it (and
 // inside the buffer's declared byteLength); std::nullopt otherwise, and for a view whose offset is
-// unusable (-1).
+// unusable (-1). A compressed view's bytes are its decoded ones (EXT_meshopt_compression), once the
+// data pass decoded them.
 std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Document& doc, std::int64_t index);
 // Accessor `index` when it names a JSON object of the document, else nullptr.
 const AccessorModel* accessor_object(const Document& doc, std::int64_t index);
@@ -123,6 +125,11 @@ struct BufferViewModel : EntityModel {
   int usage_target = 0;  // 34962 vertex, 34963 index, 1 other (image, IBM, animation)
   std::string usage_name;
   int accessor_uses = 0;  // attribute accessors referencing it (MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE)
+  // EXT_meshopt_compression: whether the view has the extension, its content when that is valid,
+  // and the decoded bytes once the data pass decoded them (meshopt.cpp).
+  bool meshopt_present = false;
+  std::optional<MeshoptView> meshopt;
+  std::optional<std::vector<std::uint8_t>> decoded;
 };
 
 struct BufferModel : EntityModel {
@@ -130,6 +137,7 @@ struct BufferModel : EntityModel {
   bool uri_valid = false;
   bool data_uri = false;
   bool non_relative = false;  // named by an absolute URI: reported, never fetched
+  bool meshopt_fallback = false;  // EXT_meshopt_compression {"fallback": true}
   std::string uri;
   std::int64_t byte_length = -1;
   std::vector<std::uint8_t> owned;     // decoded data URI or external file
