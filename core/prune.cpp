@@ -169,6 +169,7 @@ PruneResult prune_unused(Asset& asset) {
       keep_view[static_cast<size_t>(view)] = false;
   result.buffer_views = static_cast<int>(std::count(keep_view.begin(), keep_view.end(), false));
   if (result.buffer_views == 0) return result;
+  asset.decoded_views = {};  // keyed by view index, which changes below
 
   // Compact each buffer that lost a view: what stays (kept views, and the compressed sources of
   // EXT_meshopt_compression views) is copied in offset order, 4-byte aligned (glTF 2.0 section

@@ -2,6 +2,7 @@
 // does): each test builds the smallest document the glTF 2.0 spec rule applies to and names the
 // code, pointer and severity we emit.
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
 
 #include <cstring>
 #include <string>
@@ -511,6 +512,82 @@ TEST(StructureChecks, ADataUriImageInAGlbIsReported) {
   ASSERT_GE(all.size(), 2u);
   EXPECT_EQ(all[0], "URI_GLB /images/0/uri");
   EXPECT_EQ(all[1], "DATA_URI_GLB /images/0/uri");
+}
+
+// --- EXT_meshopt_compression (our codes: the reference does not know the extension) ---
+
+// Three positions, compressed by meshoptimizer's own encoder into a data-URI buffer 0; buffer 1 is
+// the fallback placeholder. The view's extension gets `view_extension_extra`, the accessor `min`.
+std::string meshopt_document(const std::string& view_extension_extra = "", const std::string& required = "true",
+                             const std::string& min = "[0,0,0]") {
+  const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<std::uint8_t> compressed(meshopt_encodeVertexBufferBound(3, 12));
+  compressed.resize(meshopt_encodeVertexBuffer(compressed.data(), compressed.size(), positions.data(), 3, 12));
+  return R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_meshopt_compression"],)" +
+         std::string(required == "true" ? R"("extensionsRequired":["EXT_meshopt_compression"],)" : "") +
+         R"("buffers":[{"byteLength":)" + std::to_string(compressed.size()) + R"(,"uri":")" + data_uri(compressed) +
+         R"("},{"byteLength":36,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}],)"
+         R"("bufferViews":[{"buffer":1,"byteLength":36,"byteStride":12,"target":34962,"extensions":{"EXT_meshopt_compression":)"
+         R"({"buffer":0,"byteLength":)" +
+         std::to_string(compressed.size()) + R"(,"byteStride":12,"count":3,"mode":"ATTRIBUTES")" +
+         view_extension_extra + R"(}}}],)"
+         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":)" +
+         min + R"(,"max":[1,1,0]}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+         R"("nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+}
+
+TEST(StructureChecks, AValidCompressedViewIsDecodedAndItsAccessorDataChecked) {
+  const Report valid = validate_text(meshopt_document());
+  EXPECT_EQ(keys(valid), std::vector<std::string>{}) << "a valid compressed document has no issue";
+  // The declared minimum no longer matches the decoded positions: the data checks ran on them.
+  const Report wrong_min = validate_text(meshopt_document("", "true", "[0,-1,0]"));
+  EXPECT_EQ(keys(wrong_min), std::vector<std::string>{"ACCESSOR_MIN_MISMATCH /accessors/0/min/1"});
+}
+
+TEST(StructureChecks, ACompressedLayoutTheExtensionForbidsIsReported) {
+  const Report report = validate_text(meshopt_document(R"(,"filter":"QUATERNION")"));
+  const Issue* issue = find(report, "MESHOPT_INVALID_LAYOUT");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/bufferViews/0/extensions/EXT_meshopt_compression");
+  EXPECT_NE(issue->message.find("QUATERNION needs a byteStride of 8"), std::string::npos) << issue->message;
+  EXPECT_EQ(find(report, "MESHOPT_DECODE_FAILED"), nullptr) << "an invalid layout is not decoded";
+  // Near miss: the exponential filter takes any stride divisible by 4.
+  const Report exponential = validate_text(meshopt_document(R"(,"filter":"EXPONENTIAL")"));
+  EXPECT_EQ(find(exponential, "MESHOPT_INVALID_LAYOUT"), nullptr);
+}
+
+TEST(StructureChecks, CompressedBytesThatDoNotDecodeAreReported) {
+  std::string text = meshopt_document();
+  // Bytes of the same length but a header no codec version has (the data URI's first byte, 0xa0).
+  const std::size_t payload = text.find("base64,") + 7;
+  text.replace(payload, 2, "AA");
+  const Report report = validate_text(text);
+  const Issue* issue = find(report, "MESHOPT_DECODE_FAILED");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/bufferViews/0/extensions/EXT_meshopt_compression");
+  EXPECT_NE(issue->message.find("codec header"), std::string::npos) << issue->message;
+}
+
+TEST(StructureChecks, FallbackBuffersFollowTheExtensionsRules) {
+  // A view without the extension on the fallback buffer.
+  std::string text = meshopt_document();
+  text.replace(text.find(R"(],"accessors")"), 13, R"(,{"buffer":1,"byteLength":4}],"accessors")");
+  const Report uncompressed = validate_text(text);
+  const Issue* issue = find(uncompressed, "MESHOPT_FALLBACK_UNCOMPRESSED_VIEW");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/bufferViews/1/buffer");
+  // The extension may not take its compressed bytes from a fallback buffer.
+  std::string source = meshopt_document();
+  source.replace(source.find(R"({"buffer":0,"byteLength")"), 11, R"({"buffer":1)");
+  const Report from_fallback = validate_text(source);
+  const Issue* as_source = find(from_fallback, "MESHOPT_FALLBACK_AS_SOURCE");
+  ASSERT_NE(as_source, nullptr);
+  EXPECT_EQ(as_source->pointer, "/bufferViews/0/extensions/EXT_meshopt_compression/buffer");
+  // A fallback buffer without data can only be read through the extension: it must be required.
+  const Report optional = validate_text(meshopt_document("", "false"));
+  const Issue* not_required = find(optional, "MESHOPT_EXTENSION_NOT_REQUIRED");
+  ASSERT_NE(not_required, nullptr);
+  EXPECT_EQ(not_required->pointer, "/buffers/1");
 }
 
 }  // namespace
