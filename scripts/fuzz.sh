@@ -14,6 +14,12 @@ trap 'rm -rf "$corpus"' EXIT
 mkdir -p "$root/fuzz-artifacts"
 seeds=()
 while IFS= read -r dir; do seeds+=("$dir"); done < <(find "$suite" -type d)
+# EXT_meshopt_compression seeds, which the suite has none of: two shared assets packed by gltfpack
+# (npm), every mode and filter between them, into the scratch corpus.
+source "$root/tests/peer/gltfpack.sh"
+for asset in Box RiggedSimple; do
+  "$GLTF_PBR_GLTFPACK" -cc -i "$root/../shared/assets/$asset/specgloss/$asset.gltf" -o "$corpus/$asset-meshopt.glb" >/dev/null
+done
 # New inputs go to the scratch corpus (the first folder); the suite folders are only read. Leaks are
 # left to the sanitizer test build (OpenImageIO leaks on truncated PNGs, see tests/lsan.supp).
 ASAN_OPTIONS=detect_leaks=0 "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
