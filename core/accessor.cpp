@@ -154,14 +154,16 @@ std::optional<std::span<const std::uint8_t>> view_bytes(const tinygltf::Model& m
   }
   const auto source = buffer_range(compressed->buffer, compressed->byte_offset, compressed->byte_length, extension);
   if (!source) return std::nullopt;
-  std::string decode_problem;
-  const std::vector<std::uint8_t>* decoded = asset->decoded_views.find_or_decode(
-      view_index, [&] { return decode_meshopt(*source, *compressed, decode_problem); });
-  if (!decoded) {
-    problem = {extension, decode_problem};
+  std::uint64_t stored = 0;
+  for (const auto& buffer : model.buffers) stored += buffer.data.size();
+  const DecodedViews::Entry& decoded = asset->decoded_views.find_or_decode(
+      view_index, view.byteLength, meshopt_decode_budget(stored),
+      [&](std::string& why) { return decode_meshopt(*source, *compressed, why); });
+  if (!decoded.bytes) {
+    problem = {extension, decoded.problem};
     return std::nullopt;
   }
-  return std::span<const std::uint8_t>(*decoded);
+  return std::span<const std::uint8_t>(*decoded.bytes);
 }
 
 // `reference` names the bufferView property (blamed when the view or its buffer is missing),
@@ -340,17 +342,27 @@ std::optional<std::span<const std::uint8_t>> buffer_view_bytes(const Asset& asse
 DecodedViews& DecodedViews::operator=(const DecodedViews&) {
   const std::lock_guard lock(mutex_);
   views_.clear();
+  decoded_bytes_ = 0;
   return *this;
 }
 
-const std::vector<std::uint8_t>* DecodedViews::find_or_decode(
-    int index, const std::function<std::optional<std::vector<std::uint8_t>>()>& decode) const {
+const DecodedViews::Entry& DecodedViews::find_or_decode(
+    int index, std::uint64_t decoded_size, std::uint64_t budget,
+    const std::function<std::optional<std::vector<std::uint8_t>>(std::string&)>& decode) const {
   const std::lock_guard lock(mutex_);
-  if (const auto found = views_.find(index); found != views_.end()) return &found->second;
-  auto decoded = decode();
-  if (!decoded) return nullptr;
-  ++work_counters().views_decoded;
-  return &views_.emplace(index, std::move(*decoded)).first->second;
+  if (const auto found = views_.find(index); found != views_.end()) return found->second;
+  Entry entry;
+  if (decoded_size > budget || decoded_bytes_ > budget - decoded_size) {
+    entry.problem = "decoding it would take the file's decoded views past " + std::to_string(budget) +
+                    " bytes, 64 times the data it stores";
+  } else {
+    entry.bytes = decode(entry.problem);
+    if (entry.bytes) {
+      decoded_bytes_ += entry.bytes->size();
+      ++work_counters().views_decoded;
+    }
+  }
+  return views_.emplace(index, std::move(entry)).first->second;
 }
 
 int append_buffer_view(tinygltf::Model& model, std::span<const std::uint8_t> bytes) {

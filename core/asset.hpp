@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -24,20 +25,28 @@ struct LoadOptions {
 };
 
 // The decoded bytes of EXT_meshopt_compression bufferViews (core/meshopt.hpp), by view index,
-// decoded when a step first reads one: convert, which reads no geometry, decodes nothing. A copy
-// starts empty, since prune and save renumber views; the views themselves are immutable bytes.
+// decoded when a step first reads one: convert, which reads no geometry, decodes nothing. Failures
+// are kept too, so a bad view is decoded once. Their sum is bounded (meshopt_decode_budget). A copy
+// starts empty, since prune and save renumber views; prune empties it, so spans taken from it
+// before a prune must not be used after.
 class DecodedViews {
  public:
+  struct Entry {
+    std::optional<std::vector<std::uint8_t>> bytes;
+    std::string problem;  // why there are none
+  };
   DecodedViews() = default;
   DecodedViews(const DecodedViews&) {}
   DecodedViews& operator=(const DecodedViews&);
-  // The bytes of view `index`, from `decode` the first time; nullptr when decoding failed.
-  const std::vector<std::uint8_t>* find_or_decode(
-      int index, const std::function<std::optional<std::vector<std::uint8_t>>()>& decode) const;
+  // View `index`'s entry, from `decode` the first time unless its `decoded_size` bytes would take
+  // the total past `budget`. Decoding runs under the lock: meshoptimizer decodes about 1 GB/s.
+  const Entry& find_or_decode(int index, std::uint64_t decoded_size, std::uint64_t budget,
+                              const std::function<std::optional<std::vector<std::uint8_t>>(std::string&)>& decode) const;
 
  private:
   mutable std::mutex mutex_;
-  mutable std::map<int, std::vector<std::uint8_t>> views_;  // map: element addresses stay put
+  mutable std::map<int, Entry> views_;  // map: entries stay where they are
+  mutable std::uint64_t decoded_bytes_ = 0;
 };
 
 struct Asset {

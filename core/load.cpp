@@ -1,6 +1,7 @@
 // Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
 // pointer and the reason; tinygltf then builds the document with images kept encoded.
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -199,6 +200,24 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
     for (size_t i = 0; i < it->size(); ++i)
       if (!(*it)[i].is_object()) throw InputError(file, pointer(collection, static_cast<int>(i)), "not an object");
   }
+  // tinygltf 2.7 reads extension integers as int: a larger EXT_meshopt_compression offset or
+  // length would wrap and decode other bytes, so it is refused here, where it is named.
+  if (const auto views = root.find("bufferViews"); views != root.end())
+    for (size_t v = 0; v < views->size(); ++v) {
+      const nlohmann::json& view = (*views)[v];
+      const auto extensions = view.find("extensions");
+      if (extensions == view.end() || !extensions->is_object()) continue;
+      const auto extension = extensions->find("EXT_meshopt_compression");
+      if (extension == extensions->end() || !extension->is_object()) continue;
+      for (const char* member : {"buffer", "byteOffset", "byteLength", "byteStride", "count"}) {
+        const auto value = extension->find(member);
+        if (value == extension->end() || !value->is_number()) continue;  // its absence is the decoder's to name
+        const double number = value->get<double>();
+        if (!(number >= 0 && number <= INT32_MAX && std::trunc(number) == number))
+          throw InputError(file, pointer("bufferViews", static_cast<int>(v)) + "/extensions/EXT_meshopt_compression/" + member,
+                           "is not an integer from 0 to 2^31 - 1 (the largest the document library reads)");
+      }
+    }
   const fs::path folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
   for (const char* collection : {"buffers", "images"}) {
     const auto it = root.find(collection);
@@ -258,13 +277,14 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
 // tinygltf 2.7 reads every buffer: one without a uri is an error in a .gltf and the BIN chunk in a
 // GLB. A fallback buffer without a uri gets a one-byte data URI for the parse and its emptiness
 // back afterwards (its byteLength is derived again when saved, core/save.cpp).
-std::vector<size_t> hide_meshopt_fallbacks(nlohmann::json& root) {
+std::vector<size_t> hide_meshopt_fallbacks(nlohmann::json& root, bool glb_has_bin) {
   std::vector<size_t> hidden;
   const auto buffers = root.find("buffers");
   if (buffers == root.end()) return hidden;
   for (size_t b = 0; b < buffers->size(); ++b) {
     nlohmann::json& buffer = (*buffers)[b];
-    if (buffer.contains("uri") || !is_meshopt_fallback(buffer)) continue;
+    // A GLB's first buffer without a uri is its BIN chunk, marked fallback or not (glTF 2.0 4.4.3.2).
+    if (buffer.contains("uri") || !is_meshopt_fallback(buffer) || (b == 0 && glb_has_bin)) continue;
     buffer["uri"] = "data:application/octet-stream;base64,AA==";
     buffer["byteLength"] = 1;
     hidden.push_back(b);
@@ -422,7 +442,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, options);
   const HiddenIndices hidden = hide_draco_indices(root);
   const auto relabelled = relabel_foreign_data_images(root);
-  const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root);
+  const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
   const bool rewritten = !hidden.entries.empty() || !relabelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
   if (rewritten) {

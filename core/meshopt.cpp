@@ -3,6 +3,8 @@
 #include <meshoptimizer.h>
 #include <tiny_gltf.h>
 
+#include <cmath>
+
 namespace gltf_pbr {
 
 std::optional<MeshoptMode> meshopt_mode(std::string_view name) {
@@ -127,6 +129,11 @@ std::optional<std::vector<std::uint8_t>> decode_meshopt(std::span<const std::uin
   return decoded;
 }
 
+std::uint64_t meshopt_decode_budget(std::uint64_t stored_bytes) {
+  constexpr std::uint64_t kExpansion = 64, kSlack = std::uint64_t{1} << 20;
+  return stored_bytes > (UINT64_MAX - kSlack) / kExpansion ? UINT64_MAX : stored_bytes * kExpansion + kSlack;
+}
+
 namespace {
 
 std::optional<std::uint64_t> unsigned_member(const tinygltf::Value& object, const char* name) {
@@ -134,7 +141,8 @@ std::optional<std::uint64_t> unsigned_member(const tinygltf::Value& object, cons
   const tinygltf::Value& value = object.Get(name);
   if (!value.IsNumber()) return std::nullopt;
   const double number = value.GetNumberAsDouble();
-  if (number < 0 || number != static_cast<double>(static_cast<std::uint64_t>(number))) return std::nullopt;
+  // Checked before the cast, which is undefined outside [0, 2^64).
+  if (!std::isfinite(number) || number < 0 || number >= 0x1p64 || std::trunc(number) != number) return std::nullopt;
   return static_cast<std::uint64_t>(number);
 }
 

@@ -48,6 +48,11 @@ std::string meshopt_layout_problem(const MeshoptView& view, std::uint64_t parent
 std::optional<std::vector<std::uint8_t>> decode_meshopt(std::span<const std::uint8_t> compressed,
                                                         const MeshoptView& view, std::string& problem);
 
+// How many decoded bytes a file's compressed views may add up to, given the bytes its buffers
+// store: 64 times as many (no bitstream expands more, see decode_meshopt) plus 1 MiB. Views may
+// share one compressed range, so each view's own bound does not bound their sum.
+std::uint64_t meshopt_decode_budget(std::uint64_t stored_bytes);
+
 // The extension object of a tinygltf bufferView, or nothing when it has none. `problem` is set
 // when the object is there but malformed (a member missing or of the wrong type).
 std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::string& problem);

@@ -58,6 +58,9 @@ void gather_into_bin(Asset& asset) {
     pad_to_4(bin);
     base[b] = bin.size();
     bin.insert(bin.end(), model.buffers[b].data.begin(), model.buffers[b].data.end());
+    // Bytes of other buffers (compressed sources among them) now share buffer 0: it is no
+    // fallback any more, which the extension forbids as a source ("Fallback buffers").
+    merged.extensions.erase("EXT_meshopt_compression");
   }
   auto moved = [&](int buffer, size_t offset) {
     const auto b = static_cast<size_t>(buffer);
@@ -127,7 +130,10 @@ void write_extensions(const tinygltf::ExtensionMap& extensions, nlohmann::json& 
 std::uint64_t placeholder_byte_length(const tinygltf::Model& model, int buffer) {
   std::uint64_t length = 1;
   for (const auto& view : model.bufferViews)
-    if (view.buffer == buffer) length = std::max<std::uint64_t>(length, view.byteOffset + view.byteLength);
+    if (view.buffer == buffer)
+      length = std::max<std::uint64_t>(length, view.byteLength > UINT64_MAX - view.byteOffset
+                                                   ? UINT64_MAX
+                                                   : view.byteOffset + view.byteLength);
   return length;
 }
 
@@ -217,7 +223,7 @@ std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool repl
   std::vector<std::string> buffer_uris(model.buffers.size());
   if (to_glb) {
     gather_into_bin(asset);
-    buffer_uris.assign(1, "");
+    buffer_uris.assign(model.buffers.size(), "");  // the BIN chunk, then fallback placeholders
   } else {
     FileNamer names(folder, inputs);
     const bool same_folder = fs::weakly_canonical(folder) == fs::weakly_canonical(input_folder);

@@ -14,6 +14,7 @@
 
 #include "core/accessor.hpp"
 #include "core/asset.hpp"
+#include "core/error.hpp"
 #include "core/meshopt.hpp"
 #include "tests/test_support.hpp"
 
@@ -301,14 +302,18 @@ Asset compressed_asset(const std::vector<float>& positions, const std::vector<st
 const std::vector<float> kPositions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
 const std::vector<std::uint32_t> kIndices = {0, 1, 2, 2, 1, 3};
 
-std::vector<std::span<const std::uint8_t>> compressed_sources(const Asset& asset) {
-  std::vector<std::span<const std::uint8_t>> out;
+// The compressed bytes of every compressed view, in view order (bounds checked: a wrong offset fails).
+std::vector<Bytes> compressed_sources(const Asset& asset) {
+  std::vector<Bytes> out;
   std::string problem;
   for (const auto& view : asset.model.bufferViews)
-    if (const auto source = meshopt_view(view, problem))
-      out.emplace_back(asset.model.buffers.at(static_cast<std::size_t>(source->buffer)).data.data() +
-                           source->byte_offset,
-                       source->byte_length);
+    if (const auto source = meshopt_view(view, problem)) {
+      const Bytes& data = asset.model.buffers.at(static_cast<std::size_t>(source->buffer)).data;
+      EXPECT_LE(source->byte_offset + source->byte_length, data.size());
+      if (source->byte_offset + source->byte_length > data.size()) return {};
+      out.emplace_back(data.begin() + static_cast<long>(source->byte_offset),
+                       data.begin() + static_cast<long>(source->byte_offset + source->byte_length));
+    }
   return out;
 }
 
@@ -323,7 +328,14 @@ TEST(MeshoptAsset, AccessorsReadThroughTheAssetDecodeOnceAndTheModelAloneRefuses
   EXPECT_EQ(work_counters().views_decoded - before, 1) << "the second read must reuse the decoded view";
   const auto indices = read_index_accessor(asset, 1, problem);
   ASSERT_TRUE(indices) << problem.text();
-  EXPECT_EQ(indices->size(), kIndices.size());
+  ASSERT_EQ(indices->size(), kIndices.size());
+  for (std::size_t t = 0; t < kIndices.size(); t += 3) {  // each triangle, up to a rotation of its corners
+    const std::vector<std::uint32_t> got(indices->begin() + static_cast<long>(t), indices->begin() + static_cast<long>(t) + 3);
+    std::vector<std::uint32_t> want(kIndices.begin() + static_cast<long>(t), kIndices.begin() + static_cast<long>(t) + 3);
+    bool rotated = false;
+    for (int r = 0; r < 3 && !rotated; ++r, std::rotate(want.begin(), want.begin() + 1, want.end())) rotated = got == want;
+    EXPECT_TRUE(rotated) << "triangle " << t / 3;
+  }
   EXPECT_FALSE(read_accessor<float>(asset.model, 0, problem));
   EXPECT_EQ(problem.pointer, "/bufferViews/0/extensions/EXT_meshopt_compression");
 }
@@ -342,13 +354,10 @@ TEST(MeshoptAsset, SavedAsGltfAndGlbItStaysCompressedByteForByte) {
   for (const char* name : {"saved.gltf", "saved.glb"}) {
     Asset asset = compressed_asset(kPositions, kIndices, 0);
     asset.path = scratch / "input.gltf";
-    std::vector<Bytes> before;
-    for (auto source : compressed_sources(asset)) before.emplace_back(source.begin(), source.end());
+    const std::vector<Bytes> before = compressed_sources(asset);
     save_asset(asset, scratch / name);
     const Asset loaded = load_asset(scratch / name);
-    std::vector<Bytes> after;
-    for (auto source : compressed_sources(loaded)) after.emplace_back(source.begin(), source.end());
-    EXPECT_EQ(after, before) << name;
+    EXPECT_EQ(compressed_sources(loaded), before) << name;
     ASSERT_EQ(loaded.model.buffers.size(), 2u) << name;
     EXPECT_TRUE(is_meshopt_placeholder(loaded.model.buffers[1])) << name;
     AccessorProblem problem;
@@ -363,19 +372,117 @@ TEST(MeshoptAsset, SavedAsGltfAndGlbItStaysCompressedByteForByte) {
 
 TEST(MeshoptAsset, PruningAnImageBesideCompressedBytesMovesThemAlong) {
   Asset asset = compressed_asset(kPositions, kIndices, 1000);
-  std::vector<Bytes> before;
-  for (auto source : compressed_sources(asset)) before.emplace_back(source.begin(), source.end());
+  const std::vector<Bytes> before = compressed_sources(asset);
   const PruneResult pruned = prune_unused(asset);  // the image has no texture: it goes
   EXPECT_EQ(pruned.images, 1);
   EXPECT_EQ(pruned.buffer_views, 1);
   EXPECT_LT(asset.model.buffers[0].data.size(), 1000u);
-  std::vector<Bytes> after;
-  for (auto source : compressed_sources(asset)) after.emplace_back(source.begin(), source.end());
-  EXPECT_EQ(after, before);
+  EXPECT_EQ(compressed_sources(asset), before);
   AccessorProblem problem;
   const auto positions = read_accessor<float>(asset, 0, problem);
   ASSERT_TRUE(positions) << problem.text();
   EXPECT_EQ(positions->values, kPositions);
+}
+
+// Buffers in the order a GLB save must renumber: the placeholder first, an image's buffer, then
+// the buffer with the compressed bytes. Saved as .glb, the placeholder moves behind the BIN chunk.
+TEST(MeshoptAsset, SavingAsGlbMergesTheSourcesAndMovesThePlaceholderBehindTheBinChunk) {
+  test::ScratchDir scratch;
+  Asset asset = compressed_asset(kPositions, kIndices, 64);
+  asset.path = scratch / "input.gltf";
+  tinygltf::Model& model = asset.model;
+  // buffers: 0 image + sources, 1 placeholder  ->  0 placeholder, 1 image (64 bytes), 2 sources
+  Bytes image(model.buffers[0].data.begin(), model.buffers[0].data.begin() + 64);
+  Bytes sources(model.buffers[0].data.begin() + 64, model.buffers[0].data.end());
+  model.buffers = {model.buffers[1], tinygltf::Buffer{}, tinygltf::Buffer{}};
+  model.buffers[1].data = image;
+  model.buffers[2].data = sources;
+  model.bufferViews[0].buffer = 1;
+  for (std::size_t v = 1; v < model.bufferViews.size(); ++v) {
+    auto& view = model.bufferViews[v];
+    view.buffer = 0;
+    std::string problem;
+    const auto source = meshopt_view(view, problem);
+    ASSERT_TRUE(source) << problem;
+    set_meshopt_source(view, 2, source->byte_offset - 64);
+  }
+  const std::vector<Bytes> before = compressed_sources(asset);
+  AccessorProblem problem;
+  ASSERT_TRUE(read_accessor<float>(asset, 0, problem)) << problem.text();
+  save_asset(asset, scratch / "saved.glb");
+  const Asset loaded = load_asset(scratch / "saved.glb");
+  EXPECT_EQ(compressed_sources(loaded), before);
+  ASSERT_EQ(loaded.model.buffers.size(), 2u);
+  EXPECT_FALSE(is_meshopt_fallback(loaded.model.buffers[0])) << "the BIN chunk is no fallback";
+  EXPECT_TRUE(is_meshopt_placeholder(loaded.model.buffers[1]));
+  const auto positions = read_accessor<float>(loaded, 0, problem);
+  ASSERT_TRUE(positions) << problem.text();
+  EXPECT_EQ(positions->values, kPositions);
+  // The placeholder's byteLength covers its views: positions (48 bytes) and indices at 48 (12).
+  const std::string json = loaded.original_json;
+  EXPECT_NE(json.find(R"("byteLength":60,"extensions":{"EXT_meshopt_compression":{"fallback":true}})"), std::string::npos)
+      << json;
+}
+
+TEST(MeshoptAsset, ExtensionIntegersTheDocumentLibraryCannotHoldAreRefusedWithTheirPointer) {
+  test::ScratchDir scratch;
+  for (const char* value : {"1e20", "4294967304", "-1", "2.5"}) {
+    Asset asset = compressed_asset(kPositions, kIndices, 0);
+    asset.path = scratch / "input.gltf";
+    save_asset(asset, scratch / "plain.gltf");
+    std::string text = test::read_text(scratch / "plain.gltf");
+    const std::size_t count = text.find(R"("count": 4)", text.find(R"("bufferViews")"));  // the extension's
+    ASSERT_NE(count, std::string::npos) << text;
+    text.replace(count, 10, std::string(R"("count": )") + value);
+    test::write_text(scratch / "hostile.gltf", text);
+    try {
+      load_asset(scratch / "hostile.gltf");
+      ADD_FAILURE() << value << " was loaded";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find("/bufferViews/0/extensions/EXT_meshopt_compression/count"),
+                std::string::npos)
+          << error.what();
+    }
+  }
+}
+
+TEST(MeshoptAsset, ViewsSharingOneSourceDecodeNoMoreThanTheBudget) {
+  // One 1 MiB attribute stream of zeros compresses to a few KiB; 64 views decode it each.
+  const std::size_t count = 4096, stride = 256;
+  const Bytes zeros(count * stride, 0);
+  const Bytes compressed = encode_attributes(zeros.data(), count, stride);
+  Asset asset;
+  tinygltf::Model& model = asset.model;
+  model.buffers.resize(2);
+  model.buffers[0].data = compressed;
+  model.buffers[1].extensions["EXT_meshopt_compression"] =
+      tinygltf::Value(tinygltf::Value::Object{{"fallback", tinygltf::Value(true)}});
+  for (int v = 0; v < 64; ++v) {
+    tinygltf::BufferView view;
+    view.buffer = 1;
+    view.byteLength = count * stride;
+    view.byteStride = stride;
+    view.extensions["EXT_meshopt_compression"] = tinygltf::Value(tinygltf::Value::Object{
+        {"buffer", tinygltf::Value(0)}, {"byteLength", tinygltf::Value(static_cast<int>(compressed.size()))},
+        {"byteStride", tinygltf::Value(static_cast<int>(stride))}, {"count", tinygltf::Value(static_cast<int>(count))},
+        {"mode", tinygltf::Value(std::string("ATTRIBUTES"))}});
+    model.bufferViews.push_back(view);
+  }
+  const std::uint64_t budget = meshopt_decode_budget(compressed.size());
+  std::uint64_t decoded = 0;
+  int refused = 0;
+  for (int v = 0; v < 64; ++v) {
+    std::string problem;
+    if (const auto bytes = buffer_view_bytes(asset, v, problem))
+      decoded += bytes->size();
+    else if (problem.find("64 times") != std::string::npos)
+      ++refused;
+    else
+      ADD_FAILURE() << problem;
+  }
+  EXPECT_LE(decoded, budget);
+  EXPECT_GT(refused, 0) << "64 MiB decoded from " << compressed.size() << " bytes";
+  EXPECT_GT(decoded, 0u);
 }
 
 }  // namespace

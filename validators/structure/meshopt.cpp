@@ -9,6 +9,9 @@ namespace gltf_pbr::structure {
 
 void decode_meshopt_views(Context& context) {
   Document& doc = context.doc;
+  std::uint64_t stored = 0, decoded = 0;
+  for (const BufferModel& buffer : doc.buffers) stored += buffer.data.size();
+  const std::uint64_t budget = meshopt_decode_budget(stored);
   for (std::size_t i = 0; i < doc.buffer_views.size(); ++i) {
     BufferViewModel& view = doc.buffer_views[i];
     if (!view.object || !view.meshopt || view.byte_length <= 0) continue;
@@ -22,11 +25,18 @@ void decode_meshopt_views(Context& context) {
     if (!source.object || !source.data_loaded) continue;
     if (m.byte_offset > source.data.size() || m.byte_length > source.data.size() - m.byte_offset) continue;
     std::string problem;
-    view.decoded = decode_meshopt(
-        source.data.subspan(static_cast<std::size_t>(m.byte_offset), static_cast<std::size_t>(m.byte_length)), m,
-        problem);
+    const std::uint64_t size = m.count * m.byte_stride;  // the parent's byteLength: the layout holds
+    if (size > budget || decoded > budget - size)
+      problem = "decoding it would take the file's decoded views past " + std::to_string(budget) +
+                " bytes, 64 times the data it stores";
+    else
+      view.decoded = decode_meshopt(
+          source.data.subspan(static_cast<std::size_t>(m.byte_offset), static_cast<std::size_t>(m.byte_length)), m,
+          problem);
+    if (view.decoded) decoded += view.decoded->size();
     if (!view.decoded)
-      context.issues.at("MESHOPT_DECODE_FAILED", "/bufferViews/" + std::to_string(i) + "/extensions/EXT_meshopt_compression",
+      context.issues.at("MESHOPT_DECODE_FAILED",
+                        "/bufferViews/" + std::to_string(i) + "/extensions/EXT_meshopt_compression",
                         {arg_raw(problem)});
   }
 }
