@@ -151,6 +151,35 @@ TEST(TextureChecks, UndecodableImageIsReportedOnceAndItsTexelsSkipped) {
   EXPECT_TRUE(issues_with(report, "PBR_ALBEDO_TOO_BRIGHT").empty());
 }
 
+TEST(TextureChecks, Ktx2OnlyTexturesAreSaidOnceToGoUncheckedAndFallbacksAreChecked) {
+  AssetBuilder builder;
+  auto& material = builder.metal_rough(glm::vec4(1.0f), 0.0, 0.5);
+  tinygltf::Model& model = builder.asset().model;
+  // Two textures with only a KTX2 image (KHR_texture_basisu, no source) on two slots: one note.
+  model.images.emplace_back().uri = "a.ktx2";
+  model.images.emplace_back().uri = "b.ktx2";
+  for (int image : {0, 1}) {
+    tinygltf::Texture texture;
+    texture.extensions["KHR_texture_basisu"] =
+        tinygltf::Value(tinygltf::Value::Object{{"source", tinygltf::Value(image)}});
+    model.textures.push_back(texture);
+  }
+  material.pbrMetallicRoughness.baseColorTexture.index = 0;
+  material.normalTexture.index = 1;
+  const Report report = texture_checks(builder.asset());
+  const auto skipped = issues_with(report, "IMAGE_KTX2_NOT_CHECKED");
+  ASSERT_EQ(skipped.size(), 1u) << describe(report.messages);
+  EXPECT_EQ(skipped[0].pointer, "/materials/0/pbrMetallicRoughness/baseColorTexture");
+  EXPECT_NE(skipped[0].message.find("skipped 2 KTX2 image(s)"), std::string::npos) << skipped[0].message;
+  // Near miss: with a PNG fallback as its source, the texture's texels are read, and nothing is said.
+  AssetBuilder with_fallback;
+  auto& other = with_fallback.metal_rough(glm::vec4(1.0f), 0.0, 0.5);
+  other.pbrMetallicRoughness.baseColorTexture.index = with_fallback.add_png(2, 2, 3, std::vector<std::uint8_t>(12, 90));
+  with_fallback.asset().model.textures[0].extensions["KHR_texture_basisu"] =
+      tinygltf::Value(tinygltf::Value::Object{{"source", tinygltf::Value(0)}});
+  EXPECT_TRUE(issues_with(texture_checks(with_fallback.asset()), "IMAGE_KTX2_NOT_CHECKED").empty());
+}
+
 TEST(TextureChecks, AvocadoNormalMapAndTexturesPass) {
   const Asset asset = load_asset(test::assets_dir() / "Avocado/specgloss/Avocado.gltf");
   const Report report = texture_checks(asset);

@@ -590,5 +590,100 @@ TEST(StructureChecks, FallbackBuffersFollowTheExtensionsRules) {
   EXPECT_EQ(not_required->pointer, "/buffers/1");
 }
 
+// --- KTX2 containers (KHR_texture_basisu; our codes: the reference stops at the signature) ---
+
+// A whole 8x8 UASTC KTX2 file (KTX 2.0 section 3): header, index, one level, a one-sample DFD.
+struct Ktx2Fields {
+  std::uint32_t vk_format = 0, width = 8, height = 8, depth = 0, layers = 0, faces = 1, levels = 1, scheme = 0;
+  std::uint32_t dfd_length = 44;
+  std::uint8_t color_model = 166;  // KHR_DF_MODEL_UASTC
+  std::size_t cut = 0;             // bytes cut off the end
+};
+
+std::vector<std::uint8_t> ktx2_file(const Ktx2Fields& f) {
+  std::vector<std::uint8_t> b = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  auto u32 = [&](std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) b.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  };
+  auto u64 = [&](std::uint64_t v) {
+    u32(static_cast<std::uint32_t>(v));
+    u32(static_cast<std::uint32_t>(v >> 32));
+  };
+  for (std::uint32_t v : {f.vk_format, 1u, f.width, f.height, f.depth, f.layers, f.faces, f.levels, f.scheme}) u32(v);
+  u32(104);           // dfdByteOffset: after the header (80) and one level entry (24)
+  u32(f.dfd_length);  // dfdByteLength
+  u32(0);             // kvdByteOffset
+  u32(0);             // kvdByteLength
+  u64(0);             // sgdByteOffset
+  u64(0);             // sgdByteLength
+  u64(148);           // level 0: byteOffset, after the DFD
+  u64(64);            // byteLength: four 16-byte UASTC blocks
+  u64(64);            // uncompressedByteLength
+  u32(44);            // dfdTotalSize
+  u32(0);             // vendorId 0 (Khronos), descriptorType 0 (basic)
+  u32(2 | (40u << 16));  // versionNumber 2, descriptorBlockSize 40
+  b.insert(b.end(), {f.color_model, 1, 2, 0});  // colorModel, primaries BT709, transfer sRGB, flags
+  b.resize(148, 0);                             // the rest of the block and its one sample
+  b.resize(148 + 64, 0x11);                     // the level's payload
+  b.resize(b.size() - f.cut);
+  return b;
+}
+
+Report validate_ktx2(const Ktx2Fields& fields) {
+  return validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"],)"
+      R"("textures":[{"extensions":{"KHR_texture_basisu":{"source":0}}}],"images":[{"uri":")" +
+      data_uri(ktx2_file(fields)).replace(0, 37, "data:image/ktx2;base64,") +
+      R"("}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})");
+}
+
+std::vector<std::string> ktx2_issues(const Report& report) {
+  std::vector<std::string> out;
+  for (const Issue& issue : report.messages)
+    if (issue.code.starts_with("KTX2_")) out.push_back(issue.code + " " + issue.pointer + " " + issue.message);
+  return out;
+}
+
+TEST(StructureChecks, AWholeUastcKtx2ImageHasNoContainerIssue) {
+  EXPECT_EQ(ktx2_issues(validate_ktx2({})), std::vector<std::string>{});
+}
+
+TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
+  struct Case {
+    Ktx2Fields fields;
+    const char* code;
+    const char* says;
+  };
+  auto with = [](auto edit) {
+    Ktx2Fields f;
+    edit(f);
+    return f;
+  };
+  const Case cases[] = {
+      {with([](Ktx2Fields& f) { f.cut = 212 - 60; }), "KTX2_INVALID_CONTAINER", "inside the 80-byte header"},
+      {with([](Ktx2Fields& f) { f.cut = 10; }), "KTX2_INVALID_CONTAINER", "mip level 0 (bytes 148 + 64) runs past"},
+      {with([](Ktx2Fields& f) { f.dfd_length = 0; }), "KTX2_INVALID_CONTAINER", "no Data Format Descriptor"},
+      {with([](Ktx2Fields& f) { f.scheme = 7; }), "KTX2_INVALID_CONTAINER", "supercompressionScheme 7"},
+      {with([](Ktx2Fields& f) { f.levels = 5; }), "KTX2_INVALID_CONTAINER", "levelCount 5 is more than the 4 levels"},
+      {with([](Ktx2Fields& f) { f.vk_format = 37; }), "KTX2_BASISU_MISMATCH", "vkFormat is 37"},
+      {with([](Ktx2Fields& f) { f.width = 10; }), "KTX2_BASISU_MISMATCH", "not multiples of 4"},
+      {with([](Ktx2Fields& f) { f.faces = 6; }), "KTX2_BASISU_MISMATCH", "not 2D"},
+      {with([](Ktx2Fields& f) { f.color_model = 163; }), "KTX2_BASISU_MISMATCH", "ETC1S data needs supercompressionScheme 1"},
+      {with([](Ktx2Fields& f) { f.color_model = 1; }), "KTX2_BASISU_MISMATCH", "colorModel 1"},
+  };
+  for (const Case& c : cases) {
+    const Report report = validate_ktx2(c.fields);
+    bool found = false;
+    for (const Issue& issue : report.messages)
+      if (issue.code == c.code && issue.message.find(c.says) != std::string::npos) {
+        found = true;
+        EXPECT_EQ(issue.pointer, "/images/0");
+      }
+    EXPECT_TRUE(found) << c.code << " saying '" << c.says << "'; got: " << testing::PrintToString(ktx2_issues(report));
+  }
+  // Near miss: Zstandard (2) suits UASTC as well as none (0).
+  EXPECT_EQ(ktx2_issues(validate_ktx2(with([](Ktx2Fields& f) { f.scheme = 2; }))), std::vector<std::string>{});
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -19,6 +19,13 @@ int source_of(const tinygltf::Model& model, int texture) {
   return source >= 0 && static_cast<size_t>(source) < model.images.size() ? source : -1;
 }
 
+// The KTX2 image a texture names through KHR_texture_basisu, or -1.
+int ktx2_source(const tinygltf::Texture& texture) {
+  const auto found = texture.extensions.find("KHR_texture_basisu");
+  if (found == texture.extensions.end() || !found->second.IsObject() || !found->second.Get("source").IsInt()) return -1;
+  return found->second.Get("source").GetNumberAsInt();
+}
+
 std::string size_text(const Pixels& p) { return std::to_string(p.width) + "x" + std::to_string(p.height); }
 
 std::string coverage_text(std::uint64_t failing, std::uint64_t total) {
@@ -162,6 +169,28 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
     if (inputs.model == MaterialModel::MetalRough && inputs.texture(TextureRole::MetallicRoughness).present())
       metal_rough_maps.emplace(inputs.texture(TextureRole::MetallicRoughness).image,
                                inputs.texture(TextureRole::MetallicRoughness).pointer);
+  }
+
+  // Textures whose only image is KHR_texture_basisu's KTX2: nothing here can read their texels.
+  if (rules.enabled("IMAGE_KTX2_NOT_CHECKED")) {
+    std::set<int> ktx2_images;
+    std::string first_use;
+    auto note_ktx2 = [&](int texture, const std::string& where) {
+      if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size() || source_of(model, texture) >= 0) return;
+      const int image = ktx2_source(model.textures[static_cast<size_t>(texture)]);
+      if (image >= 0 && ktx2_images.insert(image).second && first_use.empty()) first_use = where;
+    };
+    for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
+      for (const MaterialTexture& texture : read_material_inputs(model, index).textures)
+        if (texture.texture >= 0) note_ktx2(texture.texture, texture.pointer);
+      const tinygltf::Material& material = model.materials[static_cast<size_t>(index)];
+      const std::string base = pointer("materials", index);
+      note_ktx2(material.normalTexture.index, base + "/normalTexture");
+      note_ktx2(material.occlusionTexture.index, base + "/occlusionTexture");
+      note_ktx2(material.emissiveTexture.index, base + "/emissiveTexture");
+    }
+    if (!ktx2_images.empty())
+      add_issue(rules, "IMAGE_KTX2_NOT_CHECKED", {std::to_string(ktx2_images.size())}, first_use, report);
   }
 
   if (rules.enabled("IMAGE_NORMAL_NOT_UNIT") || rules.enabled("IMAGE_NORMAL_BACK_FACING"))

@@ -8,6 +8,13 @@ namespace gltf_pbr::structure {
 void check_images(Context& context);  // images.cpp
 // The media type the bytes' signature names (image/png, image/jpeg, image/webp, image/ktx2), or "".
 std::string image_mime_of(std::span<const std::uint8_t> bytes);
+// What a KTX2 file's container (KTX2_INVALID_CONTAINER) or KHR_texture_basisu's rules for it
+// (KTX2_BASISU_MISMATCH) find wrong, each with its reason; ktx2.cpp.
+struct Ktx2Finding {
+  const char* code;
+  std::string reason;
+};
+std::vector<Ktx2Finding> check_ktx2(std::span<const std::uint8_t> bytes);
 void check_draco(Context& context);  // draco.cpp: KHR_draco_mesh_compression data
 void decode_meshopt_views(Context& context);  // meshopt.cpp: EXT_meshopt_compression data
 
