@@ -1,5 +1,6 @@
 #include "cli/validation_formats.hpp"
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -64,6 +65,25 @@ std::string report_text(const Report& report, bool colour) {
   out << style.paint("1", printable(report.uri)) << ": " << report.count(Severity::Error) << " errors, "
       << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
       << report.count(Severity::Hint) << " hints" << (report.truncated ? " (truncated)" : "") << "\n";
+  // Per-code totals first: on a file with thousands of issues they are the summary people read.
+  // Most severe first, then most frequent; folded repeats count as many as they stand for.
+  std::map<std::string, std::pair<Severity, std::uint64_t>> totals;
+  for (const Issue& issue : report.messages) {
+    auto& [severity, count] = totals.try_emplace(issue.code, issue.severity, 0).first->second;
+    severity = std::min(severity, issue.severity);
+    count += issue.count;
+  }
+  if (totals.size() > 1) {
+    std::vector<std::pair<std::string, std::pair<Severity, std::uint64_t>>> ordered(totals.begin(), totals.end());
+    std::stable_sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
+      return a.second.first != b.second.first ? a.second.first < b.second.first : a.second.second > b.second.second;
+    });
+    out << "  by code:";
+    for (std::size_t i = 0; i < ordered.size(); ++i)
+      out << (i ? ", " : " ") << style.paint(severity_colour(ordered[i].second.first), ordered[i].first) << " "
+          << ordered[i].second.second;
+    out << "\n";
+  }
   for (const auto& [material, issues] : groups) {
     if (material < 0) {
       out << "  document\n";

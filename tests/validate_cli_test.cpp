@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "test_support.hpp"
 
@@ -108,6 +109,37 @@ TEST(ValidateCli, TextGroupsByMaterialAndBadUsageIsExitCodeTwo) {
   const auto bad = run_cli("validate -q --config " + quoted(config) + " " + quoted(box()), scratch);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("/max-issues"), std::string::npos) << bad.err;
+}
+
+TEST(ValidateCli, TextSummaryTotalsEachCodeMostSevereFirst) {
+  test::ScratchDir scratch;
+  const fs::path vc = test::assets_dir() / "VC/specgloss/VC.gltf";
+  const auto text = run_cli("validate " + quoted(vc), scratch);
+  const std::size_t at = text.out.find("\n  by code: ");
+  ASSERT_NE(at, std::string::npos) << text.out.substr(0, 400);
+  const std::string line = text.out.substr(at + 12, text.out.find('\n', at + 1) - at - 12);
+  // "CODE N, CODE N, ...": errors before warnings before the rest, the counts add up to at least
+  // the messages listed (a folded message stands for its count).
+  std::istringstream entries(line);
+  std::string entry;
+  std::uint64_t total = 0;
+  std::vector<std::string> codes;
+  while (std::getline(entries, entry, ',')) {
+    std::istringstream words(entry);
+    std::string code;
+    std::uint64_t count = 0;
+    words >> code >> count;
+    ASSERT_GT(count, 0u) << entry;
+    codes.push_back(code);
+    total += count;
+  }
+  ASSERT_GE(codes.size(), 2u) << line;
+  std::size_t messages = 0;
+  for (std::size_t p = text.out.find("\n    "); p != std::string::npos; p = text.out.find("\n    ", p + 1))
+    if (text.out.compare(p + 5, 1, " ") != 0) ++messages;  // issue lines, not their message lines
+  EXPECT_GE(total, messages);
+  EXPECT_EQ(text.out.find("\n    error " + codes.back() + " "), std::string::npos)
+      << "the last code of the totals is an error while others come first: " << line;
 }
 
 TEST(ValidateCli, OnlyTakesStepListsAndLeavesTheInputsToThePositionals) {
