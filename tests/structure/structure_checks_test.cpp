@@ -51,7 +51,7 @@ TEST(StructureChecks, OrthographicCameraWithZeroMagnificationIsAnError) {
       R"({"asset":{"version":"2.0"},"cameras":[{"type":"orthographic","orthographic":{"xmag":0,"ymag":1,"zfar":10,"znear":1}}]})");
   const Issue* issue = find(report, "CAMERA_XMAG_YMAG_ZERO");
   ASSERT_NE(issue, nullptr);
-  EXPECT_EQ(issue->pointer, "/cameras/0/orthographic");
+  EXPECT_EQ(issue->pointer, "/cameras/0/orthographic/xmag");
   EXPECT_EQ(issue->severity, Severity::Error);
 }
 

@@ -239,7 +239,7 @@ void check_images(Context& context) {
             (header.mime == "image/ktx2" && !enabled("KHR_texture_basisu")))
           issues.at("IMAGE_NON_ENABLED_MIME_TYPE", p, {arg(header.mime)});
         if (!declared.empty() && declared != header.mime)
-          issues.at("IMAGE_MIME_TYPE_INVALID", image.has_uri ? p + "/uri" : p + "/mimeType",
+          issues.at("IMAGE_MIME_TYPE_INVALID", image.has_uri ? p + "/uri" : p + "/bufferView",
                     {arg(header.mime), arg(declared)});
         if (header.error_code == "IMAGE_DATA_INVALID")
           issues.at("IMAGE_DATA_INVALID", p, {arg_raw(header.error_message)});

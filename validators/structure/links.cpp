@@ -406,11 +406,10 @@ class Linker {
     use_view_as(accessor, 34962, "VertexBuffer", pointer);
     if (name == "POSITION" && (!accessor.has_min || !accessor.has_max))
       issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", pointer);
-    if (accessor.component_type == 5125) {
+    // A semantic with a format table gets INVALID_FORMAT for UNSIGNED_INT like any other format
+    // outside it; UNSIGNED_INT is the code for attributes the spec gives no table (custom ones).
+    if (!attribute_format(accessor, name, pointer) && accessor.component_type == 5125)
       issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_UNSIGNED_INT", pointer);
-    } else {
-      attribute_format(accessor, name, pointer);
-    }
     if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
       BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
       if (view.object) {
@@ -428,8 +427,8 @@ class Linker {
 
   // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
   // A target holds displacements: TANGENT is a VEC3 without the handedness, and texture coordinates
-  // and colours may also be signed.
-  void attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer,
+  // and colours may also be signed. Returns whether the semantic has a table.
+  bool attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer,
                         bool morph_target = false) {
     const bool quantized = context_.declared("KHR_mesh_quantization");
     std::vector<std::tuple<const char*, int, bool>> allowed;
@@ -470,14 +469,15 @@ class Linker {
     } else if (name.starts_with("WEIGHTS_")) {
       allowed = {{"VEC4", 5126, false}, {"VEC4", 5121, true}, {"VEC4", 5123, true}};
     } else {
-      return;
+      return false;
     }
     for (const auto& [type, ct, normalized] : allowed)
-      if (accessor.type == type && accessor.component_type == ct && accessor.normalized == normalized) return;
+      if (accessor.type == type && accessor.component_type == ct && accessor.normalized == normalized) return true;
     std::vector<MessageArg> list;
     for (const auto& [type, ct, normalized] : allowed) list.push_back(arg(format_name(type, ct, normalized)));
     issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT", pointer,
                {arg(format_name(accessor.type, accessor.component_type, accessor.normalized))}, list);
+    return true;
   }
 
   void mesh(std::size_t i) {
