@@ -564,7 +564,7 @@ class Linker {
         }
         texture_coordinates(*material, p + "/material");
       }
-      if (has_tangent && (!material || !material->has_normal_texture))
+      if (has_tangent && (!material || !(material->has_normal_texture || material->needs_tangents)))
         issues_.at("UNUSED_MESH_TANGENT", p + "/attributes/TANGENT");
       // TEXCOORD_0 .. TEXCOORD_{n-1}, n the number of texture coordinate sets, that no binding reads.
       std::int64_t sets = 0;
@@ -584,13 +584,14 @@ class Linker {
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (accessor) use_view_as(*accessor, 34962, "VertexBuffer", tp);
           // A target attribute with a valid index needs its base attribute. That attribute is
-          // missing when absent or when its index names a slot of the accessors that is not an
-          // object (an index outside the list is only unresolved), as in the reference.
+          // missing when absent, when its own index is not a valid index (INVALID_INDEX or
+          // TYPE_MISMATCH there), or when it names a slot of the accessors that is not an object
+          // (an index outside the list is only unresolved), as in the reference.
           const bool in_base =
               std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
                 const auto slot = static_cast<std::size_t>(attribute.second);
-                return attribute.first == semantic &&
-                       !(attribute.second >= 0 && slot < doc_.accessors.size() && !doc_.accessors[slot].object);
+                return attribute.first == semantic && attribute.second >= 0 &&
+                       !(slot < doc_.accessors.size() && !doc_.accessors[slot].object);
               });
           if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           if (!accessor) continue;
