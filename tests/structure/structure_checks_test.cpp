@@ -653,6 +653,7 @@ TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
     Ktx2Fields fields;
     const char* code;
     const char* says;
+    std::size_t ktx2_issues;  // all KTX2_* issues the file gets
   };
   auto with = [](auto edit) {
     Ktx2Fields f;
@@ -660,29 +661,74 @@ TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
     return f;
   };
   const Case cases[] = {
-      {with([](Ktx2Fields& f) { f.cut = 212 - 60; }), "KTX2_INVALID_CONTAINER", "inside the 80-byte header"},
-      {with([](Ktx2Fields& f) { f.cut = 10; }), "KTX2_INVALID_CONTAINER", "mip level 0 (bytes 148 + 64) runs past"},
-      {with([](Ktx2Fields& f) { f.dfd_length = 0; }), "KTX2_INVALID_CONTAINER", "no Data Format Descriptor"},
-      {with([](Ktx2Fields& f) { f.scheme = 7; }), "KTX2_INVALID_CONTAINER", "supercompressionScheme 7"},
-      {with([](Ktx2Fields& f) { f.levels = 5; }), "KTX2_INVALID_CONTAINER", "levelCount 5 is more than the 4 levels"},
-      {with([](Ktx2Fields& f) { f.vk_format = 37; }), "KTX2_BASISU_MISMATCH", "vkFormat is 37"},
-      {with([](Ktx2Fields& f) { f.width = 10; }), "KTX2_BASISU_MISMATCH", "not multiples of 4"},
-      {with([](Ktx2Fields& f) { f.faces = 6; }), "KTX2_BASISU_MISMATCH", "not 2D"},
-      {with([](Ktx2Fields& f) { f.color_model = 163; }), "KTX2_BASISU_MISMATCH", "ETC1S data needs supercompressionScheme 1"},
-      {with([](Ktx2Fields& f) { f.color_model = 1; }), "KTX2_BASISU_MISMATCH", "colorModel 1"},
+      {with([](Ktx2Fields& f) { f.cut = 212 - 60; }), "KTX2_INVALID_CONTAINER", "inside the 80-byte header", 1},
+      {with([](Ktx2Fields& f) { f.cut = 10; }), "KTX2_INVALID_CONTAINER", "mip level 0 (bytes 148 + 64) runs past", 1},
+      {with([](Ktx2Fields& f) { f.dfd_length = 0; }), "KTX2_INVALID_CONTAINER", "no Data Format Descriptor", 1},
+      {with([](Ktx2Fields& f) { f.dfd_length = 20; }), "KTX2_INVALID_CONTAINER", "shorter than the 44", 1},
+      {with([](Ktx2Fields& f) { f.dfd_length = 48; }), "KTX2_INVALID_CONTAINER", "says it is 44 bytes, the index says 48", 1},
+      {with([](Ktx2Fields& f) { f.scheme = 7; }), "KTX2_INVALID_CONTAINER", "supercompressionScheme 7 is reserved", 2},
+      {with([](Ktx2Fields& f) { f.levels = 5; }), "KTX2_INVALID_CONTAINER", "levelCount 5 is more than the 4 levels", 1},
+      {with([](Ktx2Fields& f) { f.levels = 0xFFFFFFFF; }), "KTX2_INVALID_CONTAINER", "levelCount 4294967295", 1},
+      {with([](Ktx2Fields& f) { f.width = 0; }), "KTX2_INVALID_CONTAINER", "pixelWidth is 0", 1},
+      {with([](Ktx2Fields& f) { f.scheme = 1; }), "KTX2_INVALID_CONTAINER", "BasisLZ (supercompressionScheme 1) without", 2},
+      {with([](Ktx2Fields& f) { f.vk_format = 37; }), "KTX2_BASISU_MISMATCH", "vkFormat is 37", 1},
+      {with([](Ktx2Fields& f) { f.width = 10; }), "KTX2_BASISU_MISMATCH", "not multiples of 4", 1},
+      {with([](Ktx2Fields& f) { f.faces = 6; }), "KTX2_BASISU_MISMATCH", "not 2D", 1},
+      {with([](Ktx2Fields& f) { f.color_model = 163; }), "KTX2_BASISU_MISMATCH", "ETC1S data needs supercompressionScheme 1", 1},
+      {with([](Ktx2Fields& f) { f.color_model = 1; }), "KTX2_BASISU_MISMATCH", "colorModel 1", 1},
+      // A vendor's scheme is a valid container, but not one KHR_texture_basisu allows.
+      {with([](Ktx2Fields& f) { f.scheme = 0x10001; }), "KTX2_BASISU_MISMATCH", "not 65537", 1},
   };
   for (const Case& c : cases) {
     const Report report = validate_ktx2(c.fields);
+    const std::vector<std::string> all = ktx2_issues(report);
     bool found = false;
     for (const Issue& issue : report.messages)
       if (issue.code == c.code && issue.message.find(c.says) != std::string::npos) {
         found = true;
         EXPECT_EQ(issue.pointer, "/images/0");
       }
-    EXPECT_TRUE(found) << c.code << " saying '" << c.says << "'; got: " << testing::PrintToString(ktx2_issues(report));
+    EXPECT_TRUE(found) << c.code << " saying '" << c.says << "'; got: " << testing::PrintToString(all);
+    EXPECT_EQ(all.size(), c.ktx2_issues) << c.says << ": " << testing::PrintToString(all);
   }
   // Near miss: Zstandard (2) suits UASTC as well as none (0).
   EXPECT_EQ(ktx2_issues(validate_ktx2(with([](Ktx2Fields& f) { f.scheme = 2; }))), std::vector<std::string>{});
+}
+
+// Tangents serve every texture defined in tangent space, not only normal maps.
+TEST(StructureChecks, TangentsAMaterialNeedsForAnisotropyAreNotUnused) {
+  const std::string base =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":256}],"bufferViews":[{"buffer":0,"byteLength":64,"byteStride":16}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},)"
+      R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC4"},{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
+      R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC2"}],)";
+  const Report anisotropic = validate_text(
+      base +
+      R"("extensionsUsed":["KHR_materials_anisotropy"],"images":[{"uri":"data:image/png;base64,iVBORw0KGgo="}],"textures":[{"source":0}],)"
+      R"("materials":[{"extensions":{"KHR_materials_anisotropy":{"anisotropyTexture":{"index":0}}}}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":2,"TANGENT":1,"TEXCOORD_0":3},"material":0}]}]})");
+  EXPECT_EQ(find(anisotropic, "UNUSED_MESH_TANGENT"), nullptr);
+  const Report plain = validate_text(
+      base + R"("materials":[{}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":2,"TANGENT":1},"material":0}]}]})");
+  const Issue* unused = find(plain, "UNUSED_MESH_TANGENT");
+  ASSERT_NE(unused, nullptr);
+  EXPECT_EQ(unused->pointer, "/meshes/0/primitives/0/attributes/TANGENT");
+}
+
+// A base attribute whose index is not a valid index stands for no attribute: its targets have no base.
+TEST(StructureChecks, AMorphTargetOverABaseWithAnInvalidIndexHasNoBase) {
+  const std::string base =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":256}],"bufferViews":[{"buffer":0,"byteLength":64}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},)"
+      R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}],)";
+  const Report invalid = validate_text(
+      base + R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":-1},"targets":[{"NORMAL":1}]}]}]})");
+  EXPECT_EQ(keys(invalid).size() >= 2 ? keys(invalid)[1] : "",
+            "MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR /meshes/0/primitives/0/targets/0/NORMAL")
+      << testing::PrintToString(keys(invalid));
+  const Report valid = validate_text(
+      base + R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1},"targets":[{"NORMAL":1}]}]}]})");
+  EXPECT_EQ(find(valid, "MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR"), nullptr);
 }
 
 }  // namespace

@@ -178,13 +178,19 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
     auto note_ktx2 = [&](int texture, const std::string& where) {
       if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size() || source_of(model, texture) >= 0) return;
       const int image = ktx2_source(model.textures[static_cast<size_t>(texture)]);
-      if (image >= 0 && ktx2_images.insert(image).second && first_use.empty()) first_use = where;
+      if (image >= 0 && static_cast<size_t>(image) < model.images.size() && ktx2_images.insert(image).second &&
+          first_use.empty())
+        first_use = where;
     };
     for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
       for (const MaterialTexture& texture : read_material_inputs(model, index).textures)
         if (texture.texture >= 0) note_ktx2(texture.texture, texture.pointer);
       const tinygltf::Material& material = model.materials[static_cast<size_t>(index)];
       const std::string base = pointer("materials", index);
+      // A legacy material's core fallback is what core-only viewers show, as in the loop below.
+      note_ktx2(material.pbrMetallicRoughness.baseColorTexture.index, base + "/pbrMetallicRoughness/baseColorTexture");
+      note_ktx2(material.pbrMetallicRoughness.metallicRoughnessTexture.index,
+                base + "/pbrMetallicRoughness/metallicRoughnessTexture");
       note_ktx2(material.normalTexture.index, base + "/normalTexture");
       note_ktx2(material.occlusionTexture.index, base + "/occlusionTexture");
       note_ktx2(material.emissiveTexture.index, base + "/emissiveTexture");

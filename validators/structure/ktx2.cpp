@@ -50,16 +50,27 @@ std::vector<Ktx2Finding> check_ktx2(std::span<const std::uint8_t> b) {
   for (std::uint32_t largest = std::max({width, height, depth}); largest > 0; largest >>= 1) ++max_levels;
   if (levels > static_cast<std::uint32_t>(max_levels))
     container("levelCount " + std::to_string(levels) + " is more than the " + std::to_string(max_levels) +
-              " levels a " + std::to_string(width) + "x" + std::to_string(height) + " image has");
-  if (scheme > 3)
+              " levels a " + std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(depth) +
+              " image has");
+  // Section 3.4: 0-3 are defined, 0x10000-0x1FFFF belong to vendors, the rest is reserved.
+  if (scheme > 3 && (scheme < 0x10000 || scheme > 0x1FFFF))
     container("supercompressionScheme " + std::to_string(scheme) +
-              " is none of 0 (none), 1 (BasisLZ), 2 (Zstandard) and 3 (ZLIB)");
+              " is reserved: none of 0 (none), 1 (BasisLZ), 2 (Zstandard), 3 (ZLIB) or a vendor's 0x10000-0x1FFFF");
 
-  // Section 3.1 index: every range inside the file; the DFD is required and starts with its size.
-  if (dfd_length == 0) container("there is no Data Format Descriptor (dfdByteLength 0)");
+  // Section 3.1 index: every range inside the file. The DFD is required: its total size (which
+  // it starts with), then at least a basic descriptor block of 24 bytes and one 16-byte sample.
+  constexpr std::uint32_t kSmallestDfd = 4 + 24 + 16;
+  if (dfd_length == 0)
+    container("there is no Data Format Descriptor (dfdByteLength 0)");
   else if (!inside(dfd_offset, dfd_length, size))
     container("the Data Format Descriptor (bytes " + std::to_string(dfd_offset) + " + " + std::to_string(dfd_length) +
               ") runs past the end of the file (" + std::to_string(size) + " bytes)");
+  else if (dfd_length < kSmallestDfd)
+    container("the Data Format Descriptor is " + std::to_string(dfd_length) + " bytes, shorter than the " +
+              std::to_string(kSmallestDfd) + " of a basic block with one sample");
+  else if (u32(b, dfd_offset) != dfd_length)
+    container("the Data Format Descriptor says it is " + std::to_string(u32(b, dfd_offset)) +
+              " bytes, the index says " + std::to_string(dfd_length));
   if (kvd_length > 0 && !inside(kvd_offset, kvd_length, size))
     container("the key/value data (bytes " + std::to_string(kvd_offset) + " + " + std::to_string(kvd_length) +
               ") runs past the end of the file (" + std::to_string(size) + " bytes)");
@@ -97,7 +108,7 @@ std::vector<Ktx2Finding> check_ktx2(std::span<const std::uint8_t> b) {
     basisu("pixelWidth and pixelHeight " + std::to_string(width) + "x" + std::to_string(height) +
            " are not multiples of 4");
   // Section 3.9: the DFD's total size, then the basic descriptor block, whose colorModel is byte 8.
-  if (dfd_length >= 16 && inside(dfd_offset, dfd_length, size)) {
+  if (dfd_length >= kSmallestDfd && inside(dfd_offset, dfd_length, size)) {
     const std::uint32_t model = b[dfd_offset + 4 + 8];
     if (model == kModelEtc1s && scheme != 1)
       basisu("ETC1S data needs supercompressionScheme 1 (BasisLZ), not " + std::to_string(scheme));

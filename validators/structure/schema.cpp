@@ -682,7 +682,7 @@ class Walker {
       // An image data URI names an image type, and its bytes are of that type: bytes that no
       // signature names do not match it either (the reference's URI parser sniffs them).
       const std::string content = m.data_uri ? image_mime_of(m.data) : std::string();
-      if (m.uri_valid && m.data_uri && content != m.data_uri_mime) {
+      if (m.uri_valid && m.data_uri && (content.empty() || content != m.data_uri_mime)) {
         context_.issues.at("INVALID_URI", p + "/uri",
                            {arg(*uri), arg_raw("\nThe declared mediatype does not match the embedded content.")});
         m.uri_valid = false;
