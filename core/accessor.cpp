@@ -352,10 +352,8 @@ const DecodedViews::Entry& DecodedViews::find_or_decode(
   const std::lock_guard lock(mutex_);
   if (const auto found = views_.find(index); found != views_.end()) return found->second;
   Entry entry;
-  if (decoded_size > budget || decoded_bytes_ > budget - decoded_size) {
-    entry.problem = "decoding it would take the file's decoded views past " + std::to_string(budget) +
-                    " bytes, 64 times the data it stores";
-  } else {
+  entry.problem = meshopt_budget_problem(decoded_bytes_, decoded_size, budget);
+  if (entry.problem.empty()) {
     entry.bytes = decode(entry.problem);
     if (entry.bytes) {
       decoded_bytes_ += entry.bytes->size();

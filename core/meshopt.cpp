@@ -134,6 +134,12 @@ std::uint64_t meshopt_decode_budget(std::uint64_t stored_bytes) {
   return stored_bytes > (UINT64_MAX - kSlack) / kExpansion ? UINT64_MAX : stored_bytes * kExpansion + kSlack;
 }
 
+std::string meshopt_budget_problem(std::uint64_t decoded, std::uint64_t size, std::uint64_t budget) {
+  if (size <= budget && decoded <= budget - size) return {};
+  return "decoding it would take the file's decoded views past " + std::to_string(budget) +
+         " bytes, 64 times the data it stores";
+}
+
 namespace {
 
 std::optional<std::uint64_t> unsigned_member(const tinygltf::Value& object, const char* name) {

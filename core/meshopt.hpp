@@ -52,6 +52,8 @@ std::optional<std::vector<std::uint8_t>> decode_meshopt(std::span<const std::uin
 // store: 64 times as many (no bitstream expands more, see decode_meshopt) plus 1 MiB. Views may
 // share one compressed range, so each view's own bound does not bound their sum.
 std::uint64_t meshopt_decode_budget(std::uint64_t stored_bytes);
+// Why decoding `size` more bytes after `decoded` would break `budget`; empty when it would not.
+std::string meshopt_budget_problem(std::uint64_t decoded, std::uint64_t size, std::uint64_t budget);
 
 // The extension object of a tinygltf bufferView, or nothing when it has none. `problem` is set
 // when the object is there but malformed (a member missing or of the wrong type).

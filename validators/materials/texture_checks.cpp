@@ -148,15 +148,24 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
   // Images by use: the first textureInfo pointer of each (for the message), normal maps and
   // metallicRoughness images of metal-rough materials separately.
   std::map<int, std::string> used_images, normal_maps, metal_rough_maps;
+  // Textures whose only image is KHR_texture_basisu's KTX2: nothing here can read their texels.
+  std::set<int> ktx2_images;
+  std::string first_ktx2_use;
   auto note = [&](std::map<int, std::string>& uses, int texture, const std::string& where) {
-    const int image = source_of(model, texture);
-    if (image >= 0) uses.emplace(image, where);
+    if (const int image = source_of(model, texture); image >= 0) {
+      uses.emplace(image, where);
+    } else if (texture >= 0 && static_cast<size_t>(texture) < model.textures.size()) {
+      const int ktx2 = ktx2_source(model.textures[static_cast<size_t>(texture)]);
+      if (ktx2 >= 0 && static_cast<size_t>(ktx2) < model.images.size() && ktx2_images.insert(ktx2).second &&
+          first_ktx2_use.empty())
+        first_ktx2_use = where;
+    }
   };
   for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
     const tinygltf::Material& material = model.materials[static_cast<size_t>(index)];
     const MaterialInputs inputs = read_material_inputs(model, index);
     for (const MaterialTexture& texture : inputs.textures)
-      if (texture.present()) note(used_images, texture.texture, texture.pointer);
+      if (texture.texture >= 0) note(used_images, texture.texture, texture.pointer);
     const std::string base = pointer("materials", index);
     const auto& pbr = material.pbrMetallicRoughness;
     // A legacy material's core fallback is what core-only viewers show: its images are used too.
@@ -170,34 +179,8 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
       metal_rough_maps.emplace(inputs.texture(TextureRole::MetallicRoughness).image,
                                inputs.texture(TextureRole::MetallicRoughness).pointer);
   }
-
-  // Textures whose only image is KHR_texture_basisu's KTX2: nothing here can read their texels.
-  if (rules.enabled("IMAGE_KTX2_NOT_CHECKED")) {
-    std::set<int> ktx2_images;
-    std::string first_use;
-    auto note_ktx2 = [&](int texture, const std::string& where) {
-      if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size() || source_of(model, texture) >= 0) return;
-      const int image = ktx2_source(model.textures[static_cast<size_t>(texture)]);
-      if (image >= 0 && static_cast<size_t>(image) < model.images.size() && ktx2_images.insert(image).second &&
-          first_use.empty())
-        first_use = where;
-    };
-    for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
-      for (const MaterialTexture& texture : read_material_inputs(model, index).textures)
-        if (texture.texture >= 0) note_ktx2(texture.texture, texture.pointer);
-      const tinygltf::Material& material = model.materials[static_cast<size_t>(index)];
-      const std::string base = pointer("materials", index);
-      // A legacy material's core fallback is what core-only viewers show, as in the loop below.
-      note_ktx2(material.pbrMetallicRoughness.baseColorTexture.index, base + "/pbrMetallicRoughness/baseColorTexture");
-      note_ktx2(material.pbrMetallicRoughness.metallicRoughnessTexture.index,
-                base + "/pbrMetallicRoughness/metallicRoughnessTexture");
-      note_ktx2(material.normalTexture.index, base + "/normalTexture");
-      note_ktx2(material.occlusionTexture.index, base + "/occlusionTexture");
-      note_ktx2(material.emissiveTexture.index, base + "/emissiveTexture");
-    }
-    if (!ktx2_images.empty())
-      add_issue(rules, "IMAGE_KTX2_NOT_CHECKED", {std::to_string(ktx2_images.size())}, first_use, report);
-  }
+  if (!ktx2_images.empty() && rules.enabled("IMAGE_KTX2_NOT_CHECKED"))
+    add_issue(rules, "IMAGE_KTX2_NOT_CHECKED", {std::to_string(ktx2_images.size())}, first_ktx2_use, report);
 
   if (rules.enabled("IMAGE_NORMAL_NOT_UNIT") || rules.enabled("IMAGE_NORMAL_BACK_FACING"))
     for (const auto& [image, where] : normal_maps)

@@ -24,17 +24,15 @@ void decode_meshopt_views(Context& context) {
     const BufferModel& source = doc.buffers[static_cast<std::size_t>(m.buffer)];
     if (!source.object || !source.data_loaded) continue;
     if (m.byte_offset > source.data.size() || m.byte_length > source.data.size() - m.byte_offset) continue;
-    std::string problem;
-    const std::uint64_t size = m.count * m.byte_stride;  // the parent's byteLength: the layout holds
-    if (size > budget || decoded > budget - size)
-      problem = "decoding it would take the file's decoded views past " + std::to_string(budget) +
-                " bytes, 64 times the data it stores";
-    else
+    // The decoded size is the parent's byteLength: the layout holds.
+    std::string problem = meshopt_budget_problem(decoded, m.count * m.byte_stride, budget);
+    if (problem.empty())
       view.decoded = decode_meshopt(
           source.data.subspan(static_cast<std::size_t>(m.byte_offset), static_cast<std::size_t>(m.byte_length)), m,
           problem);
-    if (view.decoded) decoded += view.decoded->size();
-    if (!view.decoded)
+    if (view.decoded)
+      decoded += view.decoded->size();
+    else
       context.issues.at("MESHOPT_DECODE_FAILED",
                         "/bufferViews/" + std::to_string(i) + "/extensions/EXT_meshopt_compression",
                         {arg_raw(problem)});
