@@ -64,7 +64,7 @@ std::vector<FileConversion> convert_files(std::span<const ConvertJob> jobs, cons
 }
 
 FileValidation validate_file(const fs::path& file, const ValidateFileOptions& options) {
-  RuleSet rules = builtin_rules();
+  RuleSet rules = builtin_rules(options.profile);
   IssuePolicy policy;
   if (!options.config.empty()) apply_user_config(options.config, rules, policy);
   ValidateOptions validate;

@@ -5,6 +5,7 @@
 
 #include "api/files.hpp"
 #include "core/version.hpp"
+#include "rules/rule_set.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"
 
 namespace gltf_pbr {
@@ -61,6 +62,12 @@ std::optional<ErrorModel> error_model_from_name(std::string_view name) { return 
 const char* error_model_name(ErrorModel model) { return name_of(kErrorModels, model); }
 std::optional<ValidationStep> validation_step_from_name(std::string_view name) { return from_name(kSteps, name); }
 const char* validation_step_name(ValidationStep step) { return name_of(kSteps, step); }
+std::optional<LintProfile> lint_profile_from_name(std::string_view name) {
+  for (const LintProfile profile : {LintProfile::Tolerant, LintProfile::Strict})
+    if (name == rule_profile_name(profile)) return profile;
+  return std::nullopt;
+}
+const char* lint_profile_name(LintProfile profile) { return rule_profile_name(profile); }
 const char* file_status_name(FileStatus status) { return name_of(kStatuses, status); }
 std::optional<FileStatus> file_status_from_name(std::string_view name) { return from_name(kStatuses, name); }
 

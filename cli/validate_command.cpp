@@ -29,7 +29,7 @@ namespace {
 
 struct ValidateArgs {
   std::vector<std::string> inputs;
-  std::string output, format = "text", config, fail_on = "error", heatmaps;
+  std::string output, format = "text", config, fail_on = "error", heatmaps, profile = "tolerant";
   PipelineArgs pipeline;
   std::vector<std::string> only;
   bool allow_outside = false, quiet = false, no_self_intersections = false;
@@ -85,7 +85,7 @@ std::string run_settings(const ValidateArgs& args, const ValidateOptions& option
   for (const std::string& step : options.steps) text += " " + step;
   text += std::string(" self-intersections ") + (options.self_intersections ? "on" : "off") + " allow-outside " +
           (options.allow_outside_uris ? "on" : "off") + " max-image-pixels " + std::to_string(max_image_pixels()) +
-          "\n" + builtin_rules_text();
+          " profile " + args.profile + "\n" + builtin_rules_text();
   if (!args.config.empty()) {  // its text, not its name: an edited config is another run
     const std::optional<Bytes> config = read_file(args.config);
     if (!config) throw InputError(args.config, "", "cannot read the config file");
@@ -97,7 +97,7 @@ std::string run_settings(const ValidateArgs& args, const ValidateOptions& option
 int run(const ValidateArgs& args) {
   if (!args.pipeline.cache.empty() && !args.heatmaps.empty())
     throw CLI::ValidationError("--cache", "the cache does not keep heat maps: give --cache or --heatmaps");
-  RuleSet rules = builtin_rules();
+  RuleSet rules = builtin_rules(*lint_profile_from_name(args.profile));  // CLI11 checked the name
   IssuePolicy policy;
   if (!args.config.empty()) apply_user_config(args.config, rules, policy);
   ValidateOptions options;
@@ -261,6 +261,12 @@ std::function<int()> add_validate_command(CLI::App& app) {
   cmd->add_option("--config", args->config,
                   "YAML or JSON config in the Khronos validator's shape: max-issues, ignore, only, override "
                   "(code: 0-3); and thresholds: {CODE: {name: number}}");
+  cmd->add_option("--profile", args->profile,
+                  "how hard the material rules judge: tolerant warns where a value is clearly wrong for what "
+                  "renders, strict where it leaves the calibrated ranges (rules/materials.json holds both); "
+                  "--config thresholds apply on top")
+      ->check(CLI::IsMember({"tolerant", "strict"}))
+      ->capture_default_str();
   cmd->add_option("--only", args->only, "run only these steps (comma-separated or repeated)")
       ->allow_extra_args(false)
       ->delimiter(',')

@@ -142,11 +142,12 @@ PYBIND11_MODULE(gltf_pbr, m) {
 
   m.def(
       "validate",
-      [](const fs::path& path, const std::optional<fs::path>& config,
+      [](const fs::path& path, const std::optional<fs::path>& config, const std::string& profile,
          const std::optional<std::vector<std::string>>& only, const std::optional<fs::path>& heatmaps,
          bool allow_outside_uris, bool self_intersections) {
         gltf_pbr::ValidateFileOptions options;
         if (config) options.config = *config;
+        options.profile = parse_choice(profile, gltf_pbr::lint_profile_from_name, "profile", "tolerant, strict");
         if (only)
           for (const std::string& step : *only)
             options.steps.push_back(parse_choice(step, gltf_pbr::validation_step_from_name, "only",
@@ -161,7 +162,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
         }
         return from_json(result.report_json);
       },
-      "path"_a, py::kw_only(), "config"_a = py::none(), "only"_a = py::none(), "heatmaps"_a = py::none(),
+      "path"_a, py::kw_only(), "config"_a = py::none(), "profile"_a = "tolerant", "only"_a = py::none(),
+      "heatmaps"_a = py::none(),
       "allow_outside_uris"_a = false, "self_intersections"_a = true,
       "Validate one file; returns the Khronos glTF-Validator's report schema as a dict (issues.messages, "
       "issues.numErrors, ...). Problems in the file are issues, not exceptions; a bad config raises InputError.");

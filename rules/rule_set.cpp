@@ -2,6 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <array>
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
@@ -77,7 +80,79 @@ bool RuleSet::enabled(const std::string& code) const {
   return rule && rule->enabled;
 }
 
-void RuleSet::add_from_json(const std::string& file_name, const std::string& text) {
+namespace {
+
+// In the order of the enumeration: builtin_rules indexes its sets by the profile's value.
+constexpr std::array<LintProfile, 2> kLintProfiles{LintProfile::Tolerant, LintProfile::Strict};
+
+void read_thresholds(const nlohmann::json& thresholds, const std::string& file_name, const std::string& pointer,
+                     Rule& rule) {
+  if (!thresholds.is_object()) throw InputError(file_name, pointer, "expected an object of named numbers");
+  for (const auto& [name, value] : thresholds.items()) {
+    if (!value.is_number())
+      throw InputError(file_name, pointer + "/" + escape_pointer_token(name), "a threshold must be a number");
+    rule.thresholds[name] = value.get<double>();
+  }
+}
+
+Severity read_severity(const nlohmann::json& severity, const std::string& file_name, const std::string& pointer) {
+  if (!severity.is_number_integer() && !severity.is_string())
+    throw InputError(file_name, pointer, "severity must be 0-3 or a severity name");
+  return parse_severity(severity.is_number() ? std::to_string(severity.get<int>()) : severity.get<std::string>(),
+                        file_name, pointer);
+}
+
+// Lays one profile's entry ({thresholds, severity, enabled, source}) over the rule.
+void apply_profile_entry(const nlohmann::json& entry, const std::string& file_name, const std::string& pointer,
+                         Rule& rule) {
+  if (!entry.is_object()) throw InputError(file_name, pointer, "expected an object");
+  for (const auto& [key, value] : entry.items()) {
+    const std::string key_pointer = pointer + "/" + escape_pointer_token(key);
+    if (key == "thresholds") {
+      read_thresholds(value, file_name, key_pointer, rule);
+    } else if (key == "severity") {
+      rule.severity = read_severity(value, file_name, key_pointer);
+    } else if (key == "enabled" && value.is_boolean()) {
+      rule.enabled = value.get<bool>();
+    } else if (key == "source" && value.is_string()) {
+      rule.source = value.get<std::string>();
+    } else {
+      throw InputError(file_name, key_pointer,
+                       "a profile entry holds thresholds, severity, enabled (true or false) and source (a string)");
+    }
+  }
+}
+
+// The rule as `profile` sees it. Every profile must be named, so that a new threshold cannot
+// silently apply to one profile only, and every entry is read, so that an error in the other
+// profile's entry is found whichever profile is used.
+Rule rule_for_profile(const Rule& rule, const nlohmann::json& profiles, LintProfile profile,
+                      const std::string& file_name, const std::string& pointer) {
+  if (!profiles.is_object()) throw InputError(file_name, pointer, "expected an object of profile name to values");
+  for (const auto& [name, unused] : profiles.items())
+    if (std::ranges::none_of(kLintProfiles, [&](LintProfile each) { return name == rule_profile_name(each); }))
+      throw InputError(file_name, pointer + "/" + escape_pointer_token(name),
+                       "unknown lint profile '" + name + "' (expected tolerant or strict)");
+  Rule chosen;
+  for (const LintProfile each : kLintProfiles) {
+    const char* name = rule_profile_name(each);
+    if (!profiles.contains(name))
+      throw InputError(file_name, pointer, std::string("no entry for the ") + name + " profile");
+    Rule variant = rule;
+    apply_profile_entry(profiles[name], file_name, pointer + "/" + name, variant);
+    variant.profile = each;
+    if (each == profile) chosen = std::move(variant);
+  }
+  return chosen;
+}
+
+}  // namespace
+
+const char* rule_profile_name(LintProfile profile) {
+  return profile == LintProfile::Strict ? "strict" : "tolerant";
+}
+
+void RuleSet::add_from_json(const std::string& file_name, const std::string& text, LintProfile profile) {
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
@@ -96,33 +171,26 @@ void RuleSet::add_from_json(const std::string& file_name, const std::string& tex
     rule.file = file_name;
     rule.code = entry["code"];
     if (rules_.contains(rule.code)) throw InputError(file_name, pointer + "/code", rule.code + " is defined twice");
-    const auto& severity = entry.value("severity", nlohmann::json("error"));
-    rule.severity =
-        parse_severity(severity.is_number() ? std::to_string(severity.get<int>()) : severity.get<std::string>(),
-                       file_name, pointer + "/severity");
+    rule.severity = read_severity(entry.value("severity", nlohmann::json("error")), file_name, pointer + "/severity");
     rule.enabled = entry.value("enabled", true);
-    if (entry.contains("thresholds")) {
-      for (const auto& [name, value] : entry["thresholds"].items()) {
-        if (!value.is_number())
-          throw InputError(file_name, pointer + "/thresholds/" + escape_pointer_token(name),
-                           "a threshold must be a number");
-        rule.thresholds[name] = value.get<double>();
-      }
-    }
+    if (entry.contains("thresholds")) read_thresholds(entry["thresholds"], file_name, pointer + "/thresholds", rule);
     rule.message = entry.value("message", "");
     rule.explanation = entry.value("explanation", "");
     rule.source = entry.value("source", "");
+    if (entry.contains("profiles"))
+      rule = rule_for_profile(rule, entry["profiles"], profile, file_name, pointer + "/profiles");
     rules_.emplace(rule.code, std::move(rule));
   }
 }
 
-const RuleSet& builtin_rules() {
-  static const RuleSet rules = [] {
-    RuleSet set;
-    for (const auto& [name, text] : embedded_rule_files()) set.add_from_json("rules/" + name, text);
-    return set;
+const RuleSet& builtin_rules(LintProfile profile) {
+  static const std::array<RuleSet, kLintProfiles.size()> rules = [] {
+    std::array<RuleSet, kLintProfiles.size()> sets;
+    for (std::size_t i = 0; i < kLintProfiles.size(); ++i)
+      for (const auto& [name, text] : embedded_rule_files()) sets[i].add_from_json("rules/" + name, text, kLintProfiles[i]);
+    return sets;
   }();
-  return rules;
+  return rules[static_cast<std::size_t>(profile)];
 }
 
 const std::string& builtin_rules_text() {
@@ -212,6 +280,12 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
   }
   if (!policy.ignore.empty() && !policy.only.empty())
     throw InputError(file, "/only", "'only' cannot be used along with 'ignore'");
+  // Naming a rule in `only` or `override` asks for its issues: a rule that is off by default
+  // (MESH_EDGE_BORDER; PBR_ALBEDO_TOO_BRIGHT in the tolerant profile) is turned on.
+  for (const std::string& code : policy.only)
+    if (rules.find(code)) rules.mutable_rule(code).enabled = true;
+  for (const auto& [code, severity] : policy.severity_override)
+    if (rules.find(code)) rules.mutable_rule(code).enabled = true;
   // Checks whose every code is silenced need not run.
   for (const auto& [code, rule] : rules.all()) {
     const bool silenced = policy.only.empty() ? policy.ignore.contains(code) : !policy.only.contains(code);

@@ -1,15 +1,23 @@
 // The rule set as data. Every rules/*.json file ships inside the executable (embedded at build time)
-// and holds {"rules": [{code, severity, enabled, thresholds, message, explanation, source}]}. A user
-// config file in the Khronos validator's YAML shape overrides it.
+// and holds {"rules": [{code, severity, enabled, thresholds, profiles, message, explanation, source}]}.
+// A rule whose ranges depend on the lint profile holds, under "profiles", one entry per profile
+// ({thresholds, severity, enabled, source}, each optional) laid over its other fields; a rule set is
+// read for one profile. A user config file in the Khronos validator's YAML shape overrides it.
 #pragma once
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/report.hpp"
+#include "gltf_pbr/gltf_pbr.hpp"  // LintProfile
 
 namespace gltf_pbr {
+
+inline constexpr LintProfile kDefaultLintProfile = LintProfile::Tolerant;
+// The profile's name in the rule data, the tool's --profile and reports ("tolerant", "strict").
+const char* rule_profile_name(LintProfile profile);
 
 struct Rule {
   std::string code;
@@ -20,6 +28,9 @@ struct Rule {
   std::string explanation;                   // one line: why this is implausible or wrong
   std::string source;                        // where the threshold comes from
   std::string file;                          // the rules/ file it came from (for error messages)
+  // The profile its values were read for; empty when they are the same in every profile. Messages
+  // of profiled rules name it, so a reader knows which range judged.
+  std::optional<LintProfile> profile;
 
   // The named threshold; a missing name is a defect of the shipped rules, so it is a CHECK.
   double threshold(const std::string& name) const;
@@ -34,16 +45,17 @@ class RuleSet {
   bool enabled(const std::string& code) const;    // false for unknown codes too
   const std::map<std::string, Rule>& all() const { return rules_; }
 
-  // Parses one rules file's text; later files may not redefine a code.
-  void add_from_json(const std::string& file_name, const std::string& text);
+  // Parses one rules file's text for `profile`; later files may not redefine a code.
+  void add_from_json(const std::string& file_name, const std::string& text,
+                     LintProfile profile = kDefaultLintProfile);
   Rule& mutable_rule(const std::string& code);
 
  private:
   std::map<std::string, Rule> rules_;
 };
 
-// Every rules/*.json of the source tree, as embedded into the build.
-const RuleSet& builtin_rules();
+// Every rules/*.json of the source tree, as embedded into the build, read for `profile`.
+const RuleSet& builtin_rules(LintProfile profile = kDefaultLintProfile);
 // Those files' names and text, one after another: what a cached result's key holds of the rules.
 const std::string& builtin_rules_text();
 
@@ -52,7 +64,8 @@ const std::string& builtin_rules_text();
 //   override: {CODE: 0}       (0 error, 1 warning, 2 info, 3 hint; names are accepted too)
 // and ours:
 //   thresholds: {CODE: {name: value}}
-// `ignore` and `only` also switch the checks themselves off, so ignored work is not done.
+// `ignore` and `only` also switch the checks themselves off, so ignored work is not done; a rule
+// named in `only` or `override` is switched on even where it is off by default.
 // Bad input throws InputError naming the file, the JSON pointer and the reason.
 void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules, IssuePolicy& policy);
 

@@ -108,12 +108,54 @@ TEST(RuleSet, ReadsSeverityByNameOrNumberThresholdsAndRefusesDuplicates) {
   }
 }
 
-TEST(RuleSet, EveryBuiltInRuleHasAnExplanationAndASource) {
-  for (const auto& [code, rule] : builtin_rules().all()) {
-    if (rule.file == "rules/structure.json") continue;  // the Khronos catalogue: message templates
-    EXPECT_FALSE(rule.explanation.empty()) << code;
-    EXPECT_FALSE(rule.source.empty()) << code;
-  }
+TEST(RuleSet, EveryBuiltInRuleHasAnExplanationAndASourceInEveryProfile) {
+  for (const LintProfile profile : {LintProfile::Tolerant, LintProfile::Strict})
+    for (const auto& [code, rule] : builtin_rules(profile).all()) {
+      if (rule.file == "rules/structure.json") continue;  // the Khronos catalogue: message templates
+      EXPECT_FALSE(rule.explanation.empty()) << code;
+      EXPECT_FALSE(rule.source.empty()) << code << " (" << rule_profile_name(profile) << ")";
+    }
+}
+
+TEST(RuleSet, AProfileEntryIsLaidOverTheRuleForItsProfileOnly) {
+  const std::string text = R"({"rules": [{"code": "PBR_A", "severity": "warning", "thresholds": {"shared": 1},
+    "profiles": {"tolerant": {"thresholds": {"min": 0.01}, "severity": "info", "enabled": false},
+                 "strict": {"thresholds": {"min": 0.02}, "source": "strict source"}},
+    "source": "rule source"}, {"code": "PBR_B", "thresholds": {"min": 5}}]})";
+  RuleSet tolerant, strict;
+  tolerant.add_from_json("rules/p.json", text, LintProfile::Tolerant);
+  strict.add_from_json("rules/p.json", text, LintProfile::Strict);
+  EXPECT_DOUBLE_EQ(tolerant.at("PBR_A").threshold("min"), 0.01);
+  EXPECT_DOUBLE_EQ(strict.at("PBR_A").threshold("min"), 0.02);
+  EXPECT_DOUBLE_EQ(strict.at("PBR_A").threshold("shared"), 1.0);
+  EXPECT_EQ(tolerant.at("PBR_A").severity, Severity::Information);
+  EXPECT_EQ(strict.at("PBR_A").severity, Severity::Warning);
+  EXPECT_FALSE(tolerant.enabled("PBR_A"));
+  EXPECT_TRUE(strict.enabled("PBR_A"));
+  EXPECT_EQ(tolerant.at("PBR_A").source, "rule source");
+  EXPECT_EQ(strict.at("PBR_A").source, "strict source");
+  EXPECT_EQ(strict.at("PBR_A").profile, LintProfile::Strict);
+  EXPECT_EQ(strict.at("PBR_B").profile, std::nullopt);  // the same in every profile: messages need not say
+}
+
+TEST(RuleSet, ProfileEntriesMustNameEveryKnownProfileAndNothingElse) {
+  const auto pointer_of_error = [](const std::string& profiles) {
+    RuleSet rules;
+    try {
+      rules.add_from_json("rules/bad.json", R"({"rules": [{"code": "PBR_A", "profiles": )" + profiles + "}]}");
+    } catch (const InputError& error) {
+      return error.pointer + ": " + error.reason;
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(pointer_of_error(R"({"tolerant": {}})"), "/rules/0/profiles: no entry for the strict profile");
+  EXPECT_EQ(pointer_of_error(R"({"tolerant": {}, "strict": {}, "lax": {}})"),
+            "/rules/0/profiles/lax: unknown lint profile 'lax' (expected tolerant or strict)");
+  EXPECT_EQ(pointer_of_error(R"({"tolerant": {"message": "x"}, "strict": {}})").substr(0, 35),
+            "/rules/0/profiles/tolerant/message:");
+  EXPECT_EQ(pointer_of_error(R"({"tolerant": {"thresholds": {"min": "low"}}, "strict": {}})"),
+            "/rules/0/profiles/tolerant/thresholds/min: a threshold must be a number");
+  EXPECT_EQ(pointer_of_error(R"({"tolerant": {}, "strict": {}})"), "accepted");
 }
 
 TEST(UserConfig, KhronosShapeSetsThePolicyAndThresholdsChangeTheRules) {

@@ -113,6 +113,22 @@ TEST(ValidateCli, TextGroupsByMaterialAndBadUsageIsExitCodeTwo) {
   EXPECT_NE(bad.err.find("/max-issues"), std::string::npos) << bad.err;
 }
 
+TEST(ValidateCli, ProfileChoosesTheRangesAndTheCacheKeepsProfilesApart) {
+  test::ScratchDir scratch;
+  const std::string textured = quoted(test::assets_dir() / "BoxTextured/metalrough/BoxTextured.gltf");
+  const std::string cache = " --only materials --cache " + quoted(scratch / "cache") + " ";
+  // Its white texels are plausible for the tolerant default and out of the strict range.
+  const auto tolerant = run_cli("validate -q --fail-on warning" + cache + textured, scratch);
+  EXPECT_EQ(tolerant.exit_code, 0) << tolerant.out << tolerant.err;
+  const auto strict = run_cli("validate --fail-on warning --profile strict" + cache + textured, scratch);
+  EXPECT_EQ(strict.exit_code, 1) << strict.out << strict.err;
+  EXPECT_NE(strict.out.find("the strict profile's ceiling"), std::string::npos) << strict.out;
+  EXPECT_EQ(run_cli("validate -q --fail-on warning" + cache + textured, scratch).exit_code, 0);
+  const auto unknown = run_cli("validate -q --profile lax " + textured, scratch);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--profile"), std::string::npos) << unknown.err;
+}
+
 TEST(ValidateCli, TextSummaryTotalsEachCodeMostSevereFirst) {
   test::ScratchDir scratch;
   const fs::path vc = test::assets_dir() / "VC/specgloss/VC.gltf";

@@ -113,8 +113,16 @@ enum class ValidationStep { Structure, Materials, Textures, Meshes };
 GLTF_PBR_API std::optional<ValidationStep> validation_step_from_name(std::string_view name);
 GLTF_PBR_API const char* validation_step_name(ValidationStep step);
 
+// How hard the material rules (PBR_*) judge, as Filament's material guide keeps a strict and a
+// tolerant range (rules/materials.json holds both): Tolerant warns where a value is clearly wrong for
+// what renders (a reference-quality asset passes), Strict where it leaves the calibrated ranges.
+enum class LintProfile { Tolerant, Strict };
+GLTF_PBR_API std::optional<LintProfile> lint_profile_from_name(std::string_view name);  // "tolerant", "strict"
+GLTF_PBR_API const char* lint_profile_name(LintProfile profile);
+
 struct ValidateFileOptions {
   std::vector<ValidationStep> steps;  // empty: all four
+  LintProfile profile = LintProfile::Tolerant;  // a config's thresholds apply on top of it
   // The Khronos validator's config shape, YAML or JSON (max-issues, ignore, only, override) plus
   // our thresholds; empty: the built-in rules.
   std::filesystem::path config;

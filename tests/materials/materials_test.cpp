@@ -36,7 +36,7 @@ std::map<std::string, std::set<std::string>> codes_by_pointer(const Report& repo
 
 TEST(MaterialPlausibility, TwoCylinderEngineFlagsSpecular08AndColouredSpecularOnDiffuse085) {
   const Asset asset = load_asset(two_cylinder_engine());
-  const Report report = validate_in_memory(asset);
+  const Report report = validate_in_memory(asset, builtin_rules(LintProfile::Strict));
   auto codes = codes_by_pointer(report);
 
   // Material 0: diffuse 0.85 grey, specular 0.8 grey. A metal's F0 over a diffuse surface, and
@@ -49,7 +49,7 @@ TEST(MaterialPlausibility, TwoCylinderEngineFlagsSpecular08AndColouredSpecularOn
   EXPECT_TRUE(codes[m0].contains("PBR_LEGACY_SPEC_GLOSS"));
 
   // Material 2: diffuse (0.85, 0.561, 0), coloured specular (0.8, 0.528, 0): also too dark for a
-  // metal (mean 0.443 < 0.45), and named after the metal it resembles.
+  // metal in the strict profile (mean 0.443 < 0.45), and named after the metal it resembles.
   const std::string m2 = "/materials/2" + kLegacy;
   EXPECT_TRUE(codes[m2 + "/diffuseFactor"].contains("PBR_METAL_WITH_DIFFUSE"));
   EXPECT_TRUE(codes[m2 + "/specularFactor"].contains("PBR_ENERGY_NOT_CONSERVED"));
@@ -171,7 +171,7 @@ TEST(MaterialPlausibility, ImplausibleDielectricsAreFlaggedAtTheirFactor) {
   auto& transformed = builder.metal_rough(glm::vec4(0.1f, 0.1f, 0.1f, 1.0f), 0.0, 0.5);
   transformed.extensions["KHR_materials_specular"] = tinygltf::Value(specular);
   transformed.extensions["KHR_materials_ior"] = tinygltf::Value(ior);
-  const Report report = validate_in_memory(builder.asset());
+  const Report report = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict));
   auto codes = codes_by_pointer(report);
   EXPECT_EQ(codes["/materials/0" + kLegacy + "/specularFactor"],
             (std::set<std::string>{"PBR_DIELECTRIC_SPECULAR_CHROMATIC"}));
@@ -214,7 +214,7 @@ TEST(MaterialPlausibility, TextureCoverageCountsExactlyTheFailingTexelsAndPaints
   options.textures = false;
   options.heatmaps_dir = scratch / "heatmaps";
   const long decoded_before = work_counters().images_decoded.load();
-  const Report report = validate_in_memory(builder.asset(), builtin_rules(), options);
+  const Report report = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict), options);
   EXPECT_EQ(work_counters().images_decoded.load() - decoded_before, 2);
 
   auto only = [&](const std::string& code) {
@@ -365,12 +365,13 @@ TEST(MaterialPlausibility, UserConfigChangesSeveritiesThresholdsAndSilencesCodes
                    "override:\n  PBR_METAL_WITH_DIFFUSE: warning\n  PBR_ENERGY_NOT_CONSERVED: 2\n"
                    "ignore: [PBR_LEGACY_SPEC_GLOSS, PBR_ROUGHNESS_ZERO]\n"
                    "thresholds:\n  PBR_METAL_F0_TOO_DARK: {min_mean_f0: 0.4}\n");
-  RuleSet rules = builtin_rules();
+  RuleSet rules = builtin_rules(LintProfile::Strict);
   IssuePolicy policy;
   apply_user_config(config, rules, policy);
   ValidateOptions options;
   options.steps = {"materials"};
-  const Report defaults = validate_file(two_cylinder_engine(), "2CylinderEngine.gltf", builtin_rules(), {}, options);
+  const Report defaults =
+      validate_file(two_cylinder_engine(), "2CylinderEngine.gltf", builtin_rules(LintProfile::Strict), {}, options);
   const Report configured = validate_file(two_cylinder_engine(), "2CylinderEngine.gltf", rules, policy, options);
 
   ASSERT_FALSE(issues_with(defaults, "PBR_METAL_WITH_DIFFUSE").empty());

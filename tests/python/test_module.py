@@ -90,6 +90,18 @@ def test_validate_runs_only_the_steps_asked_for():
         gltf_pbr.validate(DUCK, only=["spelling"])
 
 
+def test_validate_takes_the_lint_profile_as_the_tool_does():
+    duck = SHARED / "assets/Duck/metalrough/Duck.gltf"
+    for profile in ("tolerant", "strict"):
+        ran = tool("validate", "--format", "json", "--profile", profile, duck)
+        assert ran.returncode in (0, 1), ran.stderr
+        assert gltf_pbr.validate(duck, profile=profile) == json.loads(ran.stdout)
+    strict = gltf_pbr.validate(duck, profile="strict")["issues"]["messages"]
+    assert any("the strict profile's" in m["message"] for m in strict)
+    with pytest.raises(ValueError, match="profile must be one of tolerant, strict"):
+        gltf_pbr.validate(duck, profile="lax")
+
+
 def test_bad_input_raises_input_error_with_file_pointer_and_reason(tmp_path):
     broken = tmp_path / "broken.gltf"
     broken.write_text(json.dumps({

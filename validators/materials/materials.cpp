@@ -258,32 +258,48 @@ std::string describe_sample(int check, const SurfaceSample& s, bool legacy) {
   }
 }
 
+// The message's arguments after the worst sample: the thresholds that judged, in the order the
+// rule's message names them, and the profile they were read for (rules/rule_set.hpp).
 std::vector<std::string> threshold_arguments(int check, const Rule& rule) {
   auto t = [&](const char* name) { return format_number(rule.threshold(name), 3); };
+  auto srgb = [&](const char* name) { return srgb8_of(static_cast<float>(rule.threshold(name))); };
+  std::vector<std::string> arguments;
   switch (check) {
     case kDielectricF0TooLow:
-      return {t("min_f0")};
+      arguments = {t("min_f0")};
+      break;
     case kDielectricF0TooHigh:
-      return {t("max_gem_f0")};
+      arguments = {t("max_gem_f0")};
+      break;
     case kDielectricSpecularChromatic:
-      return {t("max_saturation")};
+      arguments = {t("max_saturation")};
+      break;
     case kMetalF0TooDark:
-      return {t("min_mean_f0")};
+      arguments = {t("min_mean_f0")};
+      break;
     case kF0AboveOne:
-      return {t("max_f0")};
+      arguments = {t("max_f0")};
+      break;
     case kAlbedoTooDark:
-      return {t("min_luminance")};
+      arguments = {t("min_luminance"), srgb("min_luminance")};
+      break;
     case kAlbedoTooBright:
-      return {t("max_luminance")};
+      arguments = {t("max_luminance"), srgb("max_luminance")};
+      break;
     case kMetalWithDiffuse:
-      return {t("max_diffuse_luminance")};
+      arguments = {t("max_diffuse_luminance")};
+      break;
     case kEnergyNotConserved:
-      return {t("max_sum")};
+      arguments = {t("max_sum")};
+      break;
     case kPartialMetalness:
-      return {t("min_metalness"), t("max_metalness"), format_number(rule.threshold("max_coverage_percent"), 1)};
+      arguments = {t("min_metalness"), t("max_metalness"), format_number(rule.threshold("max_coverage_percent"), 1)};
+      break;
     default:
-      return {};
+      break;
   }
+  if (rule.profile) arguments.emplace_back(rule_profile_name(*rule.profile));
+  return arguments;
 }
 
 struct Finding {
