@@ -54,12 +54,15 @@ TEST(Parallel, AWorkersExceptionReachesTheCallerAfterAllStopped) {
   } catch (const std::runtime_error&) {
     EXPECT_EQ(finished.load(), started.load());
   }
-  // An index that throws stops the rest: far fewer than all 100000 run after it.
+  // An index that throws stops the rest: far fewer than all 100000 run after it. Each index takes
+  // a millisecond, so that a thread preempted between claiming index 10 and throwing (a loaded CI
+  // machine) cannot watch the others finish the loop meanwhile.
   std::atomic<int> ran{0};
   EXPECT_THROW(parallel_dynamic(100000,
                                 [&](std::int64_t i) {
                                   ++ran;
                                   if (i == 10) throw std::bad_alloc();
+                                  std::this_thread::sleep_for(std::chrono::milliseconds(1));
                                 }),
                std::bad_alloc);
   EXPECT_LT(ran.load(), 1000);
