@@ -29,9 +29,9 @@ std::string hex32(std::uint32_t value) {
 }  // namespace
 
 std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8_t> bytes, Context& context,
-                                                      bool& json_empty_duplicate) {
+                                                      bool& empty_json_ended) {
   IssueSink& issues = context.issues;
-  json_empty_duplicate = false;
+  empty_json_ended = false;
   if (bytes.size() >= 4 && read_u32(bytes, 0) != kMagicGltf) {
     issues.at_offset("GLB_INVALID_MAGIC", 0, {arg(static_cast<std::uint64_t>(read_u32(bytes, 0)))});
     return std::nullopt;
@@ -53,8 +53,14 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
   bool json_seen = false, bin_seen = false, json_was_empty = false;
   std::uint64_t offset = 12;
   int chunk_index = 0;
-  // Chunks follow until the declared length; the stream's real end bounds every read.
-  while (offset < declared_length && offset < bytes.size()) {
+  // Chunks are read until they end exactly at the declared length or the stream ends, so a length
+  // declared too small (GLB_LENGTH_TOO_SMALL, or one a chunk steps over) is measured against every
+  // chunk there is (GLB_CHUNK_TOO_BIG each) and the real end (GLB_LENGTH_MISMATCH). The stream's
+  // real end bounds every read; each chunk moves on by at least its 8-byte header.
+  while (offset != declared_length && offset < bytes.size()) {
+    // An empty JSON chunk leaves the JSON text open until something follows it; then it is parsed
+    // as the empty text it is (INVALID_JSON), as the reference does (checked against the npm build).
+    if (json_seen && json_was_empty) empty_json_ended = true;
     if (bytes.size() - offset < 8) {
       context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_HEADER", bytes.size(), {}});
       return json;
@@ -69,10 +75,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
       issues.at_offset("GLB_CHUNK_TOO_BIG", chunk_start, {arg_raw(hex32(chunk_type)), arg(chunk_length)});
     if (chunk_type == kChunkJson) {
       if (chunk_length == 0) issues.at_offset("GLB_EMPTY_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
-      if (json_seen) {
-        issues.at_offset("GLB_DUPLICATE_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
-        if (json_was_empty && chunk_length == 0) json_empty_duplicate = true;
-      }
+      if (json_seen) issues.at_offset("GLB_DUPLICATE_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
     } else if (chunk_type == kChunkBin) {
       context.glb_bin_chunk = true;
       if (chunk_index == 0)

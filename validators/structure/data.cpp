@@ -666,6 +666,10 @@ void load_buffers(Context& context) {
     resource["pointer"] = p;
     resource["mimeType"] = "application/gltf-buffer";
     if (!buffer.has_uri) {
+      // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk; the reference
+      // finds one missing as it loads the buffers, after the unused objects.
+      if (context.glb && i == 0 && !context.glb_bin_chunk)
+        context.issues.at("BUFFER_MISSING_GLB_DATA", p);
       if (context.glb && i == 0 && context.glb_bin) {
         buffer.data = *context.glb_bin;
         buffer.data_loaded = true;

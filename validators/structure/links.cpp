@@ -313,9 +313,9 @@ class Linker {
 
   void buffer(std::size_t i) {
     BufferModel& buffer = doc_.buffers[i];
-    // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk.
+    // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk (a missing one is
+    // reported as the buffers are loaded, data.cpp).
     const bool glb_bin = context_.glb && i == 0 && !buffer.has_uri;
-    if (glb_bin && !context_.glb_bin_chunk) issues_.at("BUFFER_MISSING_GLB_DATA", at("buffers", i));
     // EXT_meshopt_compression "Fallback buffers": one with no data of its own can only be read
     // through the extension, which must then be required.
     const auto& required = doc_.extensions_required;

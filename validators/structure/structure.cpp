@@ -22,10 +22,10 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
   };
   std::span<const std::uint8_t> json_text = bytes;
   if (context.glb) {
-    bool empty_duplicate = false;
-    auto json = read_glb(bytes, context, empty_duplicate);
+    bool empty_json_ended = false;
+    auto json = read_glb(bytes, context, empty_json_ended);
     if (!json) {
-      if (empty_duplicate) parse_json({}, context);
+      if (empty_json_ended) parse_json({}, context);
       stream_end();
       return context.issues.found_error();
     }

@@ -305,7 +305,7 @@ std::optional<std::vector<std::uint8_t>> read_resource(Context& context, const s
 // Splits a GLB into its JSON and BIN chunks, reporting container issues by byte offset. Returns the
 // JSON text to parse, or nullopt when there is none (the reference then stops).
 std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8_t> bytes, Context& context,
-                                                      bool& json_empty_duplicate);
+                                                      bool& empty_json_ended);
 // Parses JSON text into context.root, reporting INVALID_JSON; false when unreadable.
 bool parse_json(std::span<const std::uint8_t> text, Context& context);
 bool walk_schema(Context& context);      // false: stop (no usable asset)      // schema.cpp
