@@ -374,14 +374,15 @@ class AccessorData {
     const double limit = a.vertex_limit >= 0 ? static_cast<double>(a.vertex_limit) : INFINITY;  // -1: unknown
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
-      if (value == restart) {
-        issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use,
-                   {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
-      } else if (value >= limit) {
+      // A restart value is also out of bounds when the vertices do not reach it: both are
+      // reported, in this order (checked against the npm validator).
+      if (value >= limit)
         issues_.at("ACCESSOR_INDEX_OOB", use,
                    {arg(static_cast<std::uint64_t>(first + k)), arg(static_cast<std::int64_t>(value)),
                     arg(a.vertex_limit - 1)});
-      }
+      if (value == restart)
+        issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use,
+                   {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
     }
     // Chunks hold whole triangles (kChunkElements is a multiple of 3; a whole accessor is one chunk).
     if (a.primitive_mode == 4 && a.count >= 3)
@@ -712,6 +713,7 @@ void check_resources(Context& context) {
   decode_meshopt_views(context);
   check_images(context);
   AccessorData(context).run();
+  check_texture_sources(context);
   check_draco(context);
 }
 

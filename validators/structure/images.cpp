@@ -224,6 +224,7 @@ void check_images(Context& context) {
     }
     ImageHeader header;
     if (have) header = read_header(bytes);
+    image.detected_mime = header.mime;
     if (!header.mime.empty() && header.error_code.empty()) resource["mimeType"] = header.mime;
     if (!storage.empty()) resource["storage"] = storage;
     if (storage == "external") resource["uri"] = image.uri;
@@ -257,6 +258,26 @@ void check_images(Context& context) {
       }
     }
     context.resources.push_back(std::move(resource));
+  }
+}
+
+// Spec 3.8.2: a texture's own source is PNG or JPEG; other formats come through extensions. The
+// reference judges this after every image has been read, from the type the image declares (its
+// mimeType, else its data URI's media type) or else the type its bytes have (checked against the
+// npm validator).
+void check_texture_sources(Context& context) {
+  const Document& doc = context.doc;
+  for (std::size_t i = 0; i < doc.textures.size(); ++i) {
+    const TextureModel& texture = doc.textures[i];
+    if (!texture.object || texture.source < 0 || static_cast<std::size_t>(texture.source) >= doc.images.size()) continue;
+    const ImageModel& image = doc.images[static_cast<std::size_t>(texture.source)];
+    if (!image.object) continue;
+    const std::string& mime = !image.mime_type.empty()      ? image.mime_type
+                              : !image.data_uri_mime.empty() ? image.data_uri_mime
+                                                             : image.detected_mime;
+    if (!mime.empty() && mime != "image/png" && mime != "image/jpeg")
+      context.issues.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/" + std::to_string(i) + "/source", {arg(mime)},
+                        {arg("image/jpeg"), arg("image/png")});
   }
 }
 

@@ -6,6 +6,8 @@
 namespace gltf_pbr::structure {
 
 void check_images(Context& context);  // images.cpp
+// TEXTURE_INVALID_IMAGE_MIME_TYPE, once the images are read (images.cpp).
+void check_texture_sources(Context& context);
 // The media type the bytes' signature names (image/png, image/jpeg, image/webp, image/ktx2), or "".
 std::string image_mime_of(std::span<const std::uint8_t> bytes);
 // What a KTX2 file's container (KTX2_INVALID_CONTAINER) or KHR_texture_basisu's rules for it

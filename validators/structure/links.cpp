@@ -721,11 +721,8 @@ class Linker {
   void texture(std::size_t i) {
     TextureModel& texture = doc_.textures[i];
     const std::string p = at("textures", i);
-    if (ImageModel* image = resolve(doc_.images, texture.source, p + "/source")) {
-      if (!image->mime_type.empty() && image->mime_type != "image/png" && image->mime_type != "image/jpeg")
-        issues_.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", p + "/source", {arg(image->mime_type)},
-                   {arg("image/jpeg"), arg("image/png")});
-    }
+    // Its image's MIME type is judged once the images are read (check_texture_sources).
+    resolve(doc_.images, texture.source, p + "/source");
     resolve(doc_.samplers, texture.sampler, p + "/sampler");
     for (const auto& [pointer, index] : texture.extension_sources) resolve(doc_.images, index, pointer);
   }

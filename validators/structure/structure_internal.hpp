@@ -234,6 +234,7 @@ struct ImageModel : EntityModel {
   bool has_uri = false, uri_valid = false, data_uri = false;
   std::string mime_type;
   std::string data_uri_mime;
+  std::string detected_mime;  // what its bytes are, when they were read and recognised
   std::int64_t buffer_view = -1;
   std::vector<std::uint8_t> data;  // decoded data URI
 };
