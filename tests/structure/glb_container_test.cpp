@@ -4,6 +4,7 @@
 // and order; its INVALID_JSON text differs (the npm build parses with JavaScript's JSON.parse).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -112,6 +113,16 @@ TEST(GlbContainer, TheBinChunkHoldsBufferZeroWithAtMostThreeBytesOfPadding) {
             (Issues{"UNUSED_OBJECT /buffers/0", "BUFFER_GLB_CHUNK_TOO_BIG /buffers/0"}));
   const std::string one_byte = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":1}]})";
   EXPECT_EQ(issues_of(glb({{kJson, one_byte}, {kBin, kFourBytes}})), Issues{"UNUSED_OBJECT /buffers/0"});
+}
+
+TEST(GlbContainer, AStreamThatEndsInsideAChunkLoadsNoResources) {
+  // The same document names a missing file: found when the stream is whole, not when it is cut.
+  const std::string external = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"missing.bin"}]})";
+  const auto whole = issues_of(glb({{kJson, external}}));
+  EXPECT_NE(std::find(whole.begin(), whole.end(), "IO_ERROR /buffers/0/uri"), whole.end());
+  const auto cut = issues_of(glb({{kJson, external}}, 0, "glTF", std::string("\x10\0\0\0BIN\0\0\0", 10)));
+  EXPECT_EQ(cut.back(), "GLB_UNEXPECTED_END_OF_CHUNK_DATA @" + std::to_string(glb({{kJson, external}}).size() + 10));
+  EXPECT_EQ(std::find(cut.begin(), cut.end(), "IO_ERROR /buffers/0/uri"), cut.end());
 }
 
 }  // namespace

@@ -731,5 +731,26 @@ TEST(StructureChecks, AMorphTargetOverABaseWithAnInvalidIndexHasNoBase) {
   EXPECT_EQ(find(valid, "MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR"), nullptr);
 }
 
+// The reference checks an accessor's elements for what their users need as it reads them, and its
+// declared bounds once it has read them all; each element is checked for every user (here two
+// samplers share key times 0, 0, -1, 0.5, 0.5). Both were found by the differential run and
+// checked against the npm validator.
+TEST(StructureChecks, ElementIssuesComeBeforeTheBoundsAndAreReportedAtEveryUse) {
+  const Report bounds_last = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64,"uri":"data:application/octet-stream;base64,AAAAAAAAgD8AAIA/AAAAQAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA=="}],"bufferViews":[{"buffer":0,"byteLength":16},{"buffer":0,"byteOffset":16,"byteLength":48}],"accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"SCALAR","min":[0],"max":[5]},{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}],"nodes":[{}],"scenes":[{"nodes":[0]}],"animations":[{"samplers":[{"input":0,"output":1}],"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}}]}]})");
+  EXPECT_EQ(keys(bounds_last),
+            (std::vector<std::string>{"NODE_EMPTY /nodes/0",
+                                      "ACCESSOR_ANIMATION_INPUT_NON_INCREASING /animations/0/samplers/0/input",
+                                      "ACCESSOR_MAX_MISMATCH /accessors/0/max/0"}));
+  const Report shared = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":80,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAIC/AAAAPwAAAD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA="}],"bufferViews":[{"buffer":0,"byteLength":20},{"buffer":0,"byteOffset":20,"byteLength":60}],"accessors":[{"bufferView":0,"componentType":5126,"count":5,"type":"SCALAR","min":[-1],"max":[0.5]},{"bufferView":1,"componentType":5126,"count":5,"type":"VEC3"}],"nodes":[{},{}],"scenes":[{"nodes":[0,1]}],"animations":[{"samplers":[{"input":0,"output":1},{"input":0,"output":1}],"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":1,"target":{"node":1,"path":"translation"}}]}]})");
+  std::vector<std::string> expected{"NODE_EMPTY /nodes/0", "NODE_EMPTY /nodes/1"};
+  for (const char* code : {"ACCESSOR_ANIMATION_INPUT_NON_INCREASING", "ACCESSOR_ANIMATION_INPUT_NEGATIVE",
+                           "ACCESSOR_ANIMATION_INPUT_NON_INCREASING"})
+    for (const char* sampler : {"0", "1"})
+      expected.push_back(std::string(code) + " /animations/0/samplers/" + sampler + "/input");
+  EXPECT_EQ(keys(shared), expected);
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -238,7 +238,7 @@ class AccessorData {
     // Sparse data is substituted over the whole accessor, so sparse accessors are read in one piece.
     const std::int64_t chunk = a.sparse ? a.count : kChunkElements;
 
-    // Pass 1: invalid floats in element order, then the declared bounds against the actual ones.
+    // Pass 1: invalid floats in element order, and the actual bounds for the declared ones.
     // Declared bounds of float accessors are compared at float precision: the JSON double is
     // what a writer printed for the float it stored.
     auto as_stored = [&](double declared) {
@@ -281,18 +281,18 @@ class AccessorData {
         }
       }
     }
-    if (!invalid_float) bounds(a, p, components, actual_min, actual_max, below, above);
-
     // Pass 2: what the accessor's user requires, chunk by chunk in element order. A single
     // chunk already decoded by pass 1 is checked as it is.
-    if (!usage) return;
     Carry carry;
-    for (std::int64_t first = 0; first < a.count; first += chunk) {
+    for (std::int64_t first = 0; usage && first < a.count; first += chunk) {
       const std::int64_t n = std::min(chunk, a.count - first);
       if (!(pass_one && one_chunk) && !decode(a, !pass_one && first == 0, first, n, values_)) return;
       usage_checks(a, use, static_cast<std::size_t>(first), static_cast<std::size_t>(n), carry);
     }
-    if (a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
+    // The declared bounds are judged once every element is seen: after the elements' own issues,
+    // as the reference reports them (checked against the npm validator).
+    if (!invalid_float) bounds(a, p, components, actual_min, actual_max, below, above);
+    if (usage && a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
       issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
                  {arg(carry.degenerate_triangles), arg(static_cast<std::uint64_t>(a.count / 3))});
   }
@@ -331,10 +331,10 @@ class AccessorData {
         vertex_checks(a, first, count);
         break;
       case Usage::AnimationInput:
-        animation_input(use, first, carry);
+        animation_input(a.data_uses.empty() ? std::vector<std::string>{use} : a.data_uses, first, carry);
         break;
       case Usage::AnimationOutput:
-        quaternions(a, use, first, count);
+        quaternions(a, a.data_uses.empty() ? std::vector<std::string>{use} : a.data_uses, first, count);
         break;
       case Usage::InverseBindMatrices:
         inverse_bind_matrices(use, first, count);
@@ -396,7 +396,7 @@ class AccessorData {
   void vertex_checks(const AccessorModel& a, std::size_t first, std::size_t count) {
     const std::string& semantic = a.semantic;
     const int components = component_count(a.type);
-    const std::vector<std::string>& uses = a.vertex_uses;
+    const std::vector<std::string>& uses = a.data_uses;
     if ((semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4)) {
       for (std::size_t e = 0; e < count; ++e) {
         const double* v = &values_[e * components];
@@ -579,7 +579,7 @@ class AccessorData {
     }
   }
 
-  void animation_input(const std::string& use, std::size_t first, Carry& carry) {
+  void animation_input(const std::vector<std::string>& uses, std::size_t first, Carry& carry) {
     // Spec 3.11: times are non-negative and strictly increasing. A negative time is reported once
     // and not used as the predecessor of the next (the reference compares against the last valid
     // time, starting from 0).
@@ -587,17 +587,20 @@ class AccessorData {
       const double value = values_[k];
       const std::uint64_t index = first + k;
       if (value < 0) {
-        issues_.at("ACCESSOR_ANIMATION_INPUT_NEGATIVE", use, {arg(index), arg_double(value)});
+        for (const std::string& use : uses)
+          issues_.at("ACCESSOR_ANIMATION_INPUT_NEGATIVE", use, {arg(index), arg_double(value)});
         continue;
       }
       if (index > 0 && value <= carry.previous_time)
-        issues_.at("ACCESSOR_ANIMATION_INPUT_NON_INCREASING", use,
-                   {arg(index), arg_double(value), arg_double(carry.previous_time)});
+        for (const std::string& use : uses)
+          issues_.at("ACCESSOR_ANIMATION_INPUT_NON_INCREASING", use,
+                     {arg(index), arg_double(value), arg_double(carry.previous_time)});
       carry.previous_time = value;
     }
   }
 
-  void quaternions(const AccessorModel& a, const std::string& use, std::size_t first, std::size_t count) {
+  void quaternions(const AccessorModel& a, const std::vector<std::string>& uses, std::size_t first,
+                   std::size_t count) {
     const bool cubic = a.interpolation == "CUBICSPLINE";
     for (std::size_t e = 0; e < count; ++e) {
       const std::uint64_t element = first + e;
@@ -607,8 +610,9 @@ class AccessorData {
       for (int c = 0; c < 4; ++c) sum += normalized(a, q[c]) * normalized(a, q[c]);
       const double length = std::sqrt(sum);
       if (std::fabs(length - 1.0) > 0.0005)
-        issues_.at("ACCESSOR_ANIMATION_SAMPLER_OUTPUT_NON_NORMALIZED_QUATERNION", use,
-                   {arg(element * 4), arg(element * 4 + 3), arg_double(length)});
+        for (const std::string& use : uses)
+          issues_.at("ACCESSOR_ANIMATION_SAMPLER_OUTPUT_NON_NORMALIZED_QUATERNION", use,
+                     {arg(element * 4), arg(element * 4 + 3), arg_double(length)});
     }
   }
 

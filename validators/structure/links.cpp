@@ -171,6 +171,7 @@ class Linker {
       const std::string sp = p + "/samplers/" + std::to_string(s);
       if (AccessorModel* input = resolve(doc_.accessors, sampler.input, sp + "/input")) {
         use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
+        if (input->usage == AccessorModel::Usage::AnimationInput) input->data_uses.push_back(sp + "/input");
         use_view_as(*input, 1, "AnimationInput", sp + "/input");
         if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
@@ -284,6 +285,8 @@ class Linker {
       output.interpolation = sampler.interpolation;
       output.usage_pointer = pointer;
     }
+    if (output.usage == AccessorModel::Usage::AnimationOutput && output.animation_path == channel.path)
+      output.data_uses.push_back(pointer);
   }
 
   // An accessor serves one purpose (spec 3.6.2: its data is read as indices, vertex attributes,
@@ -497,7 +500,7 @@ class Linker {
         if (accessor->usage == AccessorModel::Usage::None) accessor->semantic = name;
         use_accessor(*accessor, AccessorModel::Usage::Vertex, ap);
         if (accessor->usage == AccessorModel::Usage::Vertex && accessor->semantic == name)
-          accessor->vertex_uses.push_back(ap);
+          accessor->data_uses.push_back(ap);
         // The first accessor with a usable count sets the vertex count; a later one without a
         // usable count (-1) differs from it, as in the reference.
         if (vertex_count < 0) {

@@ -111,9 +111,11 @@ struct AccessorModel : EntityModel {
   bool vertex_limit_set = false;
   int primitive_mode = 4;
   bool fits = false;  // the link pass found it inside its buffer view
-  // Every mesh attribute that reads it with its first semantic: the reference checks the data
-  // once for each (a NORMAL shared by two primitives is reported at both).
-  std::vector<std::string> vertex_uses;
+  // Every use that reads it as its first use does (a mesh attribute with the first semantic, an
+  // animation sampler's input, a channel of the first path reading its output): the reference
+  // checks each element once for each of them (a NORMAL shared by two primitives, or key times
+  // shared by two samplers, are reported at both).
+  std::vector<std::string> data_uses;
 };
 
 struct BufferViewModel : EntityModel {
