@@ -5,8 +5,8 @@
 
 #include "api/files.hpp"
 #include "core/version.hpp"
-#include "rules/rule_set.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"
+#include "rules/rule_set.hpp"
 
 namespace gltf_pbr {
 namespace {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
@@ -148,9 +147,7 @@ Rule rule_for_profile(const Rule& rule, const nlohmann::json& profiles, LintProf
 
 }  // namespace
 
-const char* rule_profile_name(LintProfile profile) {
-  return profile == LintProfile::Strict ? "strict" : "tolerant";
-}
+const char* rule_profile_name(LintProfile profile) { return profile == LintProfile::Strict ? "strict" : "tolerant"; }
 
 void RuleSet::add_from_json(const std::string& file_name, const std::string& text, LintProfile profile) {
   nlohmann::json document;
@@ -187,7 +184,8 @@ const RuleSet& builtin_rules(LintProfile profile) {
   static const std::array<RuleSet, kLintProfiles.size()> rules = [] {
     std::array<RuleSet, kLintProfiles.size()> sets;
     for (std::size_t i = 0; i < kLintProfiles.size(); ++i)
-      for (const auto& [name, text] : embedded_rule_files()) sets[i].add_from_json("rules/" + name, text, kLintProfiles[i]);
+      for (const auto& [name, text] : embedded_rule_files())
+        sets[i].add_from_json("rules/" + name, text, kLintProfiles[i]);
     return sets;
   }();
   return rules[static_cast<std::size_t>(profile)];

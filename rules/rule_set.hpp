@@ -46,8 +46,7 @@ class RuleSet {
   const std::map<std::string, Rule>& all() const { return rules_; }
 
   // Parses one rules file's text for `profile`; later files may not redefine a code.
-  void add_from_json(const std::string& file_name, const std::string& text,
-                     LintProfile profile = kDefaultLintProfile);
+  void add_from_json(const std::string& file_name, const std::string& text, LintProfile profile = kDefaultLintProfile);
   Rule& mutable_rule(const std::string& code);
 
  private:

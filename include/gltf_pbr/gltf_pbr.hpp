@@ -121,7 +121,7 @@ GLTF_PBR_API std::optional<LintProfile> lint_profile_from_name(std::string_view 
 GLTF_PBR_API const char* lint_profile_name(LintProfile profile);
 
 struct ValidateFileOptions {
-  std::vector<ValidationStep> steps;  // empty: all four
+  std::vector<ValidationStep> steps;            // empty: all four
   LintProfile profile = LintProfile::Tolerant;  // a config's thresholds apply on top of it
   // The Khronos validator's config shape, YAML or JSON (max-issues, ignore, only, override) plus
   // our thresholds; empty: the built-in rules.

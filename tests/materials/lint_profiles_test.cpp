@@ -65,13 +65,13 @@ TEST(LintProfiles, TolerantWarnsOnlyWhereStrictDoesOnEverySharedAsset) {
     if (extension != ".gltf" && extension != ".glb") continue;
     ++files;
     const std::string name = fs::relative(entry.path(), test::assets_dir()).string();
-    const auto tolerant = problem_places(
-        validate_file(entry.path(), name, builtin_rules(LintProfile::Tolerant), {}, options));
+    const auto tolerant =
+        problem_places(validate_file(entry.path(), name, builtin_rules(LintProfile::Tolerant), {}, options));
     const auto strict =
         problem_places(validate_file(entry.path(), name, builtin_rules(LintProfile::Strict), {}, options));
     for (const auto& place : tolerant)
-      EXPECT_TRUE(strict.contains(place)) << name << ": " << place.first << " at " << place.second
-                                          << " in tolerant only";
+      EXPECT_TRUE(strict.contains(place))
+          << name << ": " << place.first << " at " << place.second << " in tolerant only";
     tolerant_files += !tolerant.empty();
     strict_files += !strict.empty();
   }
@@ -134,7 +134,8 @@ TEST(LintProfiles, NamingARuleThatIsOffByDefaultInTheConfigTurnsItOn) {
   AssetBuilder builder;
   builder.metal_rough(glm::vec4(1.0f), 0.0, 0.5);  // pure white: off in tolerant, flagged by strict
   EXPECT_TRUE(issues_with(validate_in_memory(builder.asset()), "PBR_ALBEDO_TOO_BRIGHT").empty());
-  for (const std::string config : {"override:\n  PBR_ALBEDO_TOO_BRIGHT: warning\n", "only: [PBR_ALBEDO_TOO_BRIGHT]\n"}) {
+  for (const std::string config :
+       {"override:\n  PBR_ALBEDO_TOO_BRIGHT: warning\n", "only: [PBR_ALBEDO_TOO_BRIGHT]\n"}) {
     test::ScratchDir scratch;
     test::write_text(scratch / "lint.yaml", config);
     RuleSet rules = builtin_rules();

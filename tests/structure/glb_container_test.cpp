@@ -48,7 +48,7 @@ std::vector<std::uint8_t> glb(const std::vector<Chunk>& chunks, std::uint32_t de
   return bytes;
 }
 
-const std::string kDocument = R"({"asset":{"version":"2.0"}})";                              // 28 bytes padded
+const std::string kDocument = R"({"asset":{"version":"2.0"}})";                                     // 28 bytes padded
 const std::string kBufferDocument = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4}]})";  // 56 bytes
 const std::string kFourBytes(4, '\0');
 

@@ -599,8 +599,7 @@ class AccessorData {
     }
   }
 
-  void quaternions(const AccessorModel& a, const std::vector<std::string>& uses, std::size_t first,
-                   std::size_t count) {
+  void quaternions(const AccessorModel& a, const std::vector<std::string>& uses, std::size_t first, std::size_t count) {
     const bool cubic = a.interpolation == "CUBICSPLINE";
     for (std::size_t e = 0; e < count; ++e) {
       const std::uint64_t element = first + e;
@@ -673,8 +672,7 @@ void load_buffers(Context& context) {
     if (!buffer.has_uri) {
       // Spec 4.4.3.2: in a GLB, the first buffer without a uri is the BIN chunk; the reference
       // finds one missing as it loads the buffers, after the unused objects.
-      if (context.glb && i == 0 && !context.glb_bin_chunk)
-        context.issues.at("BUFFER_MISSING_GLB_DATA", p);
+      if (context.glb && i == 0 && !context.glb_bin_chunk) context.issues.at("BUFFER_MISSING_GLB_DATA", p);
       if (context.glb && i == 0 && context.glb_bin) {
         buffer.data = *context.glb_bin;
         buffer.data_loaded = true;

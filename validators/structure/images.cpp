@@ -269,10 +269,11 @@ void check_texture_sources(Context& context) {
   const Document& doc = context.doc;
   for (std::size_t i = 0; i < doc.textures.size(); ++i) {
     const TextureModel& texture = doc.textures[i];
-    if (!texture.object || texture.source < 0 || static_cast<std::size_t>(texture.source) >= doc.images.size()) continue;
+    if (!texture.object || texture.source < 0 || static_cast<std::size_t>(texture.source) >= doc.images.size())
+      continue;
     const ImageModel& image = doc.images[static_cast<std::size_t>(texture.source)];
     if (!image.object) continue;
-    const std::string& mime = !image.mime_type.empty()      ? image.mime_type
+    const std::string& mime = !image.mime_type.empty()       ? image.mime_type
                               : !image.data_uri_mime.empty() ? image.data_uri_mime
                                                              : image.detected_mime;
     if (!mime.empty() && mime != "image/png" && mime != "image/jpeg")
