@@ -63,7 +63,7 @@ const char* error_model_name(ErrorModel model) { return name_of(kErrorModels, mo
 std::optional<ValidationStep> validation_step_from_name(std::string_view name) { return from_name(kSteps, name); }
 const char* validation_step_name(ValidationStep step) { return name_of(kSteps, step); }
 std::optional<LintProfile> lint_profile_from_name(std::string_view name) {
-  for (const LintProfile profile : {LintProfile::Tolerant, LintProfile::Strict})
+  for (const LintProfile profile : kLintProfiles)
     if (name == rule_profile_name(profile)) return profile;
   return std::nullopt;
 }

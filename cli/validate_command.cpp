@@ -29,12 +29,19 @@ namespace {
 
 struct ValidateArgs {
   std::vector<std::string> inputs;
-  std::string output, format = "text", config, fail_on = "error", heatmaps, profile = "tolerant";
+  std::string output, format = "text", config, fail_on = "error", heatmaps,
+                      profile = rule_profile_name(kDefaultLintProfile);
   PipelineArgs pipeline;
   std::vector<std::string> only;
   bool allow_outside = false, quiet = false, no_self_intersections = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
 };
+
+std::vector<std::string> profile_names() {
+  std::vector<std::string> names;
+  for (const LintProfile profile : kLintProfiles) names.emplace_back(rule_profile_name(profile));
+  return names;
+}
 
 Severity parse_fail_on(const std::string& name) {
   if (name == "warning") return Severity::Warning;
@@ -265,7 +272,7 @@ std::function<int()> add_validate_command(CLI::App& app) {
                   "how hard the material rules judge: tolerant warns where a value is clearly wrong for what "
                   "renders, strict where it leaves the calibrated ranges (rules/materials.json holds both); "
                   "--config thresholds apply on top")
-      ->check(CLI::IsMember({"tolerant", "strict"}))
+      ->check(CLI::IsMember(profile_names()))
       ->capture_default_str();
   cmd->add_option("--only", args->only, "run only these steps (comma-separated or repeated)")
       ->allow_extra_args(false)

@@ -162,7 +162,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
         }
         return from_json(result.report_json);
       },
-      "path"_a, py::kw_only(), "config"_a = py::none(), "profile"_a = "tolerant", "only"_a = py::none(),
+      "path"_a, py::kw_only(), "config"_a = py::none(),
+      "profile"_a = gltf_pbr::lint_profile_name(gltf_pbr::ValidateFileOptions{}.profile), "only"_a = py::none(),
       "heatmaps"_a = py::none(), "allow_outside_uris"_a = false, "self_intersections"_a = true,
       "Validate one file; returns the Khronos glTF-Validator's report schema as a dict (issues.messages, "
       "issues.numErrors, ...). Problems in the file are issues, not exceptions; a bad config raises InputError.");

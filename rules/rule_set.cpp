@@ -81,9 +81,6 @@ bool RuleSet::enabled(const std::string& code) const {
 
 namespace {
 
-// In the order of the enumeration: builtin_rules indexes its sets by the profile's value.
-constexpr std::array<LintProfile, 2> kLintProfiles{LintProfile::Tolerant, LintProfile::Strict};
-
 void read_thresholds(const nlohmann::json& thresholds, const std::string& file_name, const std::string& pointer,
                      Rule& rule) {
   if (!thresholds.is_object()) throw InputError(file_name, pointer, "expected an object of named numbers");
@@ -181,6 +178,9 @@ void RuleSet::add_from_json(const std::string& file_name, const std::string& tex
 }
 
 const RuleSet& builtin_rules(LintProfile profile) {
+  static_assert(kLintProfiles[0] == LintProfile::Tolerant && kLintProfiles[1] == LintProfile::Strict);
+  const auto index = static_cast<std::size_t>(profile);
+  if (index >= kLintProfiles.size()) check_failed("known lint profile", std::to_string(index), __FILE__);
   static const std::array<RuleSet, kLintProfiles.size()> rules = [] {
     std::array<RuleSet, kLintProfiles.size()> sets;
     for (std::size_t i = 0; i < kLintProfiles.size(); ++i)
@@ -188,7 +188,7 @@ const RuleSet& builtin_rules(LintProfile profile) {
         sets[i].add_from_json("rules/" + name, text, kLintProfiles[i]);
     return sets;
   }();
-  return rules[static_cast<std::size_t>(profile)];
+  return rules[index];
 }
 
 const std::string& builtin_rules_text() {
@@ -267,6 +267,7 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
           }
           try {
             rule.thresholds[name] = threshold.second.as<double>();
+            rule.configured = true;
           } catch (const YAML::Exception&) {
             throw InputError(file, name_pointer, "a threshold must be a number");
           }

@@ -4,6 +4,7 @@
 // ({thresholds, severity, enabled, source}, each optional) laid over its other fields; a rule set is
 // read for one profile. A user config file in the Khronos validator's YAML shape overrides it.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -16,7 +17,9 @@
 namespace gltf_pbr {
 
 inline constexpr LintProfile kDefaultLintProfile = LintProfile::Tolerant;
-// The profile's name in the rule data, the tool's --profile and reports ("tolerant", "strict").
+// Every profile, in the order of the enumeration (builtin_rules indexes its sets by the value).
+inline constexpr std::array<LintProfile, 2> kLintProfiles{LintProfile::Tolerant, LintProfile::Strict};
+// The profile's name in the rule data, the tool's --profile and messages ("tolerant", "strict").
 const char* rule_profile_name(LintProfile profile);
 
 struct Rule {
@@ -31,6 +34,7 @@ struct Rule {
   // The profile its values were read for; empty when they are the same in every profile. Messages
   // of profiled rules name it, so a reader knows which range judged.
   std::optional<LintProfile> profile;
+  bool configured = false;  // a user config changed its thresholds (messages say so)
 
   // The named threshold; a missing name is a defect of the shipped rules, so it is a CHECK.
   double threshold(const std::string& name) const;

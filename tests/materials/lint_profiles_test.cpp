@@ -94,7 +94,7 @@ TEST(LintProfiles, AReferenceTexturePassesTheDefaultAndStrictNamesItsWhite) {
 
 TEST(LintProfiles, MessagesNameTheProfileAndTheBoundThatJudged) {
   AssetBuilder builder;
-  builder.metal_rough(glm::vec4(0.008f, 0.008f, 0.008f, 1.0f), 0.0, 0.5);  // sRGB 23: dark, not black
+  builder.metal_rough(glm::vec4(0.008f, 0.008f, 0.008f, 1.0f), 0.0, 0.5);  // sRGB 22: dark, not black
   builder.metal_rough(glm::vec4(0.001f, 0.001f, 0.001f, 1.0f), 0.0, 0.5);  // sRGB 3: near black
   builder.metal_rough(glm::vec4(0.8f, 0.0f, 0.0f, 1.0f), 1.0, 0.5);        // red metal, mean F0 0.27
   const Report tolerant = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Tolerant));

@@ -396,6 +396,15 @@ TEST(MaterialPlausibility, UserConfigChangesSeveritiesThresholdsAndSilencesCodes
   EXPECT_TRUE(too_dark_at(defaults, 2));
   EXPECT_FALSE(too_dark_at(configured, 2));
   EXPECT_TRUE(too_dark_at(configured, 4));
+  // The message names the bound that judged and that it is the config's, not the profile's.
+  for (const Issue& issue : issues_with(configured, "PBR_METAL_F0_TOO_DARK"))
+    EXPECT_NE(issue.message.find("darker than 0.400 (linear, mean of RGB; the config-adjusted strict profile's floor)"),
+              std::string::npos)
+        << issue.message;
+  for (const Issue& issue : issues_with(defaults, "PBR_METAL_F0_TOO_DARK"))
+    EXPECT_NE(issue.message.find("darker than 0.450 (linear, mean of RGB; the strict profile's floor)"),
+              std::string::npos)
+        << issue.message;
 }
 
 }  // namespace

@@ -121,6 +121,7 @@ TEST(GlbContainer, AStreamThatEndsInsideAChunkLoadsNoResources) {
   const auto whole = issues_of(glb({{kJson, external}}));
   EXPECT_NE(std::find(whole.begin(), whole.end(), "IO_ERROR /buffers/0/uri"), whole.end());
   const auto cut = issues_of(glb({{kJson, external}}, 0, "glTF", std::string("\x10\0\0\0BIN\0\0\0", 10)));
+  ASSERT_FALSE(cut.empty());
   EXPECT_EQ(cut.back(), "GLB_UNEXPECTED_END_OF_CHUNK_DATA @" + std::to_string(glb({{kJson, external}}).size() + 10));
   EXPECT_EQ(std::find(cut.begin(), cut.end(), "IO_ERROR /buffers/0/uri"), cut.end());
 }

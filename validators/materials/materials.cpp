@@ -298,7 +298,8 @@ std::vector<std::string> threshold_arguments(int check, const Rule& rule) {
     default:
       break;
   }
-  if (rule.profile) arguments.emplace_back(rule_profile_name(*rule.profile));
+  if (rule.profile)
+    arguments.push_back(std::string(rule.configured ? "config-adjusted " : "") + rule_profile_name(*rule.profile));
   return arguments;
 }
 

@@ -331,10 +331,10 @@ class AccessorData {
         vertex_checks(a, first, count);
         break;
       case Usage::AnimationInput:
-        animation_input(a.data_uses.empty() ? std::vector<std::string>{use} : a.data_uses, first, carry);
+        animation_input(a.data_uses.empty() ? std::span(&use, 1) : std::span(a.data_uses), first, carry);
         break;
       case Usage::AnimationOutput:
-        quaternions(a, a.data_uses.empty() ? std::vector<std::string>{use} : a.data_uses, first, count);
+        quaternions(a, a.data_uses.empty() ? std::span(&use, 1) : std::span(a.data_uses), first, count);
         break;
       case Usage::InverseBindMatrices:
         inverse_bind_matrices(use, first, count);
@@ -579,7 +579,7 @@ class AccessorData {
     }
   }
 
-  void animation_input(const std::vector<std::string>& uses, std::size_t first, Carry& carry) {
+  void animation_input(std::span<const std::string> uses, std::size_t first, Carry& carry) {
     // Spec 3.11: times are non-negative and strictly increasing. A negative time is reported once
     // and not used as the predecessor of the next (the reference compares against the last valid
     // time, starting from 0).
@@ -599,7 +599,7 @@ class AccessorData {
     }
   }
 
-  void quaternions(const AccessorModel& a, const std::vector<std::string>& uses, std::size_t first, std::size_t count) {
+  void quaternions(const AccessorModel& a, std::span<const std::string> uses, std::size_t first, std::size_t count) {
     const bool cubic = a.interpolation == "CUBICSPLINE";
     for (std::size_t e = 0; e < count; ++e) {
       const std::uint64_t element = first + e;

@@ -43,11 +43,9 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
     header.error_code = "IMAGE_UNEXPECTED_EOS";
     return;
   }
-  if (big_endian32(&b[8]) != 13 || std::memcmp(&b[12], "IHDR", 4) != 0) {
-    header.error_code = "IMAGE_DATA_INVALID";
-    header.error_message = "Invalid PNG: the first chunk is not IHDR.";
-    return;
-  }
+  // Without IHDR first (PNG 11.2.2) nothing of the image can be known; the reference reports
+  // nothing for it either (checked against the npm validator): no size, no issue.
+  if (big_endian32(&b[8]) != 13 || std::memcmp(&b[12], "IHDR", 4) != 0) return;
   header.width = big_endian32(&b[16]);
   header.height = big_endian32(&b[20]);
   header.bits = b[24];
@@ -79,15 +77,22 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
       return;
     }
     if (end) return;
-    // Spec 3.8.2: PNG colour is sRGB; ICC profiles, non-sRGB chromaticities or gamma, non-square
-    // pixels and APNG animation are features a glTF renderer ignores.
+    // Spec 3.8.2: PNG colour is sRGB; an ICC profile, chromaticities other than sRGB's (PNG
+    // 11.3.3.1, the exact values PNG gives for sRGB), a gamma other than sRGB's 45455 or the
+    // neutral 100000, and non-square pixels are colour space information a glTF renderer
+    // ignores. What the reference counts, checked value by value against the npm validator:
+    // it does not count an APNG animation control chunk (acTL).
+    static constexpr std::uint32_t kSrgbChromaticities[8] = {31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000};
     const auto* type = &b[offset + 4];
     const auto* data = &b[offset + 8];
-    if (std::memcmp(type, "iCCP", 4) == 0 || std::memcmp(type, "acTL", 4) == 0) header.unsupported_features = true;
+    if (std::memcmp(type, "iCCP", 4) == 0) header.unsupported_features = true;
     if (std::memcmp(type, "pHYs", 4) == 0 && length >= 9 && big_endian32(data) != big_endian32(data + 4))
       header.unsupported_features = true;
-    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455)
+    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455 && big_endian32(data) != 100000)
       header.unsupported_features = true;
+    if (std::memcmp(type, "cHRM", 4) == 0 && length >= 32)
+      for (int k = 0; k < 8; ++k)
+        if (big_endian32(data + 4 * k) != kSrgbChromaticities[k]) header.unsupported_features = true;
     offset += 12 + length;
   }
 }

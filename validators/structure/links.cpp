@@ -186,7 +186,7 @@ class Linker {
       }
       if (AccessorModel* output = resolve(doc_.accessors, sampler.output, sp + "/output")) {
         // The sampler puts its output to use (an override is reported here, as the reference does);
-        // the data checks report at the first channel that reads it, which knows the path.
+        // the data checks report at every channel that reads it with the first one's path.
         use_accessor(*output, AccessorModel::Usage::AnimationOutput, sp + "/output");
         stride_forbidden(*output, sp + "/output", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
       }
