@@ -125,10 +125,12 @@ void apply_profile_entry(const nlohmann::json& entry, const std::string& file_na
 Rule rule_for_profile(const Rule& rule, const nlohmann::json& profiles, LintProfile profile,
                       const std::string& file_name, const std::string& pointer) {
   if (!profiles.is_object()) throw InputError(file_name, pointer, "expected an object of profile name to values");
-  for (const auto& [name, unused] : profiles.items())
+  for (const auto& item : profiles.items()) {
+    const std::string& name = item.key();  // a named variable: clang 14 cannot capture a structured binding
     if (std::ranges::none_of(kLintProfiles, [&](LintProfile each) { return name == rule_profile_name(each); }))
       throw InputError(file_name, pointer + "/" + escape_pointer_token(name),
                        "unknown lint profile '" + name + "' (expected tolerant or strict)");
+  }
   Rule chosen;
   for (const LintProfile each : kLintProfiles) {
     const char* name = rule_profile_name(each);
