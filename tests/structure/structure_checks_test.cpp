@@ -752,5 +752,19 @@ TEST(StructureChecks, ElementIssuesComeBeforeTheBoundsAndAreReportedAtEveryUse) 
   EXPECT_EQ(keys(shared), expected);
 }
 
+// A byteStride that is not a multiple of 4 is reported, and still the view's stride for what its
+// accessors need (checked against the npm validator: a MAT3 of bytes, 12 bytes a matrix with its
+// columns padded, does not fit a stride of 9).
+TEST(StructureChecks, AStrideThatIsNoMultipleOfFourIsStillTheViewsStride) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64,"uri":"data:application/octet-stream;base64,)"
+      R"(AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA=="}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":64,"byteStride":9}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5121,"count":2,"type":"MAT3"}]})");
+  EXPECT_EQ(keys(report), (std::vector<std::string>{"VALUE_MULTIPLE_OF /bufferViews/0/byteStride",
+                                                    "ACCESSOR_SMALL_BYTESTRIDE /accessors/0",
+                                                    "UNUSED_OBJECT /accessors/0"}));
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -579,10 +579,8 @@ class Walker {
                         {"buffer", "byteOffset", "byteLength", "byteStride", "target", "name", "extensions", "extras"});
     if (auto length = read_.integer(o, p, "byteLength", true, {1})) m.byte_length = *length;
     if (auto stride = read_.integer(o, p, "byteStride", false, {4, 252})) {
-      if (*stride % 4 != 0)
-        context_.issues.at("VALUE_MULTIPLE_OF", p + "/byteStride", {arg(*stride), arg(4)});
-      else
-        m.byte_stride = *stride;
+      if (*stride % 4 != 0) context_.issues.at("VALUE_MULTIPLE_OF", p + "/byteStride", {arg(*stride), arg(4)});
+      m.byte_stride = *stride;
       if (m.byte_length > 0 && *stride > m.byte_length)
         context_.issues.at("BUFFER_VIEW_TOO_BIG_BYTE_STRIDE", p + "/byteStride", {arg(*stride), arg(m.byte_length)});
     }
