@@ -592,49 +592,98 @@ TEST(StructureChecks, FallbackBuffersFollowTheExtensionsRules) {
 
 // --- KTX2 containers (KHR_texture_basisu; our codes: the reference stops at the signature) ---
 
-// A whole 8x8 UASTC KTX2 file (KTX 2.0 section 3): header, index, one level, a one-sample DFD.
+// A whole 8x8 UASTC KTX2 file (KTX 2.0 "File Structure"): header, index, level index, a DFD with
+// one sample per channel, optional key/value data, then the levels from the smallest to the largest.
 struct Ktx2Fields {
-  std::uint32_t vk_format = 0, width = 8, height = 8, depth = 0, layers = 0, faces = 1, levels = 1, scheme = 0;
-  std::uint32_t dfd_length = 44;
+  std::uint32_t vk_format = 0, width = 8, height = 8, depth = 0, layers = 0, faces = 1, levels = 4, scheme = 0;
+  std::int64_t dfd_length = -1;  // the index's dfdByteLength; -1: the DFD's own size
   std::uint8_t color_model = 166;  // KHR_DF_MODEL_UASTC
-  std::size_t cut = 0;             // bytes cut off the end
+  std::uint8_t primaries = 1, transfer = 2, flags = 0;  // BT709 and sRGB: colour data
+  std::vector<std::uint8_t> channels = {0};             // UASTC RGB
+  int block_size_delta = 0;                             // added to descriptorBlockSize
+  std::vector<std::pair<std::string, std::string>> key_values;  // keys get their NUL; values as given
+  std::vector<std::uint8_t> kvd_tail;                           // raw bytes after the entries
+  std::uint64_t level1_extra = 0;       // bytes added to level 1's payload
+  std::uint64_t uncompressed_extra = 0;  // added to level 0's uncompressedByteLength
+  std::size_t alignment = 16;            // of each level's offset
+  bool largest_first = false;            // store level 0 first
+  std::size_t cut = 0;                   // bytes cut off the end
 };
 
 std::vector<std::uint8_t> ktx2_file(const Ktx2Fields& f) {
   std::vector<std::uint8_t> b = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  auto put32 = [](std::vector<std::uint8_t>& to, std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) to[at + k] = static_cast<std::uint8_t>(v >> (8 * k));
+  };
   auto u32 = [&](std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) b.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+    b.resize(b.size() + 4);
+    put32(b, b.size() - 4, v);
   };
   auto u64 = [&](std::uint64_t v) {
     u32(static_cast<std::uint32_t>(v));
     u32(static_cast<std::uint32_t>(v >> 32));
   };
+  const std::uint32_t entries = std::min<std::uint32_t>(std::max<std::uint32_t>(f.levels, 1), 16);
   for (std::uint32_t v : {f.vk_format, 1u, f.width, f.height, f.depth, f.layers, f.faces, f.levels, f.scheme}) u32(v);
-  u32(104);           // dfdByteOffset: after the header (80) and one level entry (24)
-  u32(f.dfd_length);  // dfdByteLength
-  u32(0);             // kvdByteOffset
-  u32(0);             // kvdByteLength
-  u64(0);             // sgdByteOffset
-  u64(0);             // sgdByteLength
-  u64(148);           // level 0: byteOffset, after the DFD
-  u64(64);            // byteLength: four 16-byte UASTC blocks
-  u64(64);            // uncompressedByteLength
-  u32(44);            // dfdTotalSize
-  u32(0);             // vendorId 0 (Khronos), descriptorType 0 (basic)
-  u32(2 | (40u << 16));  // versionNumber 2, descriptorBlockSize 40
-  b.insert(b.end(), {f.color_model, 1, 2, 0});  // colorModel, primaries BT709, transfer sRGB, flags
-  b.resize(148, 0);                             // the rest of the block and its one sample
-  b.resize(148 + 64, 0x11);                     // the level's payload
+  // The DFD: its size, the basic block (24 bytes) and its samples.
+  std::vector<std::uint8_t> dfd(4 + 24 + 16 * f.channels.size(), 0);
+  put32(dfd, 0, static_cast<std::uint32_t>(dfd.size()));
+  put32(dfd, 8, 2u | (static_cast<std::uint32_t>(24 + 16 * f.channels.size() + f.block_size_delta) << 16));
+  dfd[12] = f.color_model, dfd[13] = f.primaries, dfd[14] = f.transfer, dfd[15] = f.flags;
+  for (std::size_t c = 0; c < f.channels.size(); ++c) dfd[4 + 24 + 16 * c + 3] = f.channels[c];
+  std::vector<std::uint8_t> kvd;
+  for (const auto& [key, value] : f.key_values) {
+    const std::uint32_t length = static_cast<std::uint32_t>(key.size() + 1 + value.size());
+    kvd.resize(kvd.size() + 4);
+    put32(kvd, kvd.size() - 4, length);
+    kvd.insert(kvd.end(), key.begin(), key.end());
+    kvd.push_back(0);
+    kvd.insert(kvd.end(), value.begin(), value.end());
+    kvd.resize((kvd.size() + 3) & ~std::size_t{3}, 0);
+  }
+  kvd.insert(kvd.end(), f.kvd_tail.begin(), f.kvd_tail.end());
+  const std::size_t dfd_offset = 80 + 24 * entries, kvd_offset = dfd_offset + dfd.size();
+  u32(static_cast<std::uint32_t>(dfd_offset));
+  u32(f.dfd_length < 0 ? static_cast<std::uint32_t>(dfd.size()) : static_cast<std::uint32_t>(f.dfd_length));
+  u32(kvd.empty() ? 0 : static_cast<std::uint32_t>(kvd_offset));
+  u32(static_cast<std::uint32_t>(kvd.size()));
+  u64(0);  // sgdByteOffset
+  u64(0);  // sgdByteLength
+  // Each level's UASTC blocks (16 bytes per 4x4 block), placed after the DFD and key/value data.
+  std::vector<std::uint64_t> lengths(entries), offsets(entries);
+  for (std::uint32_t level = 0; level < entries; ++level) {
+    const std::uint64_t w = std::max<std::uint64_t>(f.width >> level, 1), h = std::max<std::uint64_t>(f.height >> level, 1);
+    lengths[level] = ((w + 3) / 4) * ((h + 3) / 4) * 16 + (level == 1 ? f.level1_extra : 0);
+  }
+  std::size_t at = kvd_offset + kvd.size();
+  for (std::uint32_t k = 0; k < entries; ++k) {
+    const std::uint32_t level = f.largest_first ? k : entries - 1 - k;
+    at = (at + f.alignment - 1) / f.alignment * f.alignment;
+    offsets[level] = at;
+    at += lengths[level];
+  }
+  for (std::uint32_t level = 0; level < entries; ++level) {
+    u64(offsets[level]);
+    u64(lengths[level]);
+    u64(lengths[level] + (level == 0 ? f.uncompressed_extra : 0));
+  }
+  b.insert(b.end(), dfd.begin(), dfd.end());
+  b.insert(b.end(), kvd.begin(), kvd.end());
+  b.resize(at, 0x11);  // the levels' payloads
   b.resize(b.size() - f.cut);
   return b;
 }
 
-Report validate_ktx2(const Ktx2Fields& fields) {
+// The file as image 0 of a texture through KHR_texture_basisu, which `material` uses.
+Report validate_ktx2(const Ktx2Fields& fields,
+                     const std::string& material = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})",
+                     const std::string& texture = R"("extensions":{"KHR_texture_basisu":{"source":0}})",
+                     const std::string& samplers = "") {
   return validate_text(
       R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"],)"
-      R"("textures":[{"extensions":{"KHR_texture_basisu":{"source":0}}}],"images":[{"uri":")" +
-      data_uri(ktx2_file(fields)).replace(0, 37, "data:image/ktx2;base64,") +
-      R"("}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})");
+      R"("textures":[{)" + texture + R"(}],)" + samplers + R"("images":[{"uri":")" +
+      data_uri(ktx2_file(fields)).replace(0, 37, "data:image/ktx2;base64,") + R"("}],"materials":[)" + material +
+      "]}");
 }
 
 std::vector<std::string> ktx2_issues(const Report& report) {
@@ -644,8 +693,24 @@ std::vector<std::string> ktx2_issues(const Report& report) {
   return out;
 }
 
+Ktx2Fields ktx2_with(auto edit) {
+  Ktx2Fields f;
+  edit(f);
+  return f;
+}
+
 TEST(StructureChecks, AWholeUastcKtx2ImageHasNoContainerIssue) {
   EXPECT_EQ(ktx2_issues(validate_ktx2({})), std::vector<std::string>{});
+  // Near misses: Zstandard (2) suits UASTC as well as none (0); RGBA is UASTC's other channel; the
+  // default orientation and swizzle may be written; a writer's own keys are fine when sorted.
+  for (const Ktx2Fields& whole :
+       {ktx2_with([](Ktx2Fields& f) { f.scheme = 2; }), ktx2_with([](Ktx2Fields& f) { f.channels = {3}; }),
+        ktx2_with([](Ktx2Fields& f) {
+          f.key_values = {{"KTXorientation", std::string("rd\0", 3)},
+                          {"KTXswizzle", std::string("rgba\0", 5)},
+                          {"KTXwriter", std::string("gltf-pbr test\0", 14)}};
+        })})
+    EXPECT_EQ(ktx2_issues(validate_ktx2(whole)), std::vector<std::string>{});
 }
 
 TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
@@ -655,22 +720,36 @@ TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
     const char* says;
     std::size_t ktx2_issues;  // all KTX2_* issues the file gets
   };
-  auto with = [](auto edit) {
-    Ktx2Fields f;
-    edit(f);
-    return f;
-  };
+  const auto with = [](auto edit) { return ktx2_with(edit); };
   const Case cases[] = {
-      {with([](Ktx2Fields& f) { f.cut = 212 - 60; }), "KTX2_INVALID_CONTAINER", "inside the 80-byte header", 1},
-      {with([](Ktx2Fields& f) { f.cut = 10; }), "KTX2_INVALID_CONTAINER", "mip level 0 (bytes 148 + 64) runs past", 1},
+      {with([](Ktx2Fields& f) { f.cut = 336 - 60; }), "KTX2_INVALID_CONTAINER", "inside the 80-byte header", 1},
+      {with([](Ktx2Fields& f) { f.cut = 10; }), "KTX2_INVALID_CONTAINER", "mip level 0 (bytes 272 + 64) runs past", 1},
       {with([](Ktx2Fields& f) { f.dfd_length = 0; }), "KTX2_INVALID_CONTAINER", "no Data Format Descriptor", 1},
       {with([](Ktx2Fields& f) { f.dfd_length = 20; }), "KTX2_INVALID_CONTAINER", "shorter than the 44", 1},
       {with([](Ktx2Fields& f) { f.dfd_length = 48; }), "KTX2_INVALID_CONTAINER", "says it is 44 bytes, the index says 48", 1},
+      {with([](Ktx2Fields& f) { f.block_size_delta = 16; }), "KTX2_INVALID_CONTAINER", "block says it is 56 bytes", 1},
       {with([](Ktx2Fields& f) { f.scheme = 7; }), "KTX2_INVALID_CONTAINER", "supercompressionScheme 7 is reserved", 2},
       {with([](Ktx2Fields& f) { f.levels = 5; }), "KTX2_INVALID_CONTAINER", "levelCount 5 is more than the 4 levels", 1},
       {with([](Ktx2Fields& f) { f.levels = 0xFFFFFFFF; }), "KTX2_INVALID_CONTAINER", "levelCount 4294967295", 1},
       {with([](Ktx2Fields& f) { f.width = 0; }), "KTX2_INVALID_CONTAINER", "pixelWidth is 0", 1},
-      {with([](Ktx2Fields& f) { f.scheme = 1; }), "KTX2_INVALID_CONTAINER", "BasisLZ (supercompressionScheme 1) without", 2},
+      // BasisLZ: no global data, a level with an uncompressed size, and not UASTC's scheme.
+      {with([](Ktx2Fields& f) { f.scheme = 1; }), "KTX2_INVALID_CONTAINER", "BasisLZ (supercompressionScheme 1) without", 3},
+      {with([](Ktx2Fields& f) { f.scheme = 1; }), "KTX2_INVALID_CONTAINER", "uncompressedByteLength is 64, not 0", 3},
+      {with([](Ktx2Fields& f) { f.uncompressed_extra = 1; }), "KTX2_INVALID_CONTAINER",
+       "mip level 0's uncompressedByteLength 65 is not its byteLength 64", 1},
+      {with([](Ktx2Fields& f) { f.largest_first = true; }), "KTX2_INVALID_CONTAINER",
+       "mip level 1 (bytes 288 + 16) is not stored before mip level 0 (byte 224)", 1},
+      {with([](Ktx2Fields& f) { f.level1_extra = 16; }), "KTX2_INVALID_CONTAINER",
+       "mip level 1 holds 32 bytes of UASTC blocks; a 4x4 level has 1 blocks", 1},
+      {with([](Ktx2Fields& f) { f.alignment = 4; }), "KTX2_INVALID_CONTAINER", "starts at byte 268, not a multiple of 16", 1},
+      {with([](Ktx2Fields& f) {
+         f.key_values = {{"KTXwriter", std::string("x\0", 2)}, {"KTXorientation", std::string("rd\0", 3)}};
+       }),
+       "KTX2_INVALID_CONTAINER", "not sorted by key without repeats: 'KTXorientation' follows 'KTXwriter'", 1},
+      {with([](Ktx2Fields& f) { f.kvd_tail = {5, 0, 0, 0, 'a', 0, 0, 0}; }), "KTX2_INVALID_CONTAINER",
+       "entry 0 bytes in (5 bytes) runs past the end of the key/value data (8 bytes)", 1},
+      {with([](Ktx2Fields& f) { f.kvd_tail = {4, 0, 0, 0, 'a', 'b', 'c', 'd'}; }), "KTX2_INVALID_CONTAINER",
+       "has no NUL to end its key", 1},
       {with([](Ktx2Fields& f) { f.vk_format = 37; }), "KTX2_BASISU_MISMATCH", "vkFormat is 37", 1},
       {with([](Ktx2Fields& f) { f.width = 10; }), "KTX2_BASISU_MISMATCH", "not multiples of 4", 1},
       {with([](Ktx2Fields& f) { f.faces = 6; }), "KTX2_BASISU_MISMATCH", "not 2D", 1},
@@ -678,6 +757,23 @@ TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
       {with([](Ktx2Fields& f) { f.color_model = 1; }), "KTX2_BASISU_MISMATCH", "colorModel 1", 1},
       // A vendor's scheme is a valid container, but not one KHR_texture_basisu allows.
       {with([](Ktx2Fields& f) { f.scheme = 0x10001; }), "KTX2_BASISU_MISMATCH", "not 65537", 1},
+      {with([](Ktx2Fields& f) { f.channels = {5}; }), "KTX2_BASISU_MISMATCH", "UASTC data has the channels [5]", 1},
+      {with([](Ktx2Fields& f) {
+         f.color_model = 163;
+         f.channels = {0, 3};
+       }),
+       "KTX2_BASISU_MISMATCH", "ETC1S data has the channels [0, 3]", 2},
+      {with([](Ktx2Fields& f) { f.flags = 1; }), "KTX2_BASISU_MISMATCH", "KHR_DF_FLAG_ALPHA_PREMULTIPLIED", 1},
+      {with([](Ktx2Fields& f) { f.key_values = {{"KTXorientation", std::string("ru\0", 3)}}; }),
+       "KTX2_BASISU_MISMATCH", "KTXorientation is 'ru'", 1},
+      {with([](Ktx2Fields& f) { f.key_values = {{"KTXswizzle", std::string("rgb1\0", 5)}}; }), "KTX2_BASISU_MISMATCH",
+       "KTXswizzle is 'rgb1'", 1},
+      // The base colour is colour data: BT709 primaries and the sRGB transfer.
+      {with([](Ktx2Fields& f) { f.transfer = 1; }), "KTX2_BASISU_MISMATCH",
+       "/materials/0/pbrMetallicRoughness/baseColorTexture reads it as colour data", 1},
+      {with([](Ktx2Fields& f) { f.levels = 1; }), "KTX2_MIPMAPS_INCOMPLETE",
+       "it has 1 of the 4 mip levels of a 8x8 image (levelCount 1), and /textures/0 minifies it with mipmaps", 1},
+      {with([](Ktx2Fields& f) { f.levels = 0; }), "KTX2_MIPMAPS_INCOMPLETE", "it has 1 of the 4 mip levels", 1},
   };
   for (const Case& c : cases) {
     const Report report = validate_ktx2(c.fields);
@@ -691,8 +787,51 @@ TEST(StructureChecks, Ktx2ContainerDefectsAreReportedAtTheImage) {
     EXPECT_TRUE(found) << c.code << " saying '" << c.says << "'; got: " << testing::PrintToString(all);
     EXPECT_EQ(all.size(), c.ktx2_issues) << c.says << ": " << testing::PrintToString(all);
   }
-  // Near miss: Zstandard (2) suits UASTC as well as none (0).
-  EXPECT_EQ(ktx2_issues(validate_ktx2(with([](Ktx2Fields& f) { f.scheme = 2; }))), std::vector<std::string>{});
+}
+
+// KHR_texture_basisu: non-colour data (here a normal map) needs unspecified primaries and the linear
+// transfer; an image used both ways cannot satisfy both uses.
+TEST(StructureChecks, AKtx2ImagesColourSpaceMustMatchItsUse) {
+  const Ktx2Fields linear = ktx2_with([](Ktx2Fields& f) {
+    f.primaries = 0;
+    f.transfer = 1;
+  });
+  const std::string normal = R"({"normalTexture":{"index":0}})";
+  EXPECT_EQ(ktx2_issues(validate_ktx2(linear, normal)), std::vector<std::string>{});
+  const std::vector<std::string> srgb_normal = ktx2_issues(validate_ktx2({}, normal));
+  ASSERT_EQ(srgb_normal.size(), 1u) << testing::PrintToString(srgb_normal);
+  EXPECT_NE(srgb_normal[0].find("KTX2_BASISU_MISMATCH /images/0"), std::string::npos);
+  EXPECT_NE(srgb_normal[0].find("/materials/0/normalTexture reads it as non-colour data"), std::string::npos);
+  const std::vector<std::string> both = ktx2_issues(
+      validate_ktx2(linear, R"({"normalTexture":{"index":0},"emissiveTexture":{"index":0}})"));
+  ASSERT_EQ(both.size(), 1u) << testing::PrintToString(both);
+  EXPECT_NE(both[0].find("/materials/0/emissiveTexture reads it as colour data"), std::string::npos);
+  // An image no material uses has no colour space to match.
+  EXPECT_EQ(ktx2_issues(validate_ktx2(linear, "{}")), std::vector<std::string>{});
+}
+
+// KHR_texture_basisu asks for a full mip pyramid only where the texture is minified through mipmaps:
+// a sampler with a mipmap minFilter, no sampler, or a sampler that leaves the filter to the client.
+TEST(StructureChecks, AKtx2ImageWithoutMipmapsIsFineWhereNoMipmapIsSampled) {
+  const Ktx2Fields one_level = ktx2_with([](Ktx2Fields& f) { f.levels = 1; });
+  const std::string material = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
+  const std::string texture = R"("sampler":0,"extensions":{"KHR_texture_basisu":{"source":0}})";
+  auto incomplete = [&](const std::string& sampler) {
+    const Report report = validate_ktx2(one_level, material, texture, R"("samplers":[)" + sampler + "],");
+    return find(report, "KTX2_MIPMAPS_INCOMPLETE") != nullptr;
+  };
+  EXPECT_FALSE(incomplete(R"({"minFilter":9729})"));  // LINEAR
+  EXPECT_FALSE(incomplete(R"({"minFilter":9728})"));  // NEAREST
+  EXPECT_TRUE(incomplete(R"({"minFilter":9987})"));   // LINEAR_MIPMAP_LINEAR
+  EXPECT_TRUE(incomplete(R"({"minFilter":9984})"));   // NEAREST_MIPMAP_NEAREST
+  EXPECT_TRUE(incomplete(R"({"magFilter":9729})"));   // no minFilter: the client's choice
+  const Issue* warning = find(validate_ktx2(one_level), "KTX2_MIPMAPS_INCOMPLETE");
+  ASSERT_NE(warning, nullptr);
+  EXPECT_EQ(warning->severity, Severity::Warning);
+  // A full pyramid satisfies every sampler.
+  EXPECT_EQ(find(validate_ktx2({}, material, texture, R"("samplers":[{"minFilter":9987}],)"),
+                 "KTX2_MIPMAPS_INCOMPLETE"),
+            nullptr);
 }
 
 // Tangents serve every texture defined in tangent space, not only normal maps.

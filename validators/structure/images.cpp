@@ -182,11 +182,53 @@ ImageHeader read_header(std::span<const std::uint8_t> b) {
 
 bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)) == 0; }
 
+// The textureInfo keys whose texture holds colour (sRGB) data: glTF 2.0 section 3.9.2 (base colour,
+// emissive), KHR_materials_sheen (sheenColorTexture), KHR_materials_specular (specularColorTexture),
+// the archived KHR_materials_pbrSpecularGlossiness (diffuse, specular-glossiness RGB). Every other
+// material texture is non-colour data (normals, occlusion, roughness, factors).
+bool colour_texture(std::string_view texture_info_pointer) {
+  const std::string_view key = texture_info_pointer.substr(texture_info_pointer.rfind('/') + 1);
+  for (std::string_view colour : {"baseColorTexture", "emissiveTexture", "sheenColorTexture", "specularColorTexture",
+                                  "diffuseTexture", "specularGlossinessTexture"})
+    if (key == colour) return true;
+  return false;
+}
+
+// Spec 5.26 sampler.minFilter: 9984-9987 minify through mipmaps. A texture with no sampler, or a
+// sampler with no minFilter, leaves filtering to the client ("auto filtering"), which may mipmap.
+bool minifies_with_mipmaps(const Document& doc, const TextureModel& texture) {
+  if (texture.sampler < 0 || static_cast<std::size_t>(texture.sampler) >= doc.samplers.size()) return true;
+  const std::int64_t filter = doc.samplers[static_cast<std::size_t>(texture.sampler)].min_filter;
+  return filter < 0 || (filter >= 9984 && filter <= 9987);
+}
+
+// Each image's uses by materials, through a texture's source or an extension's (KHR_texture_basisu).
+std::vector<ImageUse> image_uses(const Document& doc) {
+  std::vector<ImageUse> uses(doc.images.size());
+  for (const MaterialModel& material : doc.materials)
+    for (const TextureRef& ref : material.textures) {
+      if (ref.index < 0 || static_cast<std::size_t>(ref.index) >= doc.textures.size()) continue;
+      const TextureModel& texture = doc.textures[static_cast<std::size_t>(ref.index)];
+      auto note = [&](std::int64_t image) {
+        if (image < 0 || static_cast<std::size_t>(image) >= uses.size()) return;
+        ImageUse& use = uses[static_cast<std::size_t>(image)];
+        std::string& by = colour_texture(ref.pointer) ? use.colour : use.non_colour;
+        if (by.empty()) by = ref.pointer;
+        if (use.mipmapped.empty() && minifies_with_mipmaps(doc, texture))
+          use.mipmapped = "/textures/" + std::to_string(ref.index);
+      };
+      note(texture.source);
+      for (const auto& [pointer, image] : texture.extension_sources) note(image);
+    }
+  return uses;
+}
+
 }  // namespace
 
 void check_images(Context& context) {
   Document& doc = context.doc;
   IssueSink& issues = context.issues;
+  const std::vector<ImageUse> uses = image_uses(doc);
   for (std::size_t i = 0; i < doc.images.size(); ++i) {
     ImageModel& image = doc.images[i];
     if (!image.object) continue;
@@ -253,7 +295,8 @@ void check_images(Context& context) {
           issues.at(header.error_code, p);
         if (header.error_code.empty() && header.unsupported_features) issues.at("IMAGE_FEATURES_UNSUPPORTED", p);
         if (header.mime == "image/ktx2")  // ours: the reference stops at the signature
-          for (const Ktx2Finding& finding : check_ktx2(bytes)) issues.at(finding.code, p, {arg_raw(finding.reason)});
+          for (const Ktx2Finding& finding : check_ktx2(bytes, uses[i]))
+            issues.at(finding.code, p, {arg_raw(finding.reason)});
         if (header.error_code.empty() && header.width >= 0) {
           resource["image"] = {{"width", header.width}, {"height", header.height}, {"format", header.format},
                                {"primaries", "srgb"},   {"transfer", "srgb"},      {"bits", header.bits}};

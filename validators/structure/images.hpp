@@ -10,13 +10,20 @@ void check_images(Context& context);  // images.cpp
 void check_texture_sources(Context& context);
 // The media type the bytes' signature names (image/png, image/jpeg, image/webp, image/ktx2), or "".
 std::string image_mime_of(std::span<const std::uint8_t> bytes);
-// What a KTX2 file's container (KTX2_INVALID_CONTAINER) or KHR_texture_basisu's rules for it
-// (KTX2_BASISU_MISMATCH) find wrong, each with its reason; ktx2.cpp.
+// How materials use an image: the pointer of the first textureInfo that reads it as colour data,
+// the first that reads it as non-colour data, and the first texture that minifies it with mipmaps;
+// "" where none does.
+struct ImageUse {
+  std::string colour, non_colour, mipmapped;
+};
+// What a KTX2 file's container (KTX2_INVALID_CONTAINER), KHR_texture_basisu's rules for it and its
+// use (KTX2_BASISU_MISMATCH) or the extension's advice on mipmaps (KTX2_MIPMAPS_INCOMPLETE) find
+// wrong, each with its reason; ktx2.cpp.
 struct Ktx2Finding {
   const char* code;
   std::string reason;
 };
-std::vector<Ktx2Finding> check_ktx2(std::span<const std::uint8_t> bytes);
+std::vector<Ktx2Finding> check_ktx2(std::span<const std::uint8_t> bytes, const ImageUse& use);
 void check_draco(Context& context);  // draco.cpp: KHR_draco_mesh_compression data
 void decode_meshopt_views(Context& context);  // meshopt.cpp: EXT_meshopt_compression data
 

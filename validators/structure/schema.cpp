@@ -81,7 +81,8 @@ class Walker {
          [&](const Json& o, const std::string& p, MaterialModel& m) { material(o, p, m); });
     each(root, "meshes", doc_.meshes, [&](const Json& o, const std::string& p, MeshModel& m) { mesh(o, p, m); });
     each(root, "nodes", doc_.nodes, [&](const Json& o, const std::string& p, NodeModel& m) { node(o, p, m); });
-    each(root, "samplers", doc_.samplers, [&](const Json& o, const std::string& p, SimpleModel&) { sampler(o, p); });
+    each(root, "samplers", doc_.samplers,
+         [&](const Json& o, const std::string& p, SamplerModel& m) { sampler(o, p, m); });
     std::vector<SimpleModel> scene_objects;
     each(root, "scenes", scene_objects, [&](const Json& o, const std::string& p, SimpleModel&) { scene(o, p); });
     // The default scene resolves as soon as the scenes are read (the reference reports it here).
@@ -974,10 +975,11 @@ class Walker {
     m.empty = m.children.empty() && !present(o, "extensions") && !present(o, "extras");
   }
 
-  void sampler(const Json& o, const std::string& p) {
+  void sampler(const Json& o, const std::string& p, SamplerModel& m) {
     read_.check_members(o, p, {"magFilter", "minFilter", "wrapS", "wrapT", "name", "extensions", "extras"});
     read_.integer(o, p, "magFilter", false, {}, {9728, 9729});
-    read_.integer(o, p, "minFilter", false, {}, {9728, 9729, 9984, 9985, 9986, 9987});
+    if (auto filter = read_.integer(o, p, "minFilter", false, {}, {9728, 9729, 9984, 9985, 9986, 9987}))
+      m.min_filter = *filter;
     read_.integer(o, p, "wrapS", false, {}, {33071, 33648, 10497});
     read_.integer(o, p, "wrapT", false, {}, {33071, 33648, 10497});
     read_.string(o, p, "name");

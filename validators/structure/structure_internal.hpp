@@ -248,6 +248,10 @@ struct TextureModel : EntityModel {
 
 struct SimpleModel : EntityModel {};
 
+struct SamplerModel : EntityModel {
+  std::int64_t min_filter = -1;  // -1: undefined (the client chooses)
+};
+
 struct Document {
   std::vector<AccessorModel> accessors;
   std::vector<AnimationModel> animations;
@@ -258,7 +262,7 @@ struct Document {
   std::vector<MaterialModel> materials;
   std::vector<MeshModel> meshes;
   std::vector<NodeModel> nodes;
-  std::vector<SimpleModel> samplers;
+  std::vector<SamplerModel> samplers;
   std::vector<std::vector<std::int64_t>> scenes;
   std::int64_t scene = -1;
   std::vector<SkinModel> skins;
