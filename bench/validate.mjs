@@ -71,3 +71,41 @@ for (const [name, file] of [
   const b = { seconds: median(peerRuns.map((s) => s.seconds)), mb: median(peerRuns.map((s) => s.mb)) };
   console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f2(a.seconds / b.seconds)} | ${f1(a.mb)} | ${f1(b.mb)} |`);
 }
+
+// A million issues in one file: ours lists the first 1,000 distinct messages of each code and counts
+// the rest (the default), or lists every one (config max-issues-per-code: 0), as the peer does.
+console.log(`\n### One file with a million issues (ACCESSOR_VECTOR3_NON_UNIT per vertex), median of ${runs} runs\n`);
+console.log('Reports written as JSON; runs alternate between the three.\n');
+console.log('| run | s | MB | messages listed | issues counted |');
+console.log('|---|---|---|---|---|');
+{
+  const million = path.join(large, 'million-issues.gltf'), all = path.join(work, 'all.yaml');
+  fs.writeFileSync(all, 'max-issues-per-code: 0\n');
+  const variants = [
+    ['ours (default)', (out) => [ours, 'validate', '--only', 'structure', '-f', 'json', '-o', out, million]],
+    ['ours, max-issues-per-code: 0', (out) => [ours, 'validate', '--only', 'structure', '-f', 'json', '-o', out, '--config', all, million]],
+    ['peer (maxIssues 0)', null],
+  ];
+  const samples = variants.map(() => []);
+  const listed = variants.map(() => '');
+  for (let i = 0; i < runs; i++)
+    variants.forEach(([, argv], v) => {
+      if (argv) {
+        const out = path.join(work, `million-${v}`);
+        samples[v].push(timed(argv(out)));
+        const report = JSON.parse(fs.readFileSync(path.join(out, 'million-issues.gltf.report.json')));
+        listed[v] = `${report.issues.messages.length} | ${report.issues.numErrors}`;
+      } else {
+        samples[v].push(timed(['node', '--max-old-space-size=16384', peerScript, million]));
+        if (i === 0) {  // its counts (it lists every issue it counts), read once
+          const counts = JSON.parse(spawnSync('node', [peerScript, million], { encoding: 'utf8', maxBuffer: 1 << 28 }).stdout);
+          const c = Object.values(counts)[0];
+          listed[v] = `${c.numErrors} | ${c.numErrors}`;
+        }
+      }
+    });
+  variants.forEach(([name], v) => {
+    const m = { seconds: median(samples[v].map((s) => s.seconds)), mb: median(samples[v].map((s) => s.mb)) };
+    console.log(`| ${name} | ${f3(m.seconds)} | ${f1(m.mb)} | ${listed[v]} |`);
+  });
+}

@@ -66,13 +66,13 @@ std::string report_text(const Report& report, bool colour) {
       << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
       << report.count(Severity::Hint) << " hints" << (report.truncated ? " (truncated)" : "") << "\n";
   // Per-code totals first: on a file with thousands of issues they are the summary people read.
-  // Most severe first, then most frequent. They count messages as the line above does; a folded
-  // message's repeats are in its own line's "(N times)".
+  // Most severe first, then most frequent. They count issues as the line above does: a folded
+  // message counts every issue it stands for, as its own line's "(N times)" says.
   std::map<std::string, std::pair<Severity, std::uint64_t>> totals;
   for (const Issue& issue : report.messages) {
     auto& [severity, count] = totals.try_emplace(issue.code, issue.severity, 0).first->second;
     severity = std::min(severity, issue.severity);
-    ++count;
+    count += issue.count;
   }
   if (totals.size() > 1) {
     std::vector<std::pair<std::string, std::pair<Severity, std::uint64_t>>> ordered(totals.begin(), totals.end());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string_view>
 #include <tuple>
 #include <unordered_map>
 
@@ -24,39 +25,57 @@ const char* severity_name(Severity severity) {
   return "error";
 }
 
-std::size_t Report::count(Severity severity) const {
-  return static_cast<std::size_t>(
-      std::count_if(messages.begin(), messages.end(), [&](const Issue& issue) { return issue.severity == severity; }));
+std::uint64_t Report::count(Severity severity) const {
+  std::uint64_t found = 0;
+  for (const Issue& issue : messages)
+    if (issue.severity == severity) found += issue.count;
+  return found;
 }
 
 namespace {
-std::string fold_key(const Issue& issue) {
-  std::string key = issue.code;
-  key += '\x1f';
-  key += std::to_string(static_cast<int>(issue.severity));
-  key += '\x1f';
-  key += issue.pointer;
-  key += '\x1f';
-  key += issue.offset ? std::to_string(*issue.offset) : "-";
-  key += '\x1f';
-  key += issue.message;
-  return key;
+// Identical issues (same code, severity, location and message) fold into one message. A hash of
+// those fields indexes the messages, and a hash match is confirmed field by field: the index holds
+// 16 bytes a message, not a copy of its text.
+using FoldIndex = std::unordered_multimap<std::uint64_t, std::size_t>;
+
+std::uint64_t fold_hash(const Issue& issue) {
+  const std::hash<std::string_view> hash;
+  std::uint64_t h = hash(issue.code);
+  auto mix = [&h](std::uint64_t value) { h ^= value + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
+  mix(static_cast<std::uint64_t>(issue.severity));
+  mix(hash(issue.pointer));
+  mix(issue.offset ? *issue.offset + 1 : 0);
+  mix(hash(issue.message));
+  return h;
+}
+
+// The message of `messages` that `index` holds under `hash` and that is identical to `issue`.
+Issue* identical_in(const FoldIndex& index, std::uint64_t hash, std::vector<Issue>& messages, const Issue& issue) {
+  const auto [begin, end] = index.equal_range(hash);
+  for (auto it = begin; it != end; ++it) {
+    Issue& listed = messages[it->second];
+    if (listed.code == issue.code && listed.severity == issue.severity && listed.pointer == issue.pointer &&
+        listed.offset == issue.offset && listed.message == issue.message)
+      return &listed;
+  }
+  return nullptr;
 }
 }  // namespace
 
 void apply_policy(const IssuePolicy& policy, Report& report) {
   std::vector<Issue> kept;
   kept.reserve(report.messages.size());
-  std::unordered_map<std::string, std::size_t> first_of;
+  FoldIndex first_of;  // severity overrides can make issues identical that were not
   for (Issue& issue : report.messages) {
     if (!policy.only.empty() ? !policy.only.contains(issue.code) : policy.ignore.contains(issue.code)) continue;
     if (auto found = policy.severity_override.find(issue.code); found != policy.severity_override.end())
       issue.severity = found->second;
-    auto [slot, inserted] = first_of.try_emplace(fold_key(issue), kept.size());
-    if (!inserted) {
-      kept[slot->second].count += issue.count;
+    const std::uint64_t hash = fold_hash(issue);
+    if (Issue* same = identical_in(first_of, hash, kept, issue)) {
+      same->count += issue.count;
       continue;
     }
+    first_of.emplace(hash, kept.size());
     kept.push_back(std::move(issue));
   }
   if (policy.max_issues != 0 && kept.size() > policy.max_issues) {
@@ -64,11 +83,35 @@ void apply_policy(const IssuePolicy& policy, Report& report) {
     report.truncated = true;
   }
   report.messages = std::move(kept);
+  // The indices into the old list are gone: issues added from here on fold among themselves.
+  report.listed_.clear();
+  report.per_code_.clear();
 }
 
 void Report::add(Issue issue) {
   issue.message = valid_utf8(std::move(issue.message));
   issue.pointer = valid_utf8(std::move(issue.pointer));
+  const std::uint64_t hash = fold_hash(issue);
+  if (Issue* same = identical_in(listed_, hash, messages, issue)) {
+    same->count += issue.count;
+    return;
+  }
+  CodeListing& code = per_code_[issue.code];
+  if (max_listed_per_code != 0 && code.listed >= max_listed_per_code) {
+    if (code.unlisted != SIZE_MAX) {
+      messages[code.unlisted].count += issue.count;
+      return;
+    }
+    // The first issue past the limit keeps its place and severity, and names the rest.
+    issue.message = "More issues of this code were found than a report lists (the first " +
+                    std::to_string(max_listed_per_code) +
+                    " distinct ones of each code); this message counts the rest, from here on "
+                    "(config max-issues-per-code: 0 lists them all).";
+    code.unlisted = messages.size();
+  } else {
+    ++code.listed;
+    listed_.emplace(hash, messages.size());
+  }
   messages.push_back(std::move(issue));
 }
 

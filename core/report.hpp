@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace gltf_pbr {
@@ -26,6 +27,9 @@ struct Issue {
   std::uint64_t count = 1;              // identical repeats folded into this one (our addition)
 };
 
+// How many distinct messages of one code a report lists by default; the rest are counted.
+constexpr std::uint64_t kDefaultMaxListedPerCode = 1000;
+
 struct Report {
   std::string uri;        // as given on the command line, relative paths kept relative
   std::string mime_type;  // "model/gltf+json" or "model/gltf-binary"
@@ -35,12 +39,28 @@ struct Report {
   // be read far enough to fill it, as the reference does.
   nlohmann::ordered_json info;
   std::vector<std::string> material_names;  // for people: the name of /materials/N, when read
+  // Distinct messages listed per code (0: all). Past it, one more message per code stands for the
+  // rest with their count, so a file with a million issues keeps a small report and flat memory.
+  std::uint64_t max_listed_per_code = kDefaultMaxListedPerCode;
 
-
-  // Keeps the message and pointer valid UTF-8 (invalid bytes become U+FFFD): a library's error text
-  // can quote a file's raw bytes, and every report format is UTF-8 text.
+  // Folds an issue identical to one already listed (same code, severity, location and message)
+  // into it, and one past max_listed_per_code into its code's unlisted message. Keeps the message
+  // and pointer valid UTF-8 (invalid bytes become U+FFFD): a library's error text can quote a
+  // file's raw bytes, and every report format is UTF-8 text.
   void add(Issue issue);
-  std::size_t count(Severity severity) const;
+  // Issues found of this severity: a folded message counts every issue it stands for.
+  std::uint64_t count(Severity severity) const;
+
+ private:
+  // apply_policy rewrites the messages, and with them these indices.
+  friend void apply_policy(const struct IssuePolicy& policy, Report& report);
+  // Each listed message's index, under the hash of what makes issues identical (report.cpp).
+  std::unordered_multimap<std::uint64_t, std::size_t> listed_;
+  struct CodeListing {
+    std::uint64_t listed = 0;
+    std::size_t unlisted = SIZE_MAX;  // index of the message that counts the rest
+  };
+  std::unordered_map<std::string, CodeListing> per_code_;
 };
 
 // What the user config (Khronos YAML config shape: max-issues, ignore, only, override) does to a
@@ -50,6 +70,7 @@ struct IssuePolicy {
   std::set<std::string> ignore;
   std::set<std::string> only;  // when non-empty, every other code is dropped
   std::map<std::string, Severity> severity_override;
+  std::uint64_t max_listed_per_code = kDefaultMaxListedPerCode;  // ours: max-issues-per-code, 0: all
 };
 
 // Drops ignored codes (or all but `only`), applies severity overrides, folds identical repeats

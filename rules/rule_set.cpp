@@ -232,14 +232,19 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
     const std::string key = entry.first.as<std::string>();
     const std::string pointer = pointer_to(key);
     const YAML::Node& value = entry.second;
-    if (key == "max-issues") {
+    const auto whole_number = [&] {
       long long count = -1;
       try {
         count = value.as<long long>();
       } catch (const YAML::Exception&) {
       }
-      if (count < 0) throw InputError(file, pointer, "max-issues must be a whole number, 0 for unlimited");
-      policy.max_issues = static_cast<std::uint64_t>(count);
+      if (count < 0) throw InputError(file, pointer, key + " must be a whole number, 0 for no limit");
+      return static_cast<std::uint64_t>(count);
+    };
+    if (key == "max-issues") {
+      policy.max_issues = whole_number();
+    } else if (key == "max-issues-per-code") {  // ours
+      policy.max_listed_per_code = whole_number();
     } else if (key == "ignore") {
       policy.ignore = codes("ignore");
     } else if (key == "only") {
@@ -276,7 +281,8 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
         }
       }
     } else {
-      throw InputError(file, pointer, "unknown key (expected max-issues, ignore, only, override or thresholds)");
+      throw InputError(file, pointer,
+                       "unknown key (expected max-issues, max-issues-per-code, ignore, only, override or thresholds)");
     }
   }
   if (!policy.ignore.empty() && !policy.only.empty())

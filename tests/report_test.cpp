@@ -47,6 +47,34 @@ TEST(IssuePolicy, IdenticalRepeatsFoldIntoOneMessageWithACountWhereTheyFirstOccu
   EXPECT_EQ(report.messages[2].count, 1u);
 }
 
+TEST(IssuePolicy, AReportListsAFixedNumberOfMessagesPerCodeAndCountsTheRest) {
+  Report report;
+  report.max_listed_per_code = 3;
+  for (int i = 0; i < 100000; ++i) report.add(issue("A", "/a/" + std::to_string(i)));
+  report.add(issue("B", "/b", Severity::Warning));
+  report.add(issue("A", "/a/1"));  // identical to a listed one: folds into it, not into the rest
+  ASSERT_EQ(report.messages.size(), 5u);  // three A, the one that counts the rest of A, B
+  EXPECT_EQ(report.messages[1].count, 2u);
+  const Issue& rest = report.messages[3];
+  EXPECT_EQ(rest.code, "A");
+  EXPECT_EQ(rest.pointer, "/a/3");  // where the unlisted ones start
+  EXPECT_EQ(rest.count, 100000u - 3u);
+  EXPECT_NE(rest.message.find("the first 3 distinct ones of each code"), std::string::npos) << rest.message;
+  EXPECT_EQ(report.count(Severity::Error), 100001u);  // every issue found is counted
+  EXPECT_EQ(report.count(Severity::Warning), 1u);
+  // After the policy the list is final; issues added later fold among themselves.
+  apply_policy({}, report);
+  EXPECT_EQ(report.messages.size(), 5u);
+  report.add(issue("C", "/c"));
+  report.add(issue("C", "/c"));
+  EXPECT_EQ(report.messages.back().count, 2u);
+
+  Report all;
+  all.max_listed_per_code = 0;  // max-issues-per-code: 0 lists them all
+  for (int i = 0; i < 2000; ++i) all.add(issue("A", "/a/" + std::to_string(i)));
+  EXPECT_EQ(all.messages.size(), 2000u);
+}
+
 TEST(IssuePolicy, IgnoreOnlyOverrideAndMaxIssuesActAsTheKhronosConfigDoes) {
   Report report;
   for (int i = 0; i < 4; ++i) report.add(issue("A", "/a/" + std::to_string(i)));
@@ -81,7 +109,7 @@ TEST(ReportJson, FollowsTheKhronosSchemaWithPointerOrOffsetAndCountOnlyWhenFolde
   EXPECT_EQ(json["uri"], "a.glb");
   EXPECT_EQ(json["mimeType"], "model/gltf-binary");
   EXPECT_EQ(json["issues"]["numErrors"], 1);
-  EXPECT_EQ(json["issues"]["numWarnings"], 1);
+  EXPECT_EQ(json["issues"]["numWarnings"], 4);  // issues found, as the reference counts them: folding hides none
   EXPECT_EQ(json["issues"]["numInfos"], 0);
   EXPECT_EQ(json["issues"]["numHints"], 1);
   EXPECT_EQ(json["issues"]["truncated"], false);
@@ -163,11 +191,13 @@ TEST(UserConfig, KhronosShapeSetsThePolicyAndThresholdsChangeTheRules) {
   RuleSet rules = two_rules();
   IssuePolicy policy;
   apply_user_config(write_config(dir, "max-issues: 10\n"
+                                      "max-issues-per-code: 50\n"
                                       "ignore:\n  - PBR_B\n"
                                       "override:\n  PBR_A: 0\n  OTHER: hint\n"
                                       "thresholds:\n  PBR_A: {min: 0.01}\n"),
                     rules, policy);
   EXPECT_EQ(policy.max_issues, 10u);
+  EXPECT_EQ(policy.max_listed_per_code, 50u);
   EXPECT_TRUE(policy.ignore.contains("PBR_B"));
   EXPECT_EQ(policy.severity_override.at("PBR_A"), Severity::Error);
   EXPECT_EQ(policy.severity_override.at("OTHER"), Severity::Hint);
@@ -181,6 +211,7 @@ TEST(UserConfig, BadConfigsNameTheFileThePointerAndTheReason) {
   test::ScratchDir dir;
   const std::vector<std::pair<std::string, std::string>> cases{
       {"max-issues: -3\n", "/max-issues"},
+      {"max-issues-per-code: some\n", "/max-issues-per-code"},
       {"ignore: PBR_A\n", "/ignore"},
       {"override:\n  PBR_A: 7\n", "/override/PBR_A"},
       {"thresholds:\n  PBR_Z: {min: 1}\n", "/thresholds/PBR_Z"},

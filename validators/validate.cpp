@@ -28,6 +28,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
                      const IssuePolicy& policy, const ValidateOptions& options) {
   Report report;
   report.uri = uri;
+  report.max_listed_per_code = policy.max_listed_per_code;
   const std::optional<MappedFile> mapped = MappedFile::open(file);
   if (!mapped) {
     report.add({"IO_ERROR", "Cannot read the file.", Severity::Error, "", {}, 1});
