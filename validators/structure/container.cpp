@@ -63,6 +63,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
     if (json_seen && json_was_empty) empty_json_ended = true;
     if (bytes.size() - offset < 8) {
       context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_HEADER", bytes.size(), {}});
+      context.glb_ended_inside_chunk = true;
       return json;
     }
     const std::uint64_t chunk_start = offset;
@@ -90,6 +91,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
     }
     if (bytes.size() - offset < chunk_length) {
       context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_DATA", bytes.size(), {}});
+      context.glb_ended_inside_chunk = true;
       return json;
     }
     const auto data = bytes.subspan(offset, chunk_length);

@@ -43,10 +43,7 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
   stream_end();
   // A GLB that ends inside a chunk has no trustworthy resources: the reference loads none then
   // (no IO_ERROR, no BUFFER_MISSING_GLB_DATA; checked against the npm validator).
-  const bool ended_early = std::any_of(
-      context.glb_end_issues.begin(), context.glb_end_issues.end(),
-      [](const auto& end) { return std::string_view(end.code).starts_with("GLB_UNEXPECTED_END_OF_CHUNK"); });
-  if (!ended_early) check_resources(context);
+  if (!context.glb_ended_inside_chunk) check_resources(context);
   fill_info(context);
   return context.issues.found_error();
 }

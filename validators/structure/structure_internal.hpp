@@ -296,6 +296,8 @@ struct Context {
     std::vector<MessageArg> args;
   };
   std::vector<OffsetIssue> glb_end_issues;
+  // The GLB stream ended inside a chunk's header or data: its resources cannot be trusted.
+  bool glb_ended_inside_chunk = false;
   Json root;
   Document doc;
   nlohmann::ordered_json resources = nlohmann::ordered_json::array();  // info.resources, in order
