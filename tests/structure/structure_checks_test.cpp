@@ -825,7 +825,8 @@ TEST(StructureChecks, AKtx2ImageWithoutMipmapsIsFineWhereNoMipmapIsSampled) {
   EXPECT_TRUE(incomplete(R"({"minFilter":9987})"));   // LINEAR_MIPMAP_LINEAR
   EXPECT_TRUE(incomplete(R"({"minFilter":9984})"));   // NEAREST_MIPMAP_NEAREST
   EXPECT_TRUE(incomplete(R"({"magFilter":9729})"));   // no minFilter: the client's choice
-  const Issue* warning = find(validate_ktx2(one_level), "KTX2_MIPMAPS_INCOMPLETE");
+  const Report no_sampler = validate_ktx2(one_level);
+  const Issue* warning = find(no_sampler, "KTX2_MIPMAPS_INCOMPLETE");
   ASSERT_NE(warning, nullptr);
   EXPECT_EQ(warning->severity, Severity::Warning);
   // A full pyramid satisfies every sampler.
@@ -903,6 +904,143 @@ TEST(StructureChecks, AStrideThatIsNoMultipleOfFourIsStillTheViewsStride) {
   EXPECT_EQ(keys(report), (std::vector<std::string>{"VALUE_MULTIPLE_OF /bufferViews/0/byteStride",
                                                     "ACCESSOR_SMALL_BYTESTRIDE /accessors/0",
                                                     "UNUSED_OBJECT /accessors/0"}));
+}
+
+// Without the codes: an animation's issues in the reference's traversal order. Each animation's
+// channels, then its samplers that no channel uses; after every animation, the channels'
+// KHR_animation_pointer objects; then the scenes and the node graph.
+TEST(StructureChecks, AnAnimationsUnusedSamplersFollowItsChannelsAndPointerExtensionsFollowEveryAnimation) {
+  const std::string buffer = float_buffer({0, 1, 0, 0, 0, 1, 1, 1});
+  const std::string samplers = R"("samplers":[{"input":0,"output":1},{"input":0,"output":1}])";
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_animation_pointer"],"buffers":[{"byteLength":32,"uri":")" +
+      buffer + R"("}],"bufferViews":[{"buffer":0,"byteLength":8},{"buffer":0,"byteOffset":8,"byteLength":24}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},)"
+      R"({"bufferView":1,"componentType":5126,"count":2,"type":"VEC3"}],"animations":[)"
+      R"({"channels":[{"sampler":0,"target":{"path":"pointer","extensions":{"KHR_animation_pointer":{"pointer":"/nodes/1/translation"}}}},)"
+      R"({"sampler":0,"target":{"node":0,"path":"translation"}}],)" +
+      samplers + R"(},{"channels":[{"sampler":0,"target":{"node":0,"path":"scale"}}],)" + samplers +
+      R"(}],"nodes":[{"matrix":[2,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]},{"name":"n"}],"scenes":[{"nodes":[0,1]}]})");
+  std::vector<std::string> found = keys(report);
+  std::erase_if(found, [](const std::string& key) { return key.starts_with("NODE_EMPTY"); });
+  EXPECT_EQ(found, (std::vector<std::string>{
+                              "ANIMATION_CHANNEL_TARGET_NODE_MATRIX /animations/0/channels/1/target",
+                              "UNUSED_OBJECT /animations/0/samplers/1",
+                              "ANIMATION_CHANNEL_TARGET_NODE_MATRIX /animations/1/channels/0/target",
+                              "UNUSED_OBJECT /animations/1/samplers/1",
+                              "INCOMPLETE_EXTENSION_SUPPORT /animations/0/channels/0/target/extensions/KHR_animation_pointer",
+                          }));
+}
+
+// A buffer view's uses as the reference names them: inverse bind matrices (IBM) and animation data
+// (Other) override each other. An output marks its view twice, so the override is said twice.
+TEST(StructureChecks, AnimationDataOnAnInverseBindMatrixViewOverridesItsUse) {
+  std::vector<float> floats = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  floats.insert(floats.end(), floats.begin(), floats.end());
+  floats.insert(floats.end(), {0, 1});
+  auto animated = [&](const char* sampler) {
+    return validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":136,"uri":")" + float_buffer(floats) +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":128},{"buffer":0,"byteOffset":128,"byteLength":8}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"MAT4"},)"
+        R"({"bufferView":1,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},)"
+        R"({"bufferView":0,"componentType":5126,"count":8,"type":"VEC4"}],"skins":[{"joints":[0],"inverseBindMatrices":0}],)"
+        R"("nodes":[{"name":"j"}],"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"rotation"}}],"samplers":[)" +
+        std::string(sampler) + R"(]}],"scenes":[{"nodes":[0]}]})");
+  };
+  auto overrides = [](const Report& report) {
+    std::vector<std::string> found;
+    for (const Issue& issue : report.messages)
+      if (issue.code == "BUFFER_VIEW_TARGET_OVERRIDE")  // identical repeats are folded into a count
+        found.insert(found.end(), issue.count, issue.pointer + " " + issue.message);
+    return found;
+  };
+  const std::string said = "Override of previously set bufferView target or usage. Initial: 'IBM', new: 'Other'.";
+  EXPECT_EQ(overrides(animated(R"({"input":1,"output":2})")),
+            (std::vector<std::string>(2, "/animations/0/samplers/0/output " + said)));
+  EXPECT_EQ(overrides(animated(R"({"input":2,"output":1})")),
+            (std::vector<std::string>{"/animations/0/samplers/0/input " + said}));
+}
+
+// Integer bounds have their length checked first: empty ones are the wrong length. Float bounds
+// that are empty are an empty entity.
+TEST(StructureChecks, EmptyIntegerBoundsAreTheWrongLengthAndEmptyFloatBoundsAreEmpty) {
+  auto bounds = [](int component_type) {
+    return validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":12}],"bufferViews":[{"buffer":0,"byteLength":12}],)"
+        R"("accessors":[{"bufferView":0,"componentType":)" +
+        std::to_string(component_type) + R"(,"count":1,"type":"VEC2","max":[1,1],"min":[]}]})");
+  };
+  const Report integer = bounds(5121);
+  ASSERT_NE(find(integer, "ARRAY_LENGTH_NOT_IN_LIST"), nullptr);
+  EXPECT_EQ(find(integer, "ARRAY_LENGTH_NOT_IN_LIST")->message, "Invalid array length 0. Valid lengths are: (2).");
+  EXPECT_EQ(find(integer, "EMPTY_ENTITY"), nullptr);
+  const Report floats = bounds(5126);
+  ASSERT_NE(find(floats, "EMPTY_ENTITY"), nullptr);
+  EXPECT_EQ(find(floats, "EMPTY_ENTITY")->pointer, "/accessors/0/min");
+  EXPECT_EQ(find(floats, "ARRAY_LENGTH_NOT_IN_LIST"), nullptr);
+}
+
+// A matrix beside translation, rotation or scale is still judged as a matrix: default or not TRS.
+TEST(StructureChecks, AMatrixBesideTrsPropertiesIsStillJudged) {
+  auto node = [](const char* properties) {
+    return keys(validate_text(std::string(R"({"asset":{"version":"2.0"},"nodes":[{)") + properties +
+                              R"(,"mesh":0}],"meshes":[{}],"scenes":[{"nodes":[0]}]})"));
+  };
+  auto has = [](const std::vector<std::string>& found, const std::string& key) {
+    return std::find(found.begin(), found.end(), key) != found.end();
+  };
+  const auto identity = node(R"("translation":[1,0,0],"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1])");
+  EXPECT_TRUE(has(identity, "NODE_MATRIX_TRS /nodes/0/matrix") && has(identity, "NODE_MATRIX_DEFAULT /nodes/0/matrix"));
+  const auto sheared = node(R"("translation":[1,0,0],"matrix":[1,0,0,0,0,1,0,0,1.5,0,1,0,0,0,0,1])");
+  EXPECT_TRUE(has(sheared, "NODE_MATRIX_TRS /nodes/0/matrix") && has(sheared, "NODE_MATRIX_NON_TRS /nodes/0/matrix"));
+  const auto trs = node(R"("scale":[1,1,1],"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,5,0,0,1])");
+  EXPECT_TRUE(has(trs, "NODE_MATRIX_TRS /nodes/0/matrix"));
+  EXPECT_FALSE(has(trs, "NODE_MATRIX_NON_TRS /nodes/0/matrix") || has(trs, "NODE_MATRIX_DEFAULT /nodes/0/matrix"));
+}
+
+// Spec 3.7.2.1 gives primitive.mode the values 0-6: another integer is out of range, and the
+// primitive's count is then judged against no mode.
+TEST(StructureChecks, APrimitiveModeOutsideZeroToSixIsOutOfRange) {
+  for (const char* mode : {"-1", "7"}) {
+    const Report report = validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":48}],"bufferViews":[{"buffer":0,"byteLength":48,"target":34962}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":)" +
+        std::string(mode) + R"(}]}]})");
+    const Issue* range = find(report, "VALUE_NOT_IN_RANGE");
+    ASSERT_NE(range, nullptr) << mode;
+    EXPECT_EQ(range->pointer, "/meshes/0/primitives/0/mode");
+    EXPECT_EQ(range->severity, Severity::Error);
+    EXPECT_EQ(find(report, "VALUE_NOT_IN_LIST"), nullptr);
+    EXPECT_EQ(find(report, "MESH_PRIMITIVE_INCOMPATIBLE_MODE"), nullptr) << mode;
+  }
+}
+
+// Spec 3.6.2.3: attributes sharing a buffer view need its byteStride; said at every accessor that
+// joins the view after another, base and morph target attributes alike, and not again for one
+// that is used again.
+TEST(StructureChecks, EveryAccessorThatJoinsAStridelessVertexViewIsReported) {
+  auto strideless = [](const char* primitives) {
+    const Report report = validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":144}],"bufferViews":[{"buffer":0,"byteLength":144,"target":34962}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},)"
+        R"({"bufferView":0,"byteOffset":48,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},)"
+        R"({"bufferView":0,"byteOffset":96,"componentType":5126,"count":4,"type":"VEC3"}],"meshes":[{"primitives":[)" +
+        std::string(primitives) + "]}]}");
+    std::vector<std::string> pointers;
+    for (const Issue& issue : report.messages)
+      if (issue.code == "MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE") pointers.push_back(issue.pointer);
+    return pointers;
+  };
+  EXPECT_EQ(strideless(R"({"attributes":{"POSITION":0,"NORMAL":1,"COLOR_0":2},"mode":0})"),
+            (std::vector<std::string>{"/meshes/0/primitives/0/attributes/NORMAL",
+                                      "/meshes/0/primitives/0/attributes/COLOR_0"}));
+  EXPECT_EQ(strideless(R"({"attributes":{"POSITION":0,"NORMAL":2},"mode":0},{"attributes":{"POSITION":0,"NORMAL":2},"mode":0})"),
+            (std::vector<std::string>{"/meshes/0/primitives/0/attributes/NORMAL"}));
+  EXPECT_EQ(strideless(R"({"attributes":{"POSITION":0,"NORMAL":2},"mode":0,"targets":[{"POSITION":1}]})"),
+            (std::vector<std::string>{"/meshes/0/primitives/0/attributes/NORMAL",
+                                      "/meshes/0/primitives/0/targets/0/POSITION"}));
 }
 
 }  // namespace

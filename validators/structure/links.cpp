@@ -48,6 +48,10 @@ std::int64_t last_element_size(const AccessorModel& accessor) {
 
 bool valid_texcoord(const std::string& name) { return set_number(name, "TEXCOORD_").has_value(); }
 
+// A buffer view's use besides the GL targets (34962 vertex data, 34963 index data), as the
+// reference names them in BUFFER_VIEW_TARGET_OVERRIDE: inverse bind matrices, and animation data.
+constexpr int kViewUsageIbm = 1, kViewUsageOther = 2;
+
 class Linker {
  public:
   explicit Linker(Context& context) : context_(context), issues_(context.issues), doc_(context.doc) {}
@@ -72,14 +76,12 @@ class Linker {
     find_loops();
     for (std::size_t i = 0; i < doc_.skins.size(); ++i)  // linked even when invalid, as buffer views
       if (doc_.skins[i].object) skin(i);
-    for (std::size_t i = 0; i < doc_.animations.size(); ++i) {
-      if (!doc_.animations[i].object) continue;
-      if (doc_.animations[i].valid) {
-        animation(i);
-      } else {
+    each(doc_.animations, [&](std::size_t i) { animation(i); });
+    // The channels' KHR_animation_pointer objects after every animation is linked, before the
+    // scenes (the reference's order, checked against the npm validator on constructed files).
+    for (std::size_t i = 0; i < doc_.animations.size(); ++i)
+      if (doc_.animations[i].object)
         for (std::size_t c = 0; c < doc_.animations[i].channels.size(); ++c) animation_pointer(i, c);
-      }
-    }
     for (std::size_t i = 0; i < doc_.scenes.size(); ++i) scene(i);
     node_graph();
   }
@@ -172,7 +174,7 @@ class Linker {
       if (AccessorModel* input = resolve(doc_.accessors, sampler.input, sp + "/input")) {
         use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
         if (input->usage == AccessorModel::Usage::AnimationInput) input->data_uses.push_back(sp + "/input");
-        use_view_as(*input, 1, "AnimationInput", sp + "/input");
+        use_view_as(*input, kViewUsageOther, "Other", sp + "/input");
         if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
                      {arg(format_name(input->type, input->component_type, input->normalized))},
@@ -188,6 +190,10 @@ class Linker {
         // The sampler puts its output to use (an override is reported here, as the reference does);
         // the data checks report at every channel that reads it with the first one's path.
         use_accessor(*output, AccessorModel::Usage::AnimationOutput, sp + "/output");
+        // The reference marks an output's view twice, so an override is reported twice (odd, but
+        // what it does on constructed files, with or without channels using the sampler).
+        use_view_as(*output, kViewUsageOther, "Other", sp + "/output");
+        use_view_as(*output, kViewUsageOther, "Other", sp + "/output");
         stride_forbidden(*output, sp + "/output", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
       }
     }
@@ -221,8 +227,12 @@ class Linker {
           }
         }
       }
-      animation_pointer(i, c);
     }
+    // Its samplers that no channel uses, as soon as its channels are linked (the reference's
+    // order: before the next animation's issues, not among the other unused objects).
+    for (std::size_t s = 0; s < animation.samplers.size(); ++s)
+      if (animation.samplers[s].object && !animation.samplers[s].used)
+        issues_.at("UNUSED_OBJECT", p + "/samplers/" + std::to_string(s));
   }
 
   // KHR_animation_pointer: validated only in part (INCOMPLETE_EXTENSION_SUPPORT); the target
@@ -389,8 +399,8 @@ class Linker {
     if (view.usage_target == 0) {
       view.usage_target = usage;
       view.usage_name = name;
-      // Only vertex and index data need a target (other data, usage 1, has none to set).
-      if (view.target == 0 && usage != 1) issues_.at("BUFFER_VIEW_TARGET_MISSING", pointer);
+      // Only vertex and index data need a target (other data has none to set).
+      if (view.target == 0 && (usage == 34962 || usage == 34963)) issues_.at("BUFFER_VIEW_TARGET_MISSING", pointer);
     } else if (view.usage_target != usage) {
       issues_.at("BUFFER_VIEW_TARGET_OVERRIDE", pointer, {arg(view.usage_name), arg(name)});
     }
@@ -413,19 +423,21 @@ class Linker {
     // outside it; UNSIGNED_INT is the code for attributes the spec gives no table (custom ones).
     if (!attribute_format(accessor, name, pointer) && accessor.component_type == 5125)
       issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_UNSIGNED_INT", pointer);
-    if (accessor.buffer_view >= 0 && static_cast<std::size_t>(accessor.buffer_view) < doc_.buffer_views.size()) {
-      BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
-      if (view.object) {
-        vertex_alignment(accessor, view, pointer);
-        const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
-        auto& users = view_accessors_[accessor.buffer_view];
-        if (std::find(users.begin(), users.end(), accessor_index) == users.end()) users.push_back(accessor_index);
-        if (view.byte_stride == 0 && users.size() > 1 && !stride_reported_.contains(accessor.buffer_view)) {
-          issues_.at("MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE", pointer);
-          stride_reported_.insert(accessor.buffer_view);
-        }
-      }
+    if (const BufferViewModel* view = view_of(accessor)) {
+      vertex_alignment(accessor, *view, pointer);
+      shared_view_stride(accessor, *view, pointer);
     }
+  }
+
+  // Spec 3.6.2.3: vertex attributes that share a buffer view need its byteStride. Said at each
+  // accessor that joins a view without one after another (the reference's rule, checked on
+  // constructed files: base and morph target attributes alike, each new accessor once).
+  void shared_view_stride(const AccessorModel& accessor, const BufferViewModel& view, const std::string& pointer) {
+    const auto accessor_index = static_cast<std::int64_t>(&accessor - doc_.accessors.data());
+    auto& users = view_accessors_[accessor.buffer_view];
+    if (std::find(users.begin(), users.end(), accessor_index) != users.end()) return;
+    users.push_back(accessor_index);
+    if (view.byte_stride == 0 && users.size() > 1) issues_.at("MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE", pointer);
   }
 
   // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
@@ -606,7 +618,10 @@ class Linker {
               if (const AccessorModel* base = accessor_object(doc_, base_index); base && base->count != accessor->count)
                 issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
-          if (const BufferViewModel* view = view_of(*accessor)) vertex_alignment(*accessor, *view, tp);
+          if (const BufferViewModel* view = view_of(*accessor)) {
+            vertex_alignment(*accessor, *view, tp);
+            shared_view_stride(*accessor, *view, tp);
+          }
         }
       }
       if (primitive.draco)
@@ -704,7 +719,7 @@ class Linker {
     if (!skin.joints.empty() && roots.empty()) issues_.at("SKIN_NO_COMMON_ROOT", p + "/joints");
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
       use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
-      use_view_as(*ibm, 1, "IBM", p + "/inverseBindMatrices");
+      use_view_as(*ibm, kViewUsageIbm, "IBM", p + "/inverseBindMatrices");
       if (ibm->type != "MAT4" || ibm->component_type != 5126)
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
@@ -884,7 +899,6 @@ class Linker {
   Context& context_;
   IssueSink& issues_;
   Document& doc_;
-  std::set<std::int64_t> stride_reported_;
   std::map<std::int64_t, std::vector<std::int64_t>> view_accessors_;  // vertex accessors per buffer view
   std::vector<char> in_loop_;                                         // per node, from find_loops()
 };
@@ -911,13 +925,6 @@ void report_unused(Context& context) {
       if (list[i].object && !list[i].used)
         issues.at("UNUSED_OBJECT", "/" + std::string(collection) + "/" + std::to_string(i));
   };
-  for (std::size_t a = 0; a < doc.animations.size(); ++a) {
-    if (!doc.animations[a].valid) continue;  // never linked: its samplers' use is unknown
-    const auto& samplers = doc.animations[a].samplers;
-    for (std::size_t s = 0; s < samplers.size(); ++s)
-      if (samplers[s].object && !samplers[s].used)
-        issues.at("UNUSED_OBJECT", "/animations/" + std::to_string(a) + "/samplers/" + std::to_string(s));
-  }
   each(doc.accessors, "accessors");
   each(doc.buffers, "buffers");
   each(doc.buffer_views, "bufferViews");

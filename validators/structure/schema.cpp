@@ -274,6 +274,12 @@ class Walker {
   // list with any other value is reported at the list and not compared with the data.
   std::optional<std::vector<double>> bounds(const Json& o, const std::string& p, const char* key, int components,
                                             int component_type) {
+    // Integer bounds have their length checked before anything else, so an empty list is the
+    // wrong length, not an empty entity as float bounds are (checked against the npm validator).
+    if (component_type != 5126 && o[key].is_array() && o[key].empty()) {
+      context_.issues.at("ARRAY_LENGTH_NOT_IN_LIST", p + "/" + key, {arg(std::uint64_t{0})}, {arg(components)});
+      return std::nullopt;
+    }
     auto numbers = read_.numbers(o, p, key, {components});
     if (!numbers || component_type == 5126) return numbers;
     static const std::map<int, std::pair<double, double>> ranges = {
@@ -841,7 +847,13 @@ class Walker {
   void primitive(const Json& o, const std::string& p, PrimitiveModel& m) {
     read_.check_members(o, p, {"attributes", "indices", "material", "mode", "targets", "extensions", "extras"});
     m.pointer = p;
-    if (auto mode = read_.integer(o, p, "mode", false, {}, {0, 1, 2, 3, 4, 5, 6})) m.mode = int(*mode);
+    // A range, not a list: the reference reports a mode outside 0-6 as VALUE_NOT_IN_RANGE (an
+    // error) and judges nothing by it (no MESH_PRIMITIVE_INCOMPATIBLE_MODE; checked against the
+    // npm validator), so such a primitive's mode is unknown (-1).
+    if (auto mode = read_.integer(o, p, "mode", false, {0, 6}))
+      m.mode = int(*mode);
+    else if (present(o, "mode") && is_integer(o["mode"]))
+      m.mode = -1;
     if (const Json* attributes = read_.object(o, p, "attributes", true)) {
       if (attributes->empty()) {
         context_.issues.at("EMPTY_ENTITY", p + "/attributes");
@@ -949,9 +961,10 @@ class Walker {
           std::any_of(a.begin(), a.end(), [](double v) { return std::fabs(v) > 3.4028234663852886e38; });
       const bool not_trs =
           beyond_float || (affine && determinant != 0 && !(trs_round_trip_error(a) <= kTrsTolerance));  // NaN fails
-      if (m.has_trs)
-        context_.issues.at("NODE_MATRIX_TRS", p + "/matrix");
-      else if (is_identity)
+      // Both judged: a matrix beside TRS properties is still a default or a non-TRS matrix
+      // (the reference reports either after NODE_MATRIX_TRS).
+      if (m.has_trs) context_.issues.at("NODE_MATRIX_TRS", p + "/matrix");
+      if (is_identity)
         context_.issues.at("NODE_MATRIX_DEFAULT", p + "/matrix");
       else if (!affine || determinant == 0 || not_trs)
         context_.issues.at("NODE_MATRIX_NON_TRS", p + "/matrix");

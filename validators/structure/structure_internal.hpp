@@ -124,7 +124,7 @@ struct BufferViewModel : EntityModel {
   std::int64_t byte_length = -1;
   std::int64_t byte_stride = 0;
   int target = 0;
-  int usage_target = 0;  // 34962 vertex, 34963 index, 1 other (image, IBM, animation)
+  int usage_target = 0;  // 34962 vertex, 34963 index; links.cpp kViewUsageIbm, kViewUsageOther
   std::string usage_name;
   int accessor_uses = 0;  // attribute accessors referencing it (MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE)
   // EXT_meshopt_compression: whether the view has the extension, its content when that is valid,
@@ -168,7 +168,7 @@ struct PrimitiveModel {
   std::vector<std::pair<std::string, std::int64_t>> attributes;  // JSON order
   std::int64_t indices = -1;
   std::int64_t material = -1;
-  int mode = 4;
+  int mode = 4;  // -1: an integer outside 0-6, judged by nothing
   std::int64_t targets = -1;  // -1: no targets property
   std::vector<std::vector<std::pair<std::string, std::int64_t>>> target_attributes;
   bool draco = false;
