@@ -84,7 +84,8 @@ std::string run_settings(const ConvertFileOptions& options) {
        << " specular-tolerance " << options.specular_tolerance << " png " << options.png_compression << " jpeg "
        << options.jpeg_quality << " error-samples " << options.error_samples << " allow-outside "
        << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << " preview-size "
-       << options.preview_size << '\n'
+       << options.preview_size << " preview-lint "
+       << (options.preview_lint ? lint_profile_name(*options.preview_lint) : "off") << '\n'
        << builtin_rules_text();
   return text.str();
 }
@@ -187,6 +188,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     result.preview_complete = drawn.scene.warnings.empty();
     nlohmann::json report = preview::preview_report(drawn, preview_options);
     report["input"] = job.input.string();
+    report["material_issues"] = material_issues(*original, asset, options.preview_lint);
     result.preview_written = preview::write_preview(drawn, report, job.preview_dir);
   }
   result.total_ms = ms_between(start, Clock::now());

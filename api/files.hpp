@@ -69,8 +69,15 @@ struct DrawnPreview {
   nlohmann::json report;
   std::vector<fs::path> written;  // the files of out_dir
 };
+// `lint`: also run the material rules on the input and its conversion (material_issues).
 DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,
-                         bool allow_outside_uris);
+                         bool allow_outside_uris, std::optional<LintProfile> lint = std::nullopt);
+
+// The PBR_* issues that `validate --only materials --profile P` raises on a preview's input and on
+// its conversion, as report.json's "material_issues": {"profile", "before": [...], "after": [...]},
+// each issue {code, severity (its name), pointer, message, count when folded}; null when `lint`
+// is std::nullopt (not run).
+nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint);
 
 // The tail of preview_one for any drawn result (the tool's --grid too): refuses a picture of
 // nothing, adds `extra` and "input": name to the report, and writes the folder.

@@ -98,7 +98,7 @@ FilePreview preview_file(const fs::path& input, const fs::path& out_dir, const P
   drawing.environment = options.environment;
   drawing.convert.target = options.target;
   drawing.convert.solver = solver_preset(options.solver, options.error_model);
-  const DrawnPreview drawn = preview_one(input, out_dir, drawing, options.allow_outside_uris);
+  const DrawnPreview drawn = preview_one(input, out_dir, drawing, options.allow_outside_uris, options.lint);
   FilePreview out;
   out.flip_mean = drawn.result.metrics.flip_mean;
   out.delta_e_mean = drawn.result.metrics.delta_e_mean;

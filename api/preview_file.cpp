@@ -3,6 +3,8 @@
 
 #include "api/files.hpp"
 #include "core/error.hpp"
+#include "rules/rule_set.hpp"
+#include "validators/materials/materials.hpp"
 
 namespace gltf_pbr {
 
@@ -19,9 +21,38 @@ DrawnPreview finish_preview(preview::PreviewResult result, const preview::Previe
 }
 
 DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,
-                         bool allow_outside_uris) {
+                         bool allow_outside_uris, std::optional<LintProfile> lint) {
   const Asset asset = load_asset(input, {allow_outside_uris});
-  return finish_preview(preview::render_preview(asset, options), options, input.string(), nullptr, out_dir);
+  preview::PreviewOptions drawing = options;
+  drawing.keep_converted = lint.has_value();
+  preview::PreviewResult result = preview::render_preview(asset, drawing);
+  nlohmann::json issues = lint ? material_issues(asset, *result.converted, lint) : nullptr;
+  result.converted.reset();
+  return finish_preview(std::move(result), options, input.string(), {{"material_issues", std::move(issues)}}, out_dir);
+}
+
+nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint) {
+  if (!lint) return nullptr;
+  const RuleSet& rules = builtin_rules(*lint);
+  MaterialCheckOptions materials_only;
+  materials_only.textures = false;
+  auto issues_of = [&](const Asset& asset) {
+    Report report;
+    validate_materials(asset, rules, materials_only, report);
+    apply_policy({}, report);
+    nlohmann::json list = nlohmann::json::array();
+    for (const Issue& issue : report.messages) {
+      if (!issue.code.starts_with("PBR_")) continue;
+      nlohmann::json entry{{"code", issue.code},
+                           {"severity", severity_name(issue.severity)},
+                           {"pointer", issue.pointer},
+                           {"message", issue.message}};
+      if (issue.count > 1) entry["count"] = issue.count;
+      list.push_back(std::move(entry));
+    }
+    return list;
+  };
+  return {{"profile", lint_profile_name(*lint)}, {"before", issues_of(input)}, {"after", issues_of(converted)}};
 }
 
 }  // namespace gltf_pbr

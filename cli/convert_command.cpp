@@ -35,6 +35,7 @@ struct ConvertArgs {
   int jpeg_quality = 90;
   size_t error_samples = 1u << 16;
   int preview_size = 512;
+  std::string preview_lint;  // empty: the material rules do not run
   bool no_gallery = false;
   PipelineArgs pipeline;
 };
@@ -107,6 +108,7 @@ std::vector<std::string> child_options(const ConvertArgs& args) {
                                    "--preview-size",
                                    std::to_string(args.preview_size),
                                    "--no-gallery"};  // the run writes the page once, at its end
+  if (!args.preview_lint.empty()) options.push_back("--preview-lint=" + args.preview_lint);
   if (args.allow_outside) options.push_back("--allow-outside-uris");
   if (!args.pipeline.cache.empty()) options.insert(options.end(), {"--cache", args.pipeline.cache});
   return options;
@@ -134,6 +136,8 @@ class ScratchFolder {
 
 int run(const ConvertArgs& args) {
   if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
+  if (!args.preview_lint.empty() && args.preview.empty())
+    throw CLI::ValidationError("--preview-lint", "checks what --preview draws: give --preview DIR too");
   if (args.in_place && !args.pipeline.cache.empty())
     throw CLI::ValidationError("--cache", "--in-place replaces the inputs the cache is keyed by: give -o instead");
   ConvertFileOptions options;
@@ -147,6 +151,7 @@ int run(const ConvertArgs& args) {
   options.allow_outside_uris = args.allow_outside;
   options.replace_input = args.in_place;
   options.preview_size = args.preview_size;
+  if (!args.preview_lint.empty()) options.preview_lint = lint_profile_from_name(args.preview_lint);
   // Given or not: a --shard 0/1 run is the whole input, and still writes what merge-reports reads.
   const bool sharded = !args.pipeline.shard.empty();
   const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
@@ -259,6 +264,11 @@ std::function<int()> add_convert_command(CLI::App& app) {
   cmd->add_option("--preview-size", args->preview_size, "--preview: image width and height in pixels")
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
+  cmd->add_flag("--preview-lint{tolerant}", args->preview_lint,
+                "--preview: also run the material rules (validate --only materials) on each input and its output; "
+                "their PBR_* issues go into the preview's report.json and the gallery page (=strict for the strict "
+                "profile)")
+      ->check(CLI::IsMember({"tolerant", "strict"}));
   cmd->add_flag("--no-gallery", args->no_gallery, "--preview: leave DIR/index.html as it is");
   cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
   cmd->add_option("--png-compression", args->png_compression, "zlib level 0-9 of baked PNG textures")

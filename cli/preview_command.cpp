@@ -35,6 +35,7 @@ struct PreviewArgs {
   float exposure = 1.0f;
   bool no_sun = false, grid = false, allow_outside = false, quiet = false, no_gallery = false;
   std::string cache;
+  std::string lint;  // empty: the material rules do not run
   std::vector<float> albedo{0.9f, 0.6f, 0.2f};
   int grid_count = 5;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
@@ -52,7 +53,7 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
        << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " error-model "
        << args.error_model << " max-image-pixels " << max_image_pixels() << " allow-outside " << args.allow_outside
-       << " env ";
+       << " lint " << (args.lint.empty() ? "off" : args.lint) << " env ";
   // The path too: the report names it.
   if (!args.environment.empty())
     text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
@@ -90,7 +91,9 @@ CachedPreview preview_with_cache(const PreviewArgs& args, const preview::Preview
     if (key && cache->restore(*key, roots))
       return {true, printable(input.string()) + ": restored from the cache into " + printable(output.string()) + "\n"};
   }
-  const DrawnPreview drawn = preview_one(input, output, options, args.allow_outside);
+  const std::optional<LintProfile> lint =
+      args.lint.empty() ? std::nullopt : lint_profile_from_name(args.lint);  // CLI::IsMember checked the name
+  const DrawnPreview drawn = preview_one(input, output, options, args.allow_outside, lint);
   // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
   if (key && drawn.result.scene.warnings.empty()) {
     const ResultCache::Outputs outputs[] = {{output, drawn.written}};
@@ -180,6 +183,10 @@ int run(const PreviewArgs& args) {
   }
   if (!args.cache.empty() && args.grid) {
     std::fprintf(stderr, "gltf-pbr preview: --cache keeps files' previews; --grid draws none\n");
+    return kBadUsage;
+  }
+  if (!args.lint.empty() && args.grid) {
+    std::fprintf(stderr, "gltf-pbr preview: --lint checks an asset's materials; --grid draws spheres, not an asset\n");
     return kBadUsage;
   }
   try {
@@ -273,6 +280,10 @@ std::function<int()> add_preview_command(CLI::App& app) {
   cmd->add_option("--grid-count", args->grid_count, "--grid: spheres per row and column")
       ->check(CLI::Range(2, 16))
       ->capture_default_str();
+  cmd->add_flag("--lint{tolerant}", args->lint,
+                "also run the material rules (validate --only materials) on the input and its conversion; their "
+                "PBR_* issues go into report.json and the gallery page (--lint=strict for the strict profile)")
+      ->check(CLI::IsMember({"tolerant", "strict"}));
   add_batch_options(*cmd, "drawn", args->jobs, args->allow_outside);
   cmd->add_flag("--no-gallery", args->no_gallery, "leave DIR/index.html (the page gltf-pbr gallery writes) as it is");
   add_cache_option(*cmd, args->cache);

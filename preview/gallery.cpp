@@ -30,6 +30,7 @@ constexpr const char* kImages[] = {"before.png", "after.png", "difference.png"};
 // What the page shows of one report at most: a few long names cannot make it megabytes.
 constexpr std::size_t kLongestText = 1000;
 constexpr std::size_t kMostMaterials = 256;
+constexpr std::size_t kMostIssues = 100;  // of each side's material issues
 // The line gallery.html carries, by which a rerun knows index.html as a page it wrote itself; pages
 // written before the mark existed open with the comment after it.
 constexpr std::string_view kGeneratorMark = R"(<meta name="generator" content="gltf-pbr gallery">)";
@@ -99,6 +100,34 @@ nlohmann::json material_of(const nlohmann::json& m) {
           {"note", capped(string_at(m, "note"))}};
 }
 
+// The material rules' issues on the input and the output (preview --lint, convert --preview-lint),
+// the first kMostIssues of each side with the count of all; null when the run did not check them.
+nlohmann::json issues_of(const nlohmann::json& report) {
+  if (!report.contains("material_issues") || !report["material_issues"].is_object()) return nullptr;
+  const nlohmann::json& checked = report["material_issues"];
+  nlohmann::json out{{"profile", capped(string_at(checked, "profile"))}};
+  for (const char* side : {"before", "after"}) {
+    nlohmann::json listed = nlohmann::json::array();
+    std::uint64_t total = 0;
+    if (checked.contains(side) && checked[side].is_array())
+      for (const nlohmann::json& issue : checked[side]) {
+        if (!issue.is_object()) continue;
+        const std::uint64_t count =
+            issue.contains("count") && issue["count"].is_number_unsigned() ? issue["count"].get<std::uint64_t>() : 1;
+        total += count;
+        if (listed.size() < kMostIssues)
+          listed.push_back({{"code", capped(string_at(issue, "code"))},
+                            {"severity", capped(string_at(issue, "severity"))},
+                            {"pointer", capped(string_at(issue, "pointer"))},
+                            {"message", capped(string_at(issue, "message"))},
+                            {"count", count}});
+      }
+    out[side] = std::move(listed);
+    out[std::string(side) + "Count"] = total;
+  }
+  return out;
+}
+
 // A regular file itself, not a link to one: nothing outside the root is read or shown.
 bool is_plain_file(const fs::path& file) {
   std::error_code ec;
@@ -152,7 +181,8 @@ nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
           {"rmsDb", number_at(report, "/difference/rms_db")},
           {"materials", std::move(materials)},
           {"materialsLeftOut", left_out},
-          {"outcomes", outcomes}};
+          {"outcomes", outcomes},
+          {"issues", issues_of(report)}};
 }
 
 bool holds_a_preview(const fs::path& folder) {

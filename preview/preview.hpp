@@ -28,7 +28,8 @@ struct PreviewOptions {
   // `environment` read once for a run of previews (preview DIR): used instead of reading it again.
   std::shared_ptr<const Environment> loaded_environment;
   ConvertOptions convert;
-  bool keep_radiance = false;  // keep PreviewResult::before_hdr/after_hdr (24 bytes a pixel more)
+  bool keep_radiance = false;   // keep PreviewResult::before_hdr/after_hdr (24 bytes a pixel more)
+  bool keep_converted = false;  // render_preview keeps its conversion in PreviewResult::converted
 };
 
 // --grid: spheres in a metalness (rows, top 0 to bottom 1) x roughness (columns, left 0 to
@@ -59,6 +60,7 @@ struct PreviewResult {
   SceneStats scene;
   RasterStats raster;
   std::optional<ConversionReport> conversion;
+  std::optional<Asset> converted;  // render_preview's conversion, when PreviewOptions::keep_converted
   nlohmann::json camera;
 };
 

@@ -89,6 +89,7 @@ PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) 
   PreviewResult result = render_pair(asset, converted, options, &decoded);
   result.times.convert_ms = convert_ms;
   result.conversion = std::move(conversion);
+  if (options.keep_converted) result.converted = std::move(converted);
   return result;
 }
 

@@ -172,8 +172,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "preview",
       [](const fs::path& src, const fs::path& out_dir, int size, std::optional<int> width, std::optional<int> height,
          std::optional<int> camera, double yaw, double pitch, double fov, const std::optional<fs::path>& environment,
-         const std::string& target, const std::string& solver, const std::string& error_model,
-         bool allow_outside_uris) {
+         const std::string& target, const std::string& solver, const std::string& error_model, bool allow_outside_uris,
+         const std::optional<std::string>& lint) {
         gltf_pbr::PreviewFileOptions options;
         options.width = width.value_or(size);
         options.height = height.value_or(size);
@@ -187,6 +187,7 @@ PYBIND11_MODULE(gltf_pbr, m) {
             parse_choice(solver, gltf_pbr::solver_effort_from_name, "solver", "fast, balanced, exact, reference");
         options.error_model = error_model_of(error_model);
         options.allow_outside_uris = allow_outside_uris;
+        if (lint) options.lint = parse_choice(*lint, gltf_pbr::lint_profile_from_name, "lint", "tolerant, strict");
         gltf_pbr::FilePreview result;
         {
           py::gil_scoped_release released;
@@ -197,7 +198,8 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "src"_a, "out_dir"_a, py::kw_only(), "size"_a = 512, "width"_a = py::none(), "height"_a = py::none(),
       "camera"_a = py::none(), "yaw"_a = 35.0, "pitch"_a = 20.0, "fov"_a = 40.0, "environment"_a = py::none(),
       "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence",
-      "allow_outside_uris"_a = false,
+      "allow_outside_uris"_a = false, "lint"_a = py::none(),
       "Draw src before and after conversion into out_dir (before.png, after.png, difference.png, sheet.png, "
-      "report.json); returns report.json as a dict (FLIP, ΔE2000 mean and p95, RMS-dB, times).");
+      "report.json); returns report.json as a dict (FLIP, ΔE2000 mean and p95, RMS-dB, times). lint "
+      "('tolerant' or 'strict'): also the material rules' PBR_* issues on both sides (material_issues).");
 }

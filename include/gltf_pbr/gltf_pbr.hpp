@@ -28,6 +28,14 @@ namespace gltf_pbr {
 // The library's version, the one the tool's --version and every report give ("0.1.0").
 GLTF_PBR_API std::string version();
 
+// How hard the material rules (PBR_*) judge, as Filament's material guide keeps a strict and a
+// tolerant range (rules/materials.json holds both): Tolerant warns where a value is clearly wrong for
+// what renders (a reference-quality asset passes), Strict where it leaves the calibrated ranges.
+// Used by validate and by the previews' --lint.
+enum class LintProfile { Tolerant, Strict };
+GLTF_PBR_API std::optional<LintProfile> lint_profile_from_name(std::string_view name);  // "tolerant", "strict"
+GLTF_PBR_API const char* lint_profile_name(LintProfile profile);
+
 // ---- convert: KHR_materials_pbrSpecularGlossiness materials to core metal-rough ----
 
 enum class Target {
@@ -65,6 +73,9 @@ struct ConvertFileOptions {
   bool allow_outside_uris = false;       // read absolute or "../" resource URIs
   bool replace_input = false;            // output == input replaces it (atomically); else refused
   int preview_size = 512;                // width and height of a ConvertJob's preview images
+  // Also run the material rules (PBR_*) on a ConvertJob's input and output, into its preview's
+  // report.json ("material_issues") and the gallery page; std::nullopt: not run (null there).
+  std::optional<LintProfile> preview_lint;
 };
 
 struct ConvertJob {
@@ -113,13 +124,6 @@ enum class ValidationStep { Structure, Materials, Textures, Meshes };
 GLTF_PBR_API std::optional<ValidationStep> validation_step_from_name(std::string_view name);
 GLTF_PBR_API const char* validation_step_name(ValidationStep step);
 
-// How hard the material rules (PBR_*) judge, as Filament's material guide keeps a strict and a
-// tolerant range (rules/materials.json holds both): Tolerant warns where a value is clearly wrong for
-// what renders (a reference-quality asset passes), Strict where it leaves the calibrated ranges.
-enum class LintProfile { Tolerant, Strict };
-GLTF_PBR_API std::optional<LintProfile> lint_profile_from_name(std::string_view name);  // "tolerant", "strict"
-GLTF_PBR_API const char* lint_profile_name(LintProfile profile);
-
 struct ValidateFileOptions {
   std::vector<ValidationStep> steps;            // empty: all four
   LintProfile profile = LintProfile::Tolerant;  // a config's thresholds apply on top of it
@@ -152,6 +156,9 @@ struct PreviewFileOptions {
   SolverEffort solver = SolverEffort::Balanced;
   ErrorModel error_model = ErrorModel::NormalIncidence;
   bool allow_outside_uris = false;
+  // Also run the material rules (PBR_*) on the input and its conversion, into report.json's
+  // "material_issues"; std::nullopt: not run (null there).
+  std::optional<LintProfile> lint;
 };
 
 struct FilePreview {

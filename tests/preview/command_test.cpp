@@ -37,6 +37,47 @@ TEST(PreviewCommand, WritesImagesAndReportAndExitsZero) {
   fs::remove_all(out);
 }
 
+nlohmann::json report_in(const fs::path& folder) {
+  const auto text = read_file(folder / "report.json");
+  return text ? nlohmann::json::parse(text->begin(), text->end()) : nlohmann::json();
+}
+
+std::set<std::string> codes_of(const nlohmann::json& issues) {
+  std::set<std::string> codes;
+  for (const auto& issue : issues) codes.insert(issue["code"].get<std::string>());
+  return codes;
+}
+
+// --lint runs the material rules on the input and its conversion: the legacy material's hint goes
+// with the conversion, and only PBR_* issues are kept. Without it they are not run, and say so.
+TEST(PreviewCommand, LintPutsTheMaterialIssuesOfBothSidesIntoTheReport) {
+  const fs::path out = fs::temp_directory_path() / "gltf-pbr-preview-lint-test";
+  fs::remove_all(out);
+  const fs::path input = fs::path(GLTF_PBR_SHARED_DIR) / "assets/Avocado/specgloss/Avocado.gltf";
+  ASSERT_EQ(run_preview(input.string() + " -o " + (out / "tolerant").string() + " --size 64 --lint"), 0);
+  const nlohmann::json tolerant = report_in(out / "tolerant")["material_issues"];
+  ASSERT_TRUE(tolerant.is_object()) << tolerant;
+  EXPECT_EQ(tolerant["profile"], "tolerant");
+  EXPECT_TRUE(codes_of(tolerant["before"]).contains("PBR_LEGACY_SPEC_GLOSS")) << tolerant;
+  EXPECT_FALSE(codes_of(tolerant["after"]).contains("PBR_LEGACY_SPEC_GLOSS")) << tolerant;
+  for (const char* side : {"before", "after"})
+    for (const auto& issue : tolerant[side]) {
+      EXPECT_TRUE(issue["code"].get<std::string>().starts_with("PBR_")) << issue;
+      EXPECT_TRUE(issue["pointer"].get<std::string>().starts_with("/materials/")) << issue;
+    }
+  // The strict profile judges harder: at least as many issues on the output.
+  ASSERT_EQ(run_preview(input.string() + " -o " + (out / "strict").string() + " --size 64 --lint=strict"), 0);
+  const nlohmann::json strict = report_in(out / "strict")["material_issues"];
+  EXPECT_EQ(strict["profile"], "strict");
+  EXPECT_GE(strict["after"].size(), tolerant["after"].size());
+  ASSERT_EQ(run_preview(input.string() + " -o " + (out / "unchecked").string() + " --size 64"), 0);
+  const nlohmann::json unchecked = report_in(out / "unchecked");
+  ASSERT_TRUE(unchecked.contains("material_issues"));
+  EXPECT_TRUE(unchecked["material_issues"].is_null());
+  EXPECT_EQ(run_preview("--grid --lint -o " + (out / "grid").string()), 2);
+  fs::remove_all(out);
+}
+
 TEST(PreviewCommand, BadInputExitsOneAndBadUsageTwo) {
   const fs::path out = fs::temp_directory_path() / "gltf-pbr-preview-command-test-bad";
   EXPECT_EQ(run_preview("/nonexistent/model.gltf -o " + out.string()), 1);

@@ -3,15 +3,18 @@ file:// and the test reads the DOM.
 
     python3 gallery_in_a_browser.py GLTF_PBR SHARED_DIR [SCREENSHOT_DIR]
 
-- convert --preview over the shared assets: one row per preview, its figures equal to its
-  report.json, every image decodes, sorting by a header click and filtering work, no console error;
+- convert --preview --preview-lint over the shared assets: one row per preview, its figures and its
+  material issues (before and after) equal to its report.json, the legacy material's hint gone
+  exactly where no material was left legacy, every image decodes, sorting by a header click and
+  filtering work, no console error;
   a screenshot is kept in SCREENSHOT_DIR (default: the scratch folder) for a person to look at.
 - A material named with markup and an asset file named with quotes, '<' and '&' show as text, run
   nothing, and their images still load (paths are URL-encoded).
 - `gltf-pbr gallery` over 1,000 previews lists them all and loads only the images on screen; a
   rerun after a preview is removed drops it; `preview --grid` gets the page too.
-- A folder named in non-UTF-8 bytes still shows its images; long texts and long material lists
-  are capped; an unknown outcome gets no class of its own; an index.html gltf-pbr did not write is
+- A folder named in non-UTF-8 bytes still shows its images; long texts and long material and
+  issue lists are capped, an issue's message with markup shows as text, a preview drawn without
+  --lint says its issues were not checked; an unknown outcome gets no class of its own; an index.html gltf-pbr did not write is
   never replaced (a warning for preview, exit code 3 for gallery).
 """
 import json
@@ -65,7 +68,8 @@ def click(browser, element_id):
 
 # 1. A library converted with --preview.
 previews = work / "previews"
-run("convert", shared / "assets", "-o", work / "converted", "--preview", previews, "--preview-size", "96", "-q")
+run("convert", shared / "assets", "-o", work / "converted", "--preview", previews, "--preview-size", "96",
+    "--preview-lint", "-q")
 page = previews / "index.html"
 html = page.read_text()
 check("http:" not in html and "https:" not in html and "<link" not in html, "the page references nothing outside itself")
@@ -85,6 +89,19 @@ with Browser() as browser:
     materials = browser.evaluate(f"{ROWS}.map(tr => tr.children[7].querySelectorAll('li').length)")
     for path, count in zip(paths, materials):
         check(count == len(reports[path].get("conversion", {}).get("materials", [])), f"{path}: materials listed")
+    counted = browser.evaluate(f"{ROWS}.map(tr => [Number(tr.children[8].dataset.before), "
+                               "Number(tr.children[8].dataset.after)])")
+    for path, (before, after) in zip(paths, counted):
+        issues = reports[path]["material_issues"]
+        expected = [sum(i.get("count", 1) for i in issues[side]) for side in ("before", "after")]
+        check([before, after] == expected, f"{path}: material issues {before}, {after}; report.json has {expected}")
+        # The legacy material's hint stays after the conversion exactly when a material was left legacy.
+        left_legacy = any(m["outcome"] == "legacy" for m in reports[path].get("conversion", {}).get("materials", []))
+        was_legacy = any(i["code"] == "PBR_LEGACY_SPEC_GLOSS" for i in issues["before"])
+        still_legacy = any(i["code"] == "PBR_LEGACY_SPEC_GLOSS" for i in issues["after"])
+        check(still_legacy == (was_legacy and left_legacy), f"{path}: PBR_LEGACY_SPEC_GLOSS after the conversion")
+    check(any(any(i["code"] == "PBR_LEGACY_SPEC_GLOSS" for i in r["material_issues"]["before"])
+              for r in reports.values()), "the spec-gloss inputs carry PBR_LEGACY_SPEC_GLOSS before")
     widths = images_decode(browser)
     check(len(widths) == 3 * len(reports) and all(w == 96 for w in widths), f"every image decodes at 96 px: {widths}")
     means = column(browser, 4)
@@ -186,6 +203,7 @@ non_utf8 = pathlib.Path(os.fsdecode(os.fsencode(str(odd_names)) + b"/caf\xe9 #1?
 shutil.copytree(one, non_utf8)
 report = json.loads((non_utf8 / "report.json").read_text())
 report.setdefault("conversion", {})["materials"] = [{"index": 0, "name": "odd", "outcome": "constructor"}]
+report["material_issues"] = None  # drawn without --lint
 (non_utf8 / "report.json").write_text(json.dumps(report))
 long_texts = odd_names / "long"
 shutil.copytree(one, long_texts)
@@ -194,6 +212,12 @@ report["input"] = "x" * 5000 + ".gltf"
 report["conversion"]["materials"] = (  # 300 materials, the one left legacy last
     [{"index": i, "name": f"material {i}", "outcome": "metalness"} for i in range(299)] +
     [{"index": 299, "name": "m" * 5000, "outcome": "legacy", "note": "n" * 5000}])
+hostile_message = "</script><script>window.pwned2 = 1</script><b>&amp;</b>"
+report["material_issues"] = {  # 150 issues before, one of them repeated 3 times; an unknown severity
+    "profile": "tolerant",
+    "before": [{"code": "PBR_X", "severity": "<b>", "pointer": "/materials/0", "message": hostile_message, "count": 3}] +
+              [{"code": "PBR_Y", "severity": "warning", "pointer": f"/materials/{i}", "message": "m"} for i in range(149)],
+    "after": []}
 (long_texts / "report.json").write_text(json.dumps(report))
 run("gallery", odd_names)
 check(len((odd_names / "index.html").read_bytes()) < 200_000, "long texts are capped in the page")
@@ -206,6 +230,16 @@ with Browser() as browser:
     check(max(shown) <= 1001, f"a 5,000-character name shows capped: {shown}")
     items = browser.evaluate(f"{ROWS}.map(tr => tr.children[7].querySelectorAll('li').length)")
     check(257 in items, f"256 materials listed and a line for the rest: {items}")
+    issues = browser.evaluate(f"{ROWS}.map(tr => [tr.children[8].dataset.before, "
+                              "tr.children[8].querySelectorAll('li').length])")
+    check(["152", 101] in issues, f"152 issues counted, 100 listed and a line for the rest: {issues}")
+    check(browser.evaluate("window.pwned2 === undefined"), "a <script> in an issue's message does not run")
+    first = browser.evaluate("document.querySelector('ul.issues li').textContent")
+    check(hostile_message in first and "(3 times)" in first, f"an issue's message shows as text: {first}")
+    check(browser.evaluate("document.querySelector('ul.issues li span').className") == "",
+          "an unknown severity gets no class of its own")
+    unchecked = browser.evaluate(f"{ROWS}.map(tr => tr.children[8].textContent)")
+    check("not checked" in unchecked, f"a preview drawn without --lint says its issues were not checked: {unchecked}")
     lengths = browser.evaluate("[...document.querySelectorAll('ul.materials li span')].map(s => s.textContent.length)")
     check(1001 in lengths, "the worst material (left legacy, the last of 300) is listed, its name capped")
     browser.evaluate("(() => { const o = document.getElementById('outcome'); o.value = 'legacy'; "

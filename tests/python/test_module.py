@@ -192,6 +192,17 @@ def test_preview_writes_its_images_and_returns_its_report(tmp_path):
     assert json.loads((tmp_path / "preview/report.json").read_text()) == report
     assert report["input"] == str(DUCK)
     assert report["width"] == 64 and report["height"] == 64
+    assert report["material_issues"] is None  # not checked unless asked
+
+
+def test_preview_with_lint_reports_the_material_issues_of_both_sides(tmp_path):
+    report = gltf_pbr.preview(DUCK, tmp_path / "preview", size=64, lint="strict")
+    issues = report["material_issues"]
+    assert issues["profile"] == "strict"
+    assert "PBR_LEGACY_SPEC_GLOSS" in {i["code"] for i in issues["before"]}
+    assert "PBR_LEGACY_SPEC_GLOSS" not in {i["code"] for i in issues["after"]}
+    with pytest.raises(ValueError):
+        gltf_pbr.preview(DUCK, tmp_path / "other", size=64, lint="lenient")
 
 
 def test_the_readme_example_runs_as_written(tmp_path):
