@@ -29,47 +29,50 @@ function walk(dir) {
     e.isDirectory() ? walk(path.join(dir, e.name)) : /\.(gltf|glb)$/.test(e.name) ? [path.join(dir, e.name)] : []);
 }
 
-const suiteDir = path.join(shared, 'validator-suite');
-const suite = JSON.parse(fs.readFileSync(path.join(suiteDir, 'manifest.json'))).cases.map((c) => c.input);
-const workloads = [
-  { name: `validator suite (${suite.length} files, one process)`, files: suite, cwd: suiteDir },
-  { name: `shared assets (${walk(path.join(shared, 'assets')).length} files)`, files: walk(path.join(shared, 'assets')).sort(), cwd: undefined },
-  { name: 'grid 1M vertices / 2M triangles (GLB)', files: [path.join(large, 'grid-1M.glb')] },
-  { name: 'grid 4M vertices / 8M triangles (GLB)', files: [path.join(large, 'grid-4M.glb')] },
-];
-
 const f3 = (x) => x.toFixed(3), f1 = (x) => x.toFixed(1), f2 = (x) => x.toFixed(2);
-console.log(`### gltf-pbr validate --only structure vs gltf-validator ${process.env.GLTF_VALIDATOR_VERSION} (npm), median of ${runs} runs\n`);
-console.log('Both validate every file with its external resources in one process and print the reports; ours once on one thread (-j 1) and once on all cores.\n');
-console.log('| workload | ours -j1 s | ours -jN s | peer s | speed-up -j1 / -jN | ours MB | peer MB | mem ratio |');
-console.log('|---|---|---|---|---|---|---|---|');
-for (const w of workloads) {
-  // Reports to stdout, as the peer prints its own (a report folder would refuse the suite's
-  // same-named files in different folders).
-  const base = [ours, 'validate', '--only', 'structure', '-f', 'json', '-q', ...w.files];
-  const one = measure([...base.slice(0, 2), '-j', '1', ...base.slice(2)], w.cwd);
-  const all = measure(base, w.cwd);
-  const peer = measure(['node', '--max-old-space-size=16384', peerScript, ...w.files], w.cwd);
-  console.log(`| ${w.name} | ${f3(one.seconds)} | ${f3(all.seconds)} | ${f3(peer.seconds)} | ${f1(peer.seconds / one.seconds)}× / ${f1(peer.seconds / all.seconds)}× | ${f1(one.mb)} | ${f1(peer.mb)} | ${f2(one.mb / peer.mb)} |`);
-}
+if (process.env.ONLY !== 'million') {
+  const suiteDir = path.join(shared, 'validator-suite');
+  const suite = JSON.parse(fs.readFileSync(path.join(suiteDir, 'manifest.json'))).cases.map((c) => c.input);
+  const workloads = [
+    { name: `validator suite (${suite.length} files, one process)`, files: suite, cwd: suiteDir },
+    { name: `shared assets (${walk(path.join(shared, 'assets')).length} files)`, files: walk(path.join(shared, 'assets')).sort(), cwd: undefined },
+    { name: 'grid 1M vertices / 2M triangles (GLB)', files: [path.join(large, 'grid-1M.glb')] },
+    { name: 'grid 4M vertices / 8M triangles (GLB)', files: [path.join(large, 'grid-4M.glb')] },
+  ];
 
-// Every step (structure, materials, textures, meshes) where the peer checks structure only: what a
-// user of `gltf-pbr validate` without --only waits for. Runs alternate between ours and the peer.
-console.log(`\n### gltf-pbr validate (all steps) vs gltf-validator ${process.env.GLTF_VALIDATOR_VERSION} (structure only), median of ${runs} runs\n`);
-console.log('| input | ours s | peer s | ours / peer | ours MB | peer MB |');
-console.log('|---|---|---|---|---|---|');
-for (const [name, file] of [
-  ['Avocado (two 2K maps, 5 images)', path.join(shared, 'assets', 'Avocado', 'specgloss', 'Avocado.gltf')],
-  ['grid 1M vertices / 2M triangles (GLB)', path.join(large, 'grid-1M.glb')],
-]) {
-  const ourRuns = [], peerRuns = [];
-  for (let i = 0; i < runs; i++) {
-    ourRuns.push(timed([ours, 'validate', '-f', 'json', '-o', path.join(work, 'all'), '-q', file]));
-    peerRuns.push(timed(['node', '--max-old-space-size=16384', peerScript, file]));
+  console.log(`### gltf-pbr validate --only structure vs gltf-validator ${process.env.GLTF_VALIDATOR_VERSION} (npm), median of ${runs} runs\n`);
+  console.log('Both validate every file with its external resources in one process and print the reports; ours once on one thread (-j 1) and once on all cores.\n');
+  console.log('| workload | ours -j1 s | ours -jN s | peer s | speed-up -j1 / -jN | ours MB | peer MB | mem ratio |');
+  console.log('|---|---|---|---|---|---|---|---|');
+  for (const w of workloads) {
+    // Reports to stdout, as the peer prints its own (a report folder would refuse the suite's
+    // same-named files in different folders).
+    const base = [ours, 'validate', '--only', 'structure', '-f', 'json', '-q', ...w.files];
+    const one = measure([...base.slice(0, 2), '-j', '1', ...base.slice(2)], w.cwd);
+    const all = measure(base, w.cwd);
+    const peer = measure(['node', '--max-old-space-size=16384', peerScript, ...w.files], w.cwd);
+    console.log(`| ${w.name} | ${f3(one.seconds)} | ${f3(all.seconds)} | ${f3(peer.seconds)} | ${f1(peer.seconds / one.seconds)}× / ${f1(peer.seconds / all.seconds)}× | ${f1(one.mb)} | ${f1(peer.mb)} | ${f2(one.mb / peer.mb)} |`);
   }
-  const a = { seconds: median(ourRuns.map((s) => s.seconds)), mb: median(ourRuns.map((s) => s.mb)) };
-  const b = { seconds: median(peerRuns.map((s) => s.seconds)), mb: median(peerRuns.map((s) => s.mb)) };
-  console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f2(a.seconds / b.seconds)} | ${f1(a.mb)} | ${f1(b.mb)} |`);
+
+  // Every step (structure, materials, textures, meshes) where the peer checks structure only: what a
+  // user of `gltf-pbr validate` without --only waits for. Runs alternate between ours and the peer.
+  console.log(`\n### gltf-pbr validate (all steps) vs gltf-validator ${process.env.GLTF_VALIDATOR_VERSION} (structure only), median of ${runs} runs\n`);
+  console.log('| input | ours s | peer s | ours / peer | ours MB | peer MB |');
+  console.log('|---|---|---|---|---|---|');
+  for (const [name, file] of [
+    ['Avocado (two 2K maps, 5 images)', path.join(shared, 'assets', 'Avocado', 'specgloss', 'Avocado.gltf')],
+    ['grid 1M vertices / 2M triangles (GLB)', path.join(large, 'grid-1M.glb')],
+  ]) {
+    const ourRuns = [], peerRuns = [];
+    for (let i = 0; i < runs; i++) {
+      ourRuns.push(timed([ours, 'validate', '-f', 'json', '-o', path.join(work, 'all'), '-q', file]));
+      peerRuns.push(timed(['node', '--max-old-space-size=16384', peerScript, file]));
+    }
+    const a = { seconds: median(ourRuns.map((s) => s.seconds)), mb: median(ourRuns.map((s) => s.mb)) };
+    const b = { seconds: median(peerRuns.map((s) => s.seconds)), mb: median(peerRuns.map((s) => s.mb)) };
+    console.log(`| ${name} | ${f3(a.seconds)} | ${f3(b.seconds)} | ${f2(a.seconds / b.seconds)} | ${f1(a.mb)} | ${f1(b.mb)} |`);
+  }
+
 }
 
 // A million issues in one file: ours lists the first 1,000 distinct messages of each code and counts

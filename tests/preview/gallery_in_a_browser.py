@@ -4,7 +4,8 @@ file:// and the test reads the DOM.
     python3 gallery_in_a_browser.py GLTF_PBR SHARED_DIR [SCREENSHOT_DIR]
 
 - convert --preview --preview-lint over the shared assets: one row per preview, its figures and its
-  material issues (before and after) equal to its report.json, the legacy material's hint gone
+  material issues (before and after) equal to its report.json and to what validate raises on the
+  input and on the written output, the legacy material's hint gone
   exactly where no material was left legacy, every image decodes, sorting by a header click and
   filtering work, no console error;
   a screenshot is kept in SCREENSHOT_DIR (default: the scratch folder) for a person to look at.
@@ -74,6 +75,23 @@ page = previews / "index.html"
 html = page.read_text()
 check("http:" not in html and "https:" not in html and "<link" not in html, "the page references nothing outside itself")
 reports = {str(p.parent.relative_to(previews)): json.loads(p.read_text()) for p in previews.rglob("report.json")}
+
+
+def material_issues_of(path):
+    """What `validate --only materials` raises on a file: the PBR_* issues, as report.json lists them."""
+    done = subprocess.run([cli, "validate", "--only", "materials", "-f", "json", path], capture_output=True, text=True)
+    messages = json.loads(done.stdout)["issues"]["messages"]
+    return [(m["code"], m["pointer"], m["message"], m.get("count", 1)) for m in messages if m["code"].startswith("PBR_")]
+
+
+# The issues a preview lists are those validate raises on the input and on the output convert wrote.
+for path, report in reports.items():
+    source = pathlib.Path(report["input"])
+    output = work / "converted" / source.resolve().relative_to(shared.resolve())  # convert keeps "assets/"
+    listed = {side: [(i["code"], i["pointer"], i["message"], i.get("count", 1)) for i in report["material_issues"][side]]
+              for side in ("before", "after")}
+    check(listed["before"] == material_issues_of(source), f"{path}: the issues before are validate's on the input")
+    check(listed["after"] == material_issues_of(output), f"{path}: the issues after are validate's on the output")
 with Browser() as browser:
     browser.open(page.as_uri())
     paths = browser.evaluate(f"{ROWS}.map(tr => tr.dataset.path)")

@@ -1043,5 +1043,100 @@ TEST(StructureChecks, EveryAccessorThatJoinsAStridelessVertexViewIsReported) {
                                       "/meshes/0/primitives/0/targets/0/POSITION"}));
 }
 
+// A PNG of 4x4 texels of `color_type` with `chunks` (type, data) between IHDR and IDAT.
+std::vector<std::uint8_t> png_with(std::uint8_t color_type,
+                                   const std::vector<std::pair<std::string, std::vector<std::uint8_t>>>& chunks) {
+  auto crc32 = [](const std::vector<std::uint8_t>& bytes, std::size_t from) {  // PNG 5.5, ISO 3309
+    std::uint32_t crc = 0xFFFFFFFFu;
+    for (std::size_t i = from; i < bytes.size(); ++i) {
+      crc ^= bytes[i];
+      for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return crc ^ 0xFFFFFFFFu;
+  };
+  std::vector<std::uint8_t> b = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  auto put32 = [&](std::uint32_t v) {
+    for (int k = 3; k >= 0; --k) b.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  };
+  auto chunk = [&](const std::string& type, const std::vector<std::uint8_t>& data) {
+    put32(static_cast<std::uint32_t>(data.size()));
+    const std::size_t start = b.size();
+    b.insert(b.end(), type.begin(), type.end());
+    b.insert(b.end(), data.begin(), data.end());
+    put32(crc32(b, start));
+  };
+  chunk("IHDR", {0, 0, 0, 4, 0, 0, 0, 4, 8, color_type, 0, 0, 0});
+  for (const auto& [type, data] : chunks) chunk(type, data);
+  // IDAT: zlib with one stored block of 4 filtered rows of 1 byte a texel (enough for the header walk).
+  std::vector<std::uint8_t> rows(4 * (1 + 4), 0);
+  std::vector<std::uint8_t> idat = {0x78, 0x01, 0x01, static_cast<std::uint8_t>(rows.size()), 0,
+                                    static_cast<std::uint8_t>(~rows.size()), 0xFF};
+  idat.insert(idat.end(), rows.begin(), rows.end());
+  idat.insert(idat.end(), {0, 0x14, 0, 1});  // Adler-32 of 20 zero bytes
+  chunk("IDAT", idat);
+  chunk("IEND", {});
+  return b;
+}
+
+std::vector<std::uint8_t> be32(std::uint32_t v) {
+  return {static_cast<std::uint8_t>(v >> 24), static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 8),
+          static_cast<std::uint8_t>(v)};
+}
+
+// The info block names an image's format and colour space as its chunks do (PNG 11.3: tRNS adds
+// alpha; iCCP is a custom colour space, cHRM other primaries, gAMA 1.0 a linear transfer and another
+// gamma a custom one); a JPEG names no colour space, and one of 4 components (CMYK) is invalid.
+TEST(StructureChecks, TheInfoBlockNamesAnImagesFormatAndColourSpaceAsItsBytesDo) {
+  auto image_info = [](const std::vector<std::uint8_t>& bytes, const char* mime) {
+    const Report report = validate_text(R"({"asset":{"version":"2.0"},"images":[{"uri":")" +
+                                        data_uri(bytes).replace(0, 37, std::string("data:") + mime + ";base64,") +
+                                        R"("}]})");
+    const auto& resource = report.info["resources"][0];
+    std::string image_issues;
+    for (const std::string& key : keys(report))
+      if (key.starts_with("IMAGE_")) image_issues += key;
+    return resource.contains("image") ? resource["image"].dump() : "no image: " + image_issues;
+  };
+  auto png = [&](std::uint8_t type, const std::vector<std::pair<std::string, std::vector<std::uint8_t>>>& chunks) {
+    return image_info(png_with(type, chunks), "image/png");
+  };
+  const std::string tail = R"(,"bits":8})";
+  EXPECT_EQ(png(2, {}), R"({"width":4,"height":4,"format":"rgb","primaries":"srgb","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(2, {{"gAMA", be32(45455)}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"srgb","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(2, {{"gAMA", be32(100000)}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"srgb","transfer":"linear")" + tail);
+  EXPECT_EQ(png(2, {{"gAMA", be32(50000)}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"srgb","transfer":"custom")" + tail);
+  std::vector<std::uint8_t> chromaticities;
+  for (std::uint32_t v : {31270u, 32900u, 64000u, 33000u, 30000u, 60000u, 15000u, 7000u}) {
+    const auto bytes = be32(v);
+    chromaticities.insert(chromaticities.end(), bytes.begin(), bytes.end());
+  }
+  EXPECT_EQ(png(2, {{"cHRM", chromaticities}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"custom","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(2, {{"iCCP", {'x', 0, 0, 0x78, 0x01, 0x03, 0, 0, 0, 0, 1}}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"custom","transfer":"custom")" + tail);
+  EXPECT_EQ(png(3, {{"PLTE", {0, 0, 0, 255, 255, 255}}}),
+            R"({"width":4,"height":4,"format":"rgb","primaries":"srgb","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(3, {{"PLTE", {0, 0, 0, 255, 255, 255}}, {"tRNS", {0}}}),
+            R"({"width":4,"height":4,"format":"rgba","primaries":"srgb","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(0, {{"tRNS", {0, 1}}}),
+            R"({"width":4,"height":4,"format":"luminance-alpha","primaries":"srgb","transfer":"srgb")" + tail);
+  EXPECT_EQ(png(2, {{"tRNS", {0, 1, 0, 1, 0, 1}}}),
+            R"({"width":4,"height":4,"format":"rgba","primaries":"srgb","transfer":"srgb")" + tail);
+  // JPEG: SOI, a baseline frame of 4x4 with N components, EOI.
+  auto jpeg = [](std::uint8_t components) {
+    std::vector<std::uint8_t> b = {0xFF, 0xD8, 0xFF, 0xC0, 0, static_cast<std::uint8_t>(8 + 3 * components), 8, 0, 4, 0, 4,
+                                   components};
+    for (std::uint8_t c = 1; c <= components; ++c) b.insert(b.end(), {c, 0x11, 0});
+    b.insert(b.end(), {0xFF, 0xD9});
+    return b;
+  };
+  EXPECT_EQ(image_info(jpeg(3), "image/jpeg"), R"({"width":4,"height":4,"format":"rgb","bits":8})");
+  EXPECT_EQ(image_info(jpeg(1), "image/jpeg"), R"({"width":4,"height":4,"format":"luminance","bits":8})");
+  EXPECT_EQ(image_info(jpeg(4), "image/jpeg"), "no image: IMAGE_DATA_INVALID /images/0");
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -23,6 +23,9 @@ struct ImageHeader {
   std::int64_t width = -1, height = -1;
   std::string format;  // "rgb", "rgba", "luminance", "luminance-alpha"
   int bits = 8;
+  // The info block's colour space: "srgb", "linear", "custom"; "" where the format says nothing
+  // of it (JPEG: the reference leaves both out).
+  std::string primaries = "srgb", transfer = "srgb";
   bool unsupported_features = false;  // colour space, pixel aspect or animation the spec does not cover
   std::string error_code;             // IMAGE_UNEXPECTED_EOS, IMAGE_DATA_INVALID
   std::string error_message;          // for IMAGE_DATA_INVALID
@@ -85,14 +88,31 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
     static constexpr std::uint32_t kSrgbChromaticities[8] = {31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000};
     const auto* type = &b[offset + 4];
     const auto* data = &b[offset + 8];
-    if (std::memcmp(type, "iCCP", 4) == 0) header.unsupported_features = true;
+    // The same chunks name the colour space the info block reports: an ICC profile is custom
+    // primaries and transfer, other chromaticities custom primaries, a gamma of 100000 (1.0) a
+    // linear transfer and any other but sRGB's a custom one (PNG 11.3.3.2).
+    if (std::memcmp(type, "iCCP", 4) == 0) {
+      header.unsupported_features = true;
+      header.primaries = header.transfer = "custom";
+    }
     if (std::memcmp(type, "pHYs", 4) == 0 && length >= 9 && big_endian32(data) != big_endian32(data + 4))
       header.unsupported_features = true;
-    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455 && big_endian32(data) != 100000)
-      header.unsupported_features = true;
+    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455) {
+      const bool linear = big_endian32(data) == 100000;
+      if (!linear) header.unsupported_features = true;
+      header.transfer = linear ? "linear" : "custom";
+    }
     if (std::memcmp(type, "cHRM", 4) == 0 && length >= 32)
       for (int k = 0; k < 8; ++k)
-        if (big_endian32(data + 4 * k) != kSrgbChromaticities[k]) header.unsupported_features = true;
+        if (big_endian32(data + 4 * k) != kSrgbChromaticities[k]) {
+          header.unsupported_features = true;
+          header.primaries = "custom";
+        }
+    // PNG 11.3.2.1: transparency for a palette, grey or RGB image gives it an alpha channel.
+    if (std::memcmp(type, "tRNS", 4) == 0) {
+      if (header.format == "luminance") header.format = "luminance-alpha";
+      if (header.format == "rgb") header.format = "rgba";
+    }
     offset += 12 + length;
   }
 }
@@ -135,8 +155,17 @@ void read_jpeg(std::span<const std::uint8_t> b, ImageHeader& header) {
       header.bits = b[offset + 4];
       header.height = big_endian16(&b[offset + 5]);
       header.width = big_endian16(&b[offset + 7]);
+      // A glTF JPEG is grey or colour (JFIF: 1 or 3 components); 4 is CMYK, which renderers do
+      // not decode as colour (the reference: IMAGE_DATA_INVALID, no image info).
       const int components = b[offset + 9];
+      if (components != 1 && components != 3) {
+        header.error_code = "IMAGE_DATA_INVALID";
+        header.error_message = "Invalid number of JPEG color channels.";
+        return;
+      }
       header.format = components == 1 ? "luminance" : "rgb";
+      header.primaries.clear();  // JPEG names no colour space (an ICC profile or Exif aside)
+      header.transfer.clear();
       return;
     }
     offset += 2 + length;
@@ -298,8 +327,11 @@ void check_images(Context& context) {
           for (const Ktx2Finding& finding : check_ktx2(bytes, uses[i]))
             issues.at(finding.code, p, {arg_raw(finding.reason)});
         if (header.error_code.empty() && header.width >= 0) {
-          resource["image"] = {{"width", header.width}, {"height", header.height}, {"format", header.format},
-                               {"primaries", "srgb"},   {"transfer", "srgb"},      {"bits", header.bits}};
+          nlohmann::ordered_json& info = resource["image"];
+          info = {{"width", header.width}, {"height", header.height}, {"format", header.format}};
+          if (!header.primaries.empty()) info["primaries"] = header.primaries;
+          if (!header.transfer.empty()) info["transfer"] = header.transfer;
+          info["bits"] = header.bits;
           if (!power_of_two(header.width) || !power_of_two(header.height))
             issues.at("IMAGE_NPOT_DIMENSIONS", p, {arg(header.width), arg(header.height)});
         }
