@@ -17,11 +17,15 @@
 
 #include "core/files.hpp"
 #include "core/json_pointer.hpp"  // pointer(), which every user of an Asset needs
+#include "core/resources.hpp"
 
 namespace gltf_pbr {
 
 struct LoadOptions {
   bool allow_outside_uris = false;  // read absolute or "../" URIs (refused by default)
+  // The file's resources when another step of the same run already read some (validate's
+  // structure step); its policy then governs, not allow_outside_uris. A new one when null.
+  std::shared_ptr<FileResources> resources;
 };
 
 // The decoded bytes of EXT_meshopt_compression bufferViews (core/meshopt.hpp), by view index,
@@ -60,6 +64,9 @@ struct Asset {
   // as written; copies of the asset share the mappings.
   std::map<std::string, std::shared_ptr<const MappedFile>> image_files;
   DecodedViews decoded_views;
+  // What it was loaded through (external files, decoded Draco meshes); null for an asset built in
+  // memory, whose Draco meshes are then decoded on every request.
+  std::shared_ptr<FileResources> resources;
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references
@@ -114,6 +121,7 @@ struct WorkCounters {
   std::atomic<long> images_decoded{0};
   std::atomic<long> meshes_decoded{0};
   std::atomic<long> views_decoded{0};  // EXT_meshopt_compression bufferViews
+  std::atomic<long> files_opened{0};   // external buffer and image files (FileResources)
 };
 WorkCounters& work_counters();
 

@@ -3,6 +3,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -167,10 +169,14 @@ bool is_meshopt_fallback(const nlohmann::json& buffer) {
   return fallback != extension->end() && fallback->is_boolean() && fallback->get<bool>();
 }
 
+// External buffer files by absolute, normal path: the only files tinygltf's read callback serves.
+using BufferFiles = std::map<fs::path, std::shared_ptr<const MappedFile>>;
+
 // Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
-// of buffers and images, and that the JSON parses at all. Maps the image files it checked.
+// of buffers and images, and that the JSON parses at all. Maps the files it checked through the
+// asset's resources: images into asset.image_files, buffers into `buffer_files`.
 nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool glb_has_bin,
-                               const LoadOptions& options) {
+                               BufferFiles& buffer_files) {
   const std::string file = asset.path.string();
   if (const auto offset = too_deep_at(json_text))
     throw InputError(file, ByteOffset{(asset.binary ? 20u : 0u) + *offset},
@@ -218,7 +224,6 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
                            "is not an integer from 0 to 2^31 - 1 (the largest the document library reads)");
       }
     }
-  const fs::path folder = asset.path.parent_path().empty() ? fs::path(".") : asset.path.parent_path();
   for (const char* collection : {"buffers", "images"}) {
     const auto it = root.find(collection);
     if (it == root.end()) continue;
@@ -239,18 +244,16 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
         if (!data) throw InputError(file, where + "/uri", "data URI is not valid base64");
         size = data->size();
       } else {
-        const ResolvedUri resolved = resolve_uri(folder, text, options.allow_outside_uris);
-        if (resolved.status != UriStatus::Readable) throw InputError(file, where + "/uri", resolved.problem);
-        std::error_code error;
-        size = fs::file_size(resolved.path, error);
-        if (error) throw InputError(file, where + "/uri", "cannot read " + text + ": " + error.message());
+        const FileResources::External& external = asset.resources->external(text);
+        if (external.resolved.status != UriStatus::Readable)
+          throw InputError(file, where + "/uri", external.resolved.problem);
+        if (!external.file) throw InputError(file, where + "/uri", "cannot read " + text);
+        size = external.file->bytes().size();
         if (std::strcmp(collection, "images") == 0) {
           if (size == 0) throw InputError(file, where + "/uri", "the image file " + text + " is empty");
-          if (!asset.image_files.count(text)) {
-            auto mapped = MappedFile::open(resolved.path, MappedFile::ReadAhead::OnTouch);
-            if (!mapped) throw InputError(file, where + "/uri", "cannot read " + text);
-            asset.image_files.emplace(text, std::make_shared<const MappedFile>(std::move(*mapped)));
-          }
+          asset.image_files.emplace(text, external.file);
+        } else {
+          buffer_files.emplace(fs::absolute(external.resolved.path).lexically_normal(), external.file);
         }
       }
       // glTF 2.0 section 3.6.1.1: a buffer's data holds at least byteLength bytes. tinygltf 2.7
@@ -355,7 +358,7 @@ std::string tidy(std::string message, const std::string& base_dir) {
 
 struct LoaderContext {
   fs::path folder;
-  bool allow_outside;
+  const BufferFiles& buffer_files;
 };
 
 // tinygltf image callback: keep the encoded bytes of data-URI images; bufferView images already
@@ -381,13 +384,11 @@ std::string expand_file_path(const std::string& joined, void* user) {
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   const auto* context = static_cast<const LoaderContext*>(user);
-  // Defence in depth: check_resources already refused these, but never read outside the folder.
-  const fs::path relative = fs::path(path).lexically_relative(context->folder);
-  if (!context->allow_outside && (relative.empty() || *relative.begin() == ".."))
-    return (*err += "refused to read outside the asset's folder: " + path + "\n"), false;
-  auto bytes = read_file(path);
-  if (!bytes) return (*err += "cannot read " + path + "\n"), false;
-  *out = std::move(*bytes);
+  // Only the files check_resources resolved through the path policy are served, from their mapping.
+  const auto file = context->buffer_files.find(fs::absolute(path).lexically_normal());
+  if (file == context->buffer_files.end())
+    return (*err += "refused to read a file the loader did not check: " + path + "\n"), false;
+  out->assign(file->second->bytes().begin(), file->second->bytes().end());
   return true;
 }
 
@@ -439,7 +440,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   } else {
     asset.original_json.assign(bytes->begin(), bytes->end());
   }
-  nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, options);
+  asset.resources = options.resources ? options.resources
+                                      : std::make_shared<FileResources>(path.parent_path(), options.allow_outside_uris);
+  BufferFiles buffer_files;
+  nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
   const auto relabelled = relabel_foreign_data_images(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
@@ -454,7 +458,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   }
   const std::string& json_text = rewritten ? json_for_tinygltf : asset.original_json;
 
-  LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), options.allow_outside_uris};
+  LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), buffer_files};
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&keep_encoded, nullptr);
   tinygltf::FsCallbacks callbacks{&tinygltf::FileExists, &expand_file_path, &read_whole_file, &tinygltf::WriteWholeFile,

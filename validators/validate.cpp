@@ -35,11 +35,13 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     return report;
   }
   const std::span<const std::uint8_t> bytes = mapped->bytes();
+  // One set of resources for every step: each external file is opened once, each Draco mesh decoded once.
+  const auto resources = std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
 
   bool structure_found_errors = false;
   if (wants(options, "structure")) {
     StructureOptions structure_options;
-    structure_options.allow_outside_uris = options.allow_outside_uris;
+    structure_options.resources = resources;
     try {
       structure_found_errors = validate_structure(file, bytes, rules, structure_options, report);
     } catch (const std::bad_alloc&) {
@@ -59,7 +61,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   std::optional<Asset> asset;
   if (needs_document) {
     try {
-      asset = load_asset(file, LoadOptions{options.allow_outside_uris});
+      asset = load_asset(file, LoadOptions{options.allow_outside_uris, resources});
     } catch (const InputError& error) {
       // The structure step owns saying why a document is unreadable, in the reference's codes (which
       // the config may silence). When it did not run, or found no error at all (the loader refuses

@@ -14,18 +14,13 @@
 
 namespace gltf_pbr::structure {
 
-std::optional<std::vector<std::uint8_t>> read_resource(Context& context, const std::string& uri,
-                                                       const std::string& pointer) {
-  const ResolvedUri resolved = resolve_uri(context.base_dir, uri, context.options.allow_outside_uris);
-  std::optional<std::vector<std::uint8_t>> bytes;
-  if (resolved.status == UriStatus::Refused) {
-    context.issues.at("IO_ERROR", pointer, {arg_raw(resolved.problem + ".")});
-    return bytes;
-  }
-  // One sized read, not a byte-by-byte stream: external .bin files are large.
-  if (resolved.status == UriStatus::Readable) bytes = read_file(resolved.path);
-  if (!bytes) context.issues.at("IO_ERROR", pointer, {arg_raw("Resource not found (" + uri + ").")});
-  return bytes;
+std::shared_ptr<const MappedFile> read_resource(Context& context, const std::string& uri, const std::string& pointer) {
+  const FileResources::External& external = context.files.external(uri);
+  if (external.resolved.status == UriStatus::Refused)
+    context.issues.at("IO_ERROR", pointer, {arg_raw(external.resolved.problem + ".")});
+  else if (!external.file)
+    context.issues.at("IO_ERROR", pointer, {arg_raw("Resource not found (" + uri + ").")});
+  return external.file;
 }
 
 namespace {
@@ -692,9 +687,8 @@ void load_buffers(Context& context) {
     } else if (buffer.uri_valid && context.options.validate_resources) {
       resource["storage"] = "external";
       resource["uri"] = buffer.uri;
-      if (auto data = read_resource(context, buffer.uri, p + "/uri")) {
-        buffer.owned = std::move(*data);
-        buffer.data = buffer.owned;
+      if ((buffer.file = read_resource(context, buffer.uri, p + "/uri"))) {
+        buffer.data = buffer.file->bytes();
         buffer.data_loaded = true;
       }
     }

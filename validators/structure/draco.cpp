@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+#include "core/draco.hpp"
+
 #include "validators/structure/images.hpp"
 
 namespace gltf_pbr::structure {
@@ -72,30 +74,22 @@ void check_primitive(Context& context, const PrimitiveModel& primitive) {
   const std::string p = primitive.pointer + "/extensions/KHR_draco_mesh_compression";
   auto bytes = buffer_view_bytes(doc, primitive.draco_buffer_view);
   if (!bytes) return;  // unresolved or unloaded: reported elsewhere
-  draco::DecoderBuffer buffer;
-  buffer.Init(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-  draco::Decoder decoder;
-  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!decoded.ok()) {
-    context.issues.at("DRACO_DECODE_FAILED", p, {arg_raw(decoded.status().error_msg_string())});
+  const FileResources::DracoMesh decoded = context.files.draco_mesh(*bytes);
+  if (!decoded.mesh) {
+    context.issues.at("DRACO_DECODE_FAILED", p, {arg_raw(decoded.problem)});
     return;
   }
-  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
-  const std::uint64_t points = mesh->num_points();
+  const draco::Mesh* mesh = decoded.mesh.get();
   for (const auto& [semantic, id] : primitive.draco_attributes) {
-    const draco::PointAttribute* attribute = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id));
-    if (!attribute) {
+    if (id < 0 || id > UINT32_MAX || !mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id))) {
       context.issues.at("DRACO_DECODE_FAILED", p + "/attributes/" + escape_pointer_token(semantic),
                         {arg_raw("no Draco attribute with unique id " + std::to_string(id))});
       continue;
     }
-    const int components = attribute->num_components();
-    std::vector<float> values(points * static_cast<std::uint64_t>(components));
-    bool readable = true;
-    for (draco::PointIndex point(0); point < mesh->num_points() && readable; ++point)
-      readable = attribute->ConvertValue<float>(attribute->mapped_index(point), static_cast<int8_t>(components),
-                                                values.data() + point.value() * static_cast<std::size_t>(components));
-    if (!readable) continue;
+    int components = 0;
+    const std::optional<std::vector<float>> read = draco_attribute_values(*mesh, id, components);
+    if (!read) continue;
+    const std::vector<float>& values = *read;
     for (const auto& [name, index] : primitive.attributes) {
       if (name != semantic || index < 0 || static_cast<std::size_t>(index) >= doc.accessors.size()) continue;
       const AccessorModel& accessor = doc.accessors[static_cast<std::size_t>(index)];

@@ -265,7 +265,7 @@ void check_images(Context& context) {
     nlohmann::ordered_json resource;
     resource["pointer"] = p;
     std::span<const std::uint8_t> bytes;
-    std::vector<std::uint8_t> file_bytes;
+    std::shared_ptr<const MappedFile> file;
     std::string declared = image.mime_type;
     bool have = false;
     std::string storage;
@@ -282,9 +282,8 @@ void check_images(Context& context) {
       } else {
         storage = "external";
         if (context.options.validate_resources) {
-          if (auto read = read_resource(context, image.uri, p + "/uri")) {
-            file_bytes = std::move(*read);
-            bytes = file_bytes;
+          if ((file = read_resource(context, image.uri, p + "/uri"))) {
+            bytes = file->bytes();
             have = true;
           }
         }

@@ -11,8 +11,9 @@ namespace gltf_pbr {
 bool validate_structure(const std::filesystem::path& file, std::span<const std::uint8_t> bytes, const RuleSet& rules,
                         const StructureOptions& options, Report& report) {
   using namespace structure;
-  Context context(rules, report, options);
-  context.base_dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+  const std::shared_ptr<FileResources> resources =
+      options.resources ? options.resources : std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
+  Context context(rules, report, options, *resources);
   // The reference picks its reader by file extension; content sniffing covers extension-less input.
   std::string extension = file.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

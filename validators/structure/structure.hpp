@@ -4,9 +4,11 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 
 #include "core/report.hpp"
+#include "core/resources.hpp"
 #include "rules/rule_set.hpp"
 
 namespace gltf_pbr {
@@ -15,6 +17,9 @@ struct StructureOptions {
   bool validate_resources = true;   // read external buffers and images, and check their data
   bool decode_draco = true;         // run the data checks inside KHR_draco_mesh_compression
   bool allow_outside_uris = false;  // core's resolve_uri policy, as for every command
+  // The file's resources, when later steps will read them too (validate hands the same ones to the
+  // loader); their policy then governs, not allow_outside_uris. The step makes its own when null.
+  std::shared_ptr<FileResources> resources;
 };
 
 // Fills report.mime_type, report.messages (in the reference validator's order, with its pointers

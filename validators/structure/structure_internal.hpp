@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -13,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/files.hpp"
 #include "core/json_pointer.hpp"
 #include "core/meshopt.hpp"
 #include "core/report.hpp"
@@ -142,8 +144,9 @@ struct BufferModel : EntityModel {
   bool meshopt_fallback = false;  // EXT_meshopt_compression {"fallback": true}
   std::string uri;
   std::int64_t byte_length = -1;
-  std::vector<std::uint8_t> owned;     // decoded data URI or external file
-  std::span<const std::uint8_t> data;  // the bytes: `owned`, or the GLB BIN chunk (not copied)
+  std::vector<std::uint8_t> owned;            // decoded data URI
+  std::shared_ptr<const MappedFile> file;     // external file, mapped through FileResources
+  std::span<const std::uint8_t> data;         // the bytes: `owned`, `file`, or the GLB BIN chunk (not copied)
   bool data_loaded = false;
 };
 
@@ -278,12 +281,12 @@ struct Document {
 
 // A reference to check in the link pass: pointer, index and which collection it targets.
 struct Context {
-  Context(const RuleSet& rules, Report& report_, const StructureOptions& options_)
-      : issues(rules, report_), report(report_), options(options_) {}
+  Context(const RuleSet& rules, Report& report_, const StructureOptions& options_, FileResources& resources_)
+      : issues(rules, report_), report(report_), options(options_), files(resources_) {}
   IssueSink issues;
   Report& report;
   const StructureOptions& options;
-  std::filesystem::path base_dir;
+  FileResources& files;  // external files and Draco meshes, shared with the loader (core/resources.hpp)
   bool glb = false;
   std::optional<std::span<const std::uint8_t>> glb_bin;  // the GLB BIN chunk, when present
   bool glb_bin_chunk = false;                            // a BIN chunk header was read (its data may be cut short)
@@ -304,11 +307,10 @@ struct Context {
   bool declared(std::string_view extension) const;
 };
 
-// Reads the external resource `uri` (at `pointer`) through core's resolve_uri policy. A missing
-// file is the reference's IO_ERROR "Resource not found"; a URI the policy refuses is an IO_ERROR
-// saying why, and its file is never opened. std::nullopt in both cases.
-std::optional<std::vector<std::uint8_t>> read_resource(Context& context, const std::string& uri,
-                                                       const std::string& pointer);
+// The external resource `uri` (at `pointer`), through the file's resources and their path policy.
+// A missing file is the reference's IO_ERROR "Resource not found"; a URI the policy refuses is an
+// IO_ERROR saying why, and its file is never opened. Null in both cases.
+std::shared_ptr<const MappedFile> read_resource(Context& context, const std::string& uri, const std::string& pointer);
 
 // ---- Passes.
 // Splits a GLB into its JSON and BIN chunks, reporting container issues by byte offset. Returns the

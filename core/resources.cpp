@@ -1,0 +1,34 @@
+#include "core/resources.hpp"
+
+#include <xxhash.h>
+
+#include "core/asset.hpp"
+
+namespace gltf_pbr {
+
+FileResources::FileResources(fs::path folder, bool allow_outside)
+    : folder_(folder.empty() ? fs::path(".") : std::move(folder)), allow_outside_(allow_outside) {}
+
+const FileResources::External& FileResources::external(const std::string& uri) {
+  const std::lock_guard lock(mutex_);
+  if (const auto found = externals_.find(uri); found != externals_.end()) return found->second;
+  External entry{resolve_uri(folder_, uri, allow_outside_), nullptr};
+  if (entry.resolved.status == UriStatus::Readable) {
+    ++work_counters().files_opened;
+    if (auto mapped = MappedFile::open(entry.resolved.path, MappedFile::ReadAhead::OnTouch))
+      entry.file = std::make_shared<const MappedFile>(std::move(*mapped));
+  }
+  return externals_.emplace(uri, std::move(entry)).first->second;
+}
+
+FileResources::DracoMesh FileResources::draco_mesh(std::span<const std::uint8_t> compressed) {
+  const XXH128_hash_t hash = XXH3_128bits(compressed.data(), compressed.size());
+  const std::pair<std::uint64_t, std::uint64_t> key{hash.high64, hash.low64};
+  // Decoding runs under the lock: two steps asking for one mesh must not both decode it, and the
+  // steps of one file ask one after another.
+  const std::lock_guard lock(mutex_);
+  if (const auto found = draco_meshes_.find(key); found != draco_meshes_.end()) return found->second;
+  return draco_meshes_.emplace(key, decode_draco_mesh(compressed)).first->second;
+}
+
+}  // namespace gltf_pbr

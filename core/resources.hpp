@@ -1,0 +1,61 @@
+// The resources of one glTF file, as every step reads them: the external files its URIs name,
+// resolved through the one path policy (core/files.hpp resolve_uri) and mapped once however many
+// steps read them, and its Draco meshes, decoded once. `validate` hands one to the structure step
+// and to the loader, so an image file or a .bin is opened once and a Draco mesh decoded once per
+// file; an Asset keeps the one it was loaded with, for the steps that run on it.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+
+#include "core/files.hpp"
+
+namespace draco {
+class Mesh;
+}
+
+namespace gltf_pbr {
+
+class FileResources {
+ public:
+  // `folder` is the asset's folder, against which URIs resolve; `allow_outside` is the policy's
+  // one switch (--allow-outside-uris).
+  FileResources(fs::path folder, bool allow_outside);
+  FileResources(const FileResources&) = delete;
+  FileResources& operator=(const FileResources&) = delete;
+
+  const fs::path& folder() const { return folder_; }
+  bool allow_outside() const { return allow_outside_; }
+
+  struct External {
+    ResolvedUri resolved;                    // Readable, or why not (NotFound, Refused)
+    std::shared_ptr<const MappedFile> file;  // set when Readable and the file could be mapped
+  };
+  // The file that `uri` (as written, not a data URI) names, mapped on first use and kept: later
+  // calls, from any step or thread, get the same mapping. Pages are read as they are touched.
+  const External& external(const std::string& uri);
+
+  struct DracoMesh {
+    std::shared_ptr<const draco::Mesh> mesh;  // null when the data does not decode
+    std::string problem;                      // libdraco's reason then
+  };
+  // The mesh that KHR_draco_mesh_compression data decodes to, decoded once per distinct data (keyed
+  // by the bytes' XXH3-128, so the structure step's copy of a buffer and the loader's find the same
+  // entry). Counts into work_counters().meshes_decoded.
+  DracoMesh draco_mesh(std::span<const std::uint8_t> compressed);
+
+ private:
+  fs::path folder_;
+  bool allow_outside_;
+  std::mutex mutex_;
+  std::map<std::string, External> externals_;  // map: entries stay where they are
+  std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;
+};
+
+// Decodes KHR_draco_mesh_compression data with libdraco, without a cache (core/draco.cpp).
+FileResources::DracoMesh decode_draco_mesh(std::span<const std::uint8_t> compressed);
+
+}  // namespace gltf_pbr

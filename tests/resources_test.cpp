@@ -1,0 +1,96 @@
+// One front end: the steps of one `validate` read a file's resources through one FileResources
+// (core/resources.hpp), so each external file is opened once and each Draco mesh decoded once,
+// whichever steps ask for them.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/resources.hpp"
+#include "rules/rule_set.hpp"
+#include "test_support.hpp"
+#include "validators/validate.hpp"
+
+namespace gltf_pbr {
+namespace {
+
+using test::assets_dir;
+using test::ScratchDir;
+
+// The distinct bufferViews that a file's KHR_draco_mesh_compression primitives decode from.
+std::set<int> draco_views(const fs::path& gltf) {
+  const nlohmann::json document = nlohmann::json::parse(test::read_text(gltf));
+  std::set<int> views;
+  for (const auto& mesh : document.at("meshes"))
+    for (const auto& primitive : mesh.at("primitives"))
+      if (primitive.contains("extensions") && primitive["extensions"].contains("KHR_draco_mesh_compression"))
+        views.insert(primitive["extensions"]["KHR_draco_mesh_compression"].at("bufferView").get<int>());
+  return views;
+}
+
+// Each step alone decodes every mesh; together they still decode each once.
+TEST(OneFrontEnd, ValidateDecodesEachDracoMeshOnceForTheStructureAndMeshSteps) {
+  const fs::path gltf = assets_dir() / "2CylinderEngine/metalrough-draco/2CylinderEngine.gltf";
+  const long meshes = static_cast<long>(draco_views(gltf).size());
+  ASSERT_GT(meshes, 1);
+  auto decoded_by = [&](std::set<std::string> steps) {
+    ValidateOptions options;
+    options.steps = std::move(steps);
+    options.self_intersections = false;
+    const long before = work_counters().meshes_decoded;
+    const Report report = validate_file(gltf, "2CylinderEngine.gltf", builtin_rules(), {}, options);
+    for (const Issue& issue : report.messages)
+      EXPECT_TRUE(issue.code != "MESH_PRIMITIVE_UNREADABLE" && issue.code != "DRACO_DECODE_FAILED") << issue.message;
+    return work_counters().meshes_decoded - before;
+  };
+  EXPECT_EQ(decoded_by({"structure"}), meshes);
+  EXPECT_EQ(decoded_by({"meshes"}), meshes);
+  EXPECT_EQ(decoded_by({"structure", "meshes"}), meshes);
+}
+
+TEST(OneFrontEnd, ValidateOpensEachExternalFileOnceAndDecodesEachImageOnce) {
+  const fs::path gltf = assets_dir() / "BoxTextured/specgloss/BoxTextured.gltf";
+  const long opened = work_counters().files_opened, decoded = work_counters().images_decoded;
+  const Report report = validate_file(gltf, "BoxTextured.gltf", builtin_rules(), {}, ValidateOptions{});
+  EXPECT_EQ(work_counters().files_opened - opened, 2);  // BoxTextured0.bin and CesiumLogoFlat.png
+  EXPECT_EQ(work_counters().images_decoded - decoded, 1);
+  EXPECT_FALSE(report.info.is_null());
+}
+
+TEST(OneFrontEnd, AResourceNamedTwiceIsOneFileOpenedOnce) {
+  ScratchDir scratch;
+  test::write_text(scratch / "data.bin", "0123");
+  FileResources resources(scratch.path(), false);
+  const long opened = work_counters().files_opened;
+  const FileResources::External& first = resources.external("data.bin");
+  const FileResources::External& again = resources.external("data.bin");
+  ASSERT_TRUE(first.file);
+  EXPECT_EQ(first.file, again.file);
+  EXPECT_EQ(std::string(first.file->bytes().begin(), first.file->bytes().end()), "0123");
+  EXPECT_EQ(work_counters().files_opened - opened, 1);
+}
+
+TEST(OneFrontEnd, ARefusedUriIsNeverOpened) {
+  ScratchDir scratch;
+  fs::create_directories(scratch / "asset");
+  test::write_text(scratch / "outside.bin", "secret");
+  FileResources resources(scratch / "asset", false);
+  const long opened = work_counters().files_opened;
+  const FileResources::External& outside = resources.external("../outside.bin");
+  EXPECT_EQ(outside.resolved.status, UriStatus::Refused);
+  EXPECT_FALSE(outside.file);
+  EXPECT_EQ(resources.external("missing.bin").resolved.status, UriStatus::NotFound);
+  EXPECT_EQ(work_counters().files_opened, opened);
+}
+
+TEST(OneFrontEnd, DracoDataThatDoesNotDecodeIsRememberedWithItsReason) {
+  FileResources resources(".", false);
+  const std::vector<std::uint8_t> junk{'D', 'R', 'A', 'C', 'O', 0, 0, 0, 1, 2, 3};
+  const FileResources::DracoMesh first = resources.draco_mesh(junk);
+  EXPECT_FALSE(first.mesh);
+  EXPECT_FALSE(first.problem.empty());
+  EXPECT_EQ(resources.draco_mesh(junk).problem, first.problem);
+}
+
+}  // namespace
+}  // namespace gltf_pbr
