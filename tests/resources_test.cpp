@@ -1,12 +1,13 @@
 // One front end: the steps of one `validate` read a file's resources through one FileResources
 // (core/resources.hpp), so each external file is opened once and each Draco mesh decoded once,
 // whichever steps ask for them.
+#include "core/resources.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "core/resources.hpp"
 #include "rules/rule_set.hpp"
 #include "test_support.hpp"
 #include "validators/validate.hpp"
