@@ -16,6 +16,7 @@
 #include "core/color.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/image_header.hpp"
 #include "core/parallel.hpp"
 
 namespace gltf_pbr {
@@ -279,7 +280,7 @@ class Converter {
     } else {
       auto start = Clock::now();
       // Asked before the decode, which gives the encoded pages back.
-      const bool jpeg_diffuse = diffuse_image >= 0 && is_jpeg(encoded_image_bytes(asset_, diffuse_image));
+      const bool jpeg_diffuse = diffuse_image >= 0 && image_format_of(encoded_image_bytes(asset_, diffuse_image)) == ImageFormat::Jpeg;
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
       parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },

@@ -15,6 +15,7 @@
 
 #include "core/asset.hpp"
 #include "core/codecs.hpp"
+#include "core/image_header.hpp"
 #include "core/json_pointer.hpp"
 
 namespace gltf_pbr {
@@ -71,11 +72,6 @@ const ImageCodec& codec() {
 
 std::atomic<std::uint64_t> max_pixels{kDefaultMaxImagePixels};
 
-bool is_png(std::span<const std::uint8_t> encoded) {
-  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
-  return encoded.size() >= 8 && std::equal(kSignature, kSignature + 8, encoded.begin());
-}
-
 }  // namespace
 
 void set_max_image_pixels(std::uint64_t pixels) { max_pixels = pixels; }
@@ -84,9 +80,11 @@ std::uint64_t max_image_pixels() { return max_pixels; }
 Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& name_for_errors) {
   Pixels pixels;
   try {
-    if (is_png(encoded)) {
+    const ImageFormat format = image_format_of(encoded);
+    if (format == ImageFormat::Png) {
       pixels = codecs::decode_png(encoded, max_pixels);
-    } else if (std::optional<Pixels> jpeg; is_jpeg(encoded) && (jpeg = codecs::decode_jpeg(encoded, max_pixels))) {
+    } else if (std::optional<Pixels> jpeg;
+               format == ImageFormat::Jpeg && (jpeg = codecs::decode_jpeg(encoded, max_pixels))) {
       pixels = std::move(*jpeg);
     } else {
       pixels = codec().decode(encoded, max_pixels);
@@ -151,8 +149,5 @@ void DecodedImages::clear() {
   by_image_.clear();
 }
 
-bool is_jpeg(std::span<const std::uint8_t> encoded) {
-  return encoded.size() >= 3 && encoded[0] == 0xFF && encoded[1] == 0xD8 && encoded[2] == 0xFF;
-}
 
 }  // namespace gltf_pbr

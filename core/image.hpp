@@ -70,8 +70,6 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
 // Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 
-// True when the bytes carry a JPEG signature.
-bool is_jpeg(std::span<const std::uint8_t> encoded);
 
 // The identity of an image's encoded bytes: their XXH3-128 and their size. Two images with one key
 // hold the same bytes (a collision is ~2^-64 likely even across millions of images).

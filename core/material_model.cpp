@@ -245,32 +245,4 @@ glm::vec4 nearest_texel(const Pixels& p, glm::vec2 uv) {
   return texel_rgba(p, x, y);
 }
 
-std::array<int, 2> encoded_image_size(std::span<const std::uint8_t> b) {
-  auto be16 = [&](size_t i) { return (b[i] << 8) | b[i + 1]; };
-  auto be32 = [&](size_t i) {
-    return static_cast<int>((static_cast<std::uint32_t>(b[i]) << 24) | (static_cast<std::uint32_t>(b[i + 1]) << 16) |
-                            (static_cast<std::uint32_t>(b[i + 2]) << 8) | b[i + 3]);
-  };
-  // PNG (ISO/IEC 15948 5.2, 11.2.2): signature, then the IHDR chunk with width and height.
-  static constexpr std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (b.size() >= 24 && std::equal(kPng, kPng + 8, b.begin())) return {be32(16), be32(20)};
-  // JPEG (ITU T.81 B.2): walk the marker segments to the first start-of-frame (SOF0-SOF15 except
-  // DHT C4, JPG C8, DAC CC), which holds height then width.
-  if (b.size() >= 4 && b[0] == 0xff && b[1] == 0xd8) {
-    size_t i = 2;
-    while (i + 9 < b.size()) {
-      if (b[i] != 0xff) return {0, 0};
-      const std::uint8_t marker = b[i + 1];
-      if (marker == 0xff) {
-        ++i;
-        continue;
-      }
-      if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc)
-        return {be16(i + 7), be16(i + 5)};
-      i += 2 + static_cast<size_t>(be16(i + 2));
-    }
-  }
-  return {0, 0};
-}
-
 }  // namespace gltf_pbr

@@ -115,7 +115,4 @@ glm::vec4 nearest_texel(const Pixels& pixels, glm::vec2 uv);
 // The same for integer texel coordinates.
 glm::vec4 texel_rgba(const Pixels& pixels, int x, int y);
 
-// Width and height from a PNG or JPEG header without decoding; {0, 0} when unknown.
-std::array<int, 2> encoded_image_size(std::span<const std::uint8_t> encoded);
-
 }  // namespace gltf_pbr

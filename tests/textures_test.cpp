@@ -16,6 +16,7 @@
 #include "converter/convert.hpp"
 #include "core/color.hpp"
 #include "core/image.hpp"
+#include "core/image_header.hpp"
 #include "test_support.hpp"
 
 namespace gltf_pbr {
@@ -333,7 +334,7 @@ TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
   ASSERT_GE(pbr.baseColorTexture.index, 0);
   const int image = converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source;
   // A lossy source stays lossy (converter/convert.cpp): an opaque JPEG diffuse bakes to JPEG.
-  EXPECT_TRUE(is_jpeg(encoded_image_bytes(converted, image)));
+  EXPECT_EQ(image_format_of(encoded_image_bytes(converted, image)), ImageFormat::Jpeg);
   const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
   EXPECT_EQ(base.width, source.width);
   EXPECT_EQ(base.height, source.height);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/color.hpp"
+#include "core/image_header.hpp"
 #include "material_test_support.hpp"
 
 namespace gltf_pbr {
@@ -65,10 +66,20 @@ TEST(MaterialModel, SpecularExtensionUsesSrgbColourAndLinearAlphaWeight) {
   EXPECT_FLOAT_EQ(evaluate_surface(material, texels, /*core_only=*/true).dielectric_f0.r, 0.04f);
 }
 
-TEST(MaterialModel, EncodedImageSizeReadsPngHeader) {
-  const Bytes png = encode_png(std::vector<std::uint8_t>(13 * 7 * 3, 9), 13, 7, 3, 1);
-  EXPECT_EQ(encoded_image_size(png), (std::array<int, 2>{13, 7}));
-  EXPECT_EQ(encoded_image_size(std::vector<std::uint8_t>{1, 2, 3}), (std::array<int, 2>{0, 0}));
+TEST(ImageHeader, PngSizeAndChannelsAreReadWithoutDecoding) {
+  std::vector<std::uint8_t> texels(13 * 7 * 3);
+  for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>(i * 37);  // not grey
+  const Bytes png = encode_png(texels, 13, 7, 3, 1);
+  const ImageHeader header = read_image_header(png);
+  EXPECT_EQ(header.format, ImageFormat::Png);
+  EXPECT_EQ(header.problem, HeaderProblem::None);
+  EXPECT_EQ(header.width, 13);
+  EXPECT_EQ(header.height, 7);
+  EXPECT_EQ(header.channels, "rgb");
+  const ImageHeader cut = read_image_header(std::span(png).first(png.size() - 4));  // inside IEND
+  EXPECT_EQ(cut.problem, HeaderProblem::Truncated);
+  EXPECT_EQ(read_image_header(std::vector<std::uint8_t>{1, 2, 3}).format, ImageFormat::Unknown);
+  EXPECT_EQ(read_image_header(std::vector<std::uint8_t>{1, 2, 3}).width, -1);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "core/image_header.hpp"
 #include "core/material_model.hpp"
 #include "validators/materials/f0_reference.hpp"
 #include "validators/materials/material_checks.hpp"
@@ -247,10 +248,10 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
   // Sizes come from the PNG/JPEG header: this check decodes nothing.
   if (options.power_of_two && rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
     for (const auto& [image, where] : used_images) {
-      const auto size = encoded_image_size(encoded_image_bytes(asset, image));
-      if (size[0] > 0 && size[1] > 0 && (!power_of_two(size[0]) || !power_of_two(size[1])))
+      const ImageHeader header = read_image_header(encoded_image_bytes(asset, image));
+      if (header.width > 0 && header.height > 0 && (!power_of_two(header.width) || !power_of_two(header.height)))
         add_issue(rules, "IMAGE_NOT_POWER_OF_TWO",
-                  {std::to_string(size[0]) + "x" + std::to_string(size[1]) + " (used by " + where + ")"},
+                  {std::to_string(header.width) + "x" + std::to_string(header.height) + " (used by " + where + ")"},
                   pointer("images", image), report);
     }
 }

@@ -8,8 +8,6 @@ namespace gltf_pbr::structure {
 void check_images(Context& context);  // images.cpp
 // TEXTURE_INVALID_IMAGE_MIME_TYPE, once the images are read (images.cpp).
 void check_texture_sources(Context& context);
-// The media type the bytes' signature names (image/png, image/jpeg, image/webp, image/ktx2), or "".
-std::string image_mime_of(std::span<const std::uint8_t> bytes);
 // How materials use an image: the pointer of the first textureInfo that reads it as colour data,
 // the first that reads it as non-colour data, and the first texture that minifies it with mipmaps;
 // "" where none does.

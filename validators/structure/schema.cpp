@@ -6,6 +6,7 @@
 #include <regex>
 #include <set>
 
+#include "core/image_header.hpp"
 #include "validators/structure/extensions.hpp"
 #include "validators/structure/images.hpp"
 #include "validators/structure/schema_reader.hpp"
