@@ -218,36 +218,42 @@ std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_t
   const size_t base64_marker = header.rfind(";base64");
   if (base64_marker == std::string::npos || base64_marker + 7 != header.size()) return std::nullopt;
   if (mime_type) *mime_type = header.substr(0, base64_marker);
-  // RFC 4648 section 4 alphabet, '=' padding only at the end.
-  auto value = [](char c) -> int {
-    if (c >= 'A' && c <= 'Z') return c - 'A';
-    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-    if (c >= '0' && c <= '9') return c - '0' + 52;
-    if (c == '+') return 62;
-    if (c == '/') return 63;
-    return -1;
-  };
+  return decode_base64(std::string_view(uri).substr(comma + 1));
+}
+
+std::optional<Bytes> decode_base64(std::string_view text) {
   Bytes out;
-  out.reserve((uri.size() - comma) * 3 / 4);
-  unsigned accumulator = 0;
+  out.reserve(text.size() / 4 * 3);
+  std::uint32_t accumulator = 0;
   int bits = 0;
-  size_t padding = 0;
-  for (size_t i = comma + 1; i < uri.size(); ++i) {
-    const char c = uri[i];
-    if (c == '=') {
+  std::size_t padding = 0;
+  for (const char c : text) {
+    int value;
+    if (c >= 'A' && c <= 'Z')
+      value = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      value = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      value = c - '0' + 52;
+    else if (c == '+' || c == '-')
+      value = 62;
+    else if (c == '/' || c == '_')
+      value = 63;
+    else if (c == '=') {
       ++padding;
       continue;
-    }
-    const int v = value(c);
-    if (v < 0 || padding > 0) return std::nullopt;
-    accumulator = (accumulator << 6) | static_cast<unsigned>(v);
+    } else
+      return std::nullopt;
+    if (padding) return std::nullopt;
+    accumulator = (accumulator << 6) | static_cast<std::uint32_t>(value);
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
       out.push_back(static_cast<std::uint8_t>((accumulator >> bits) & 0xFF));
     }
   }
-  if (padding > 2 || (uri.size() - comma - 1) % 4 != 0) return std::nullopt;
+  // RFC 4648 section 3.2: padding fills the last quantum, so a padded text is whole quanta.
+  if (padding > 2 || (padding != 0 && text.size() % 4 != 0)) return std::nullopt;
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gltf_pbr {
@@ -74,6 +75,10 @@ std::string percent_decode(const std::string& uri);
 bool is_data_uri(const std::string& uri);
 // Decodes "data:<mime>;base64,<payload>"; std::nullopt when the payload is not valid base64.
 std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_type = nullptr);
+// Decodes base64 as glTF validators take it (RFC 4648): the standard alphabet (section 4) or the
+// URL- and filename-safe one (section 5); '=' padding may be left out, but when present it ends the
+// text and completes its last quantum (section 3.2). std::nullopt when the text is not base64.
+std::optional<Bytes> decode_base64(std::string_view text);
 
 // The one path policy for every URI a command reads (buffers, images; convert, validate, preview):
 // percent-decoded (RFC 3986 2.1), relative to the asset's folder; schemes are never read; absolute

@@ -347,6 +347,31 @@ std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(nlohmann
   return relabelled;
 }
 
+// tinygltf 2.7 decodes base64 in the standard alphabet only and stops at the first other character;
+// decode_base64 (what validators take) also reads the URL-safe one (RFC 4648 section 5). Such data
+// URIs are given to tinygltf in the standard alphabet, which decodes to the same bytes. Returns
+// whether any was.
+bool standardise_base64_alphabet(nlohmann::json& root) {
+  bool changed = false;
+  for (const char* collection : {"buffers", "images"}) {
+    const auto entries = root.find(collection);
+    if (entries == root.end()) continue;
+    for (nlohmann::json& entry : *entries) {
+      const auto uri = entry.find("uri");
+      if (uri == entry.end() || !uri->is_string() || !is_data_uri(uri->get_ref<const std::string&>())) continue;
+      std::string& text = uri->get_ref<std::string&>();
+      const std::size_t comma = text.find(',');
+      if (comma == std::string::npos) continue;
+      for (std::size_t i = comma + 1; i < text.size(); ++i)
+        if (text[i] == '-' || text[i] == '_') {
+          text[i] = text[i] == '-' ? '+' : '/';
+          changed = true;
+        }
+    }
+  }
+  return changed;
+}
+
 // tinygltf's messages end in newlines and name absolute paths; ours name the file once, relative.
 std::string tidy(std::string message, const std::string& base_dir) {
   for (size_t at; !base_dir.empty() && (at = message.find(base_dir + "/")) != std::string::npos;)
@@ -445,9 +470,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   BufferFiles buffer_files;
   nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
+  const bool standardised = standardise_base64_alphabet(root);
   const auto relabelled = relabel_foreign_data_images(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
-  const bool rewritten = !hidden.entries.empty() || !relabelled.empty() || !fallbacks.empty();
+  const bool rewritten = !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
   if (rewritten) {
     json_for_tinygltf = root.dump();

@@ -516,10 +516,12 @@ class Walker {
       if (data_mime) *data_mime = mime;
       const std::string payload = uri.substr(comma + 1);
       if (base64) {
-        if (!decode_base64(payload, data)) {
+        std::optional<std::vector<std::uint8_t>> decoded = decode_base64(payload);
+        if (!decoded) {
           context_.issues.at("INVALID_URI", pointer, {arg(uri), arg_raw("\nFormatException: Invalid base64")});
           return false;
         }
+        data = std::move(*decoded);
       } else {
         data.assign(payload.begin(), payload.end());
       }
@@ -547,41 +549,6 @@ class Walker {
   }
 
  private:
-  static bool decode_base64(const std::string& text, std::vector<std::uint8_t>& out) {
-    out.clear();
-    out.reserve(text.size() / 4 * 3);
-    std::uint32_t accumulator = 0;
-    int bits = 0;
-    std::size_t padding = 0;
-    for (char c : text) {
-      int value;
-      if (c >= 'A' && c <= 'Z')
-        value = c - 'A';
-      else if (c >= 'a' && c <= 'z')
-        value = c - 'a' + 26;
-      else if (c >= '0' && c <= '9')
-        value = c - '0' + 52;
-      else if (c == '+' || c == '-')
-        value = 62;
-      else if (c == '/' || c == '_')
-        value = 63;
-      else if (c == '=') {
-        ++padding;
-        continue;
-      } else
-        return false;
-      if (padding) return false;
-      accumulator = (accumulator << 6) | static_cast<std::uint32_t>(value);
-      bits += 6;
-      if (bits >= 8) {
-        bits -= 8;
-        out.push_back(static_cast<std::uint8_t>((accumulator >> bits) & 0xFF));
-      }
-    }
-    // RFC 4648 section 3.2: padding fills the last quantum, so a padded text is whole quanta.
-    return padding <= 2 && (padding == 0 || text.size() % 4 == 0);
-  }
-
   void buffer_view(const Json& o, const std::string& p, BufferViewModel& m) {
     read_.check_members(o, p,
                         {"buffer", "byteOffset", "byteLength", "byteStride", "target", "name", "extensions", "extras"});
