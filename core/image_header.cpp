@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/byte_order.hpp"
+
 namespace gltf_pbr {
 
 ImageFormat image_format_of(std::span<const std::uint8_t> bytes) {
@@ -33,14 +35,6 @@ const char* mime_type_of(ImageFormat format) {
 
 namespace {
 
-std::uint32_t big_endian32(const std::uint8_t* p) {
-  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
-}
-std::uint32_t big_endian16(const std::uint8_t* p) { return (std::uint32_t(p[0]) << 8) | p[1]; }
-std::uint32_t little_endian24(const std::uint8_t* p) {
-  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16);
-}
-
 // PNG (ISO/IEC 15948): the signature, then IHDR as the first chunk.
 void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
   if (b.size() < 33) {
@@ -49,9 +43,9 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
   }
   // Without IHDR first (PNG 11.2.2) nothing of the image can be known; the reference reports
   // nothing for it either (checked against the npm validator): no size, no issue.
-  if (big_endian32(&b[8]) != 13 || std::memcmp(&b[12], "IHDR", 4) != 0) return;
-  header.width = big_endian32(&b[16]);
-  header.height = big_endian32(&b[20]);
+  if (big_endian32(b, 8) != 13 || std::memcmp(&b[12], "IHDR", 4) != 0) return;
+  header.width = big_endian32(b, 16);
+  header.height = big_endian32(b, 20);
   header.bits = b[24];
   switch (b[25]) {
     case 0:
@@ -74,7 +68,7 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
       header.problem = HeaderProblem::Truncated;
       return;
     }
-    const std::uint64_t length = big_endian32(&b[offset]);
+    const std::uint64_t length = big_endian32(b, offset);
     const bool end = std::memcmp(&b[offset + 4], "IEND", 4) == 0;
     if (offset + 12 + length > b.size()) {
       header.problem = HeaderProblem::Truncated;
@@ -88,7 +82,7 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
     // it does not count an APNG animation control chunk (acTL).
     static constexpr std::uint32_t kSrgbChromaticities[8] = {31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000};
     const auto* type = &b[offset + 4];
-    const auto* data = &b[offset + 8];
+    const std::size_t data = offset + 8;  // where the chunk's data starts
     // The same chunks name the colour space the info block reports: an ICC profile is custom
     // primaries and transfer, other chromaticities custom primaries, a gamma of 100000 (1.0) a
     // linear transfer and any other but sRGB's a custom one (PNG 11.3.3.2).
@@ -96,16 +90,16 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
       header.unsupported_features = true;
       header.primaries = header.transfer = "custom";
     }
-    if (std::memcmp(type, "pHYs", 4) == 0 && length >= 9 && big_endian32(data) != big_endian32(data + 4))
+    if (std::memcmp(type, "pHYs", 4) == 0 && length >= 9 && big_endian32(b, data) != big_endian32(b, data + 4))
       header.unsupported_features = true;
-    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(data) != 45455) {
-      const bool linear = big_endian32(data) == 100000;
+    if (std::memcmp(type, "gAMA", 4) == 0 && length >= 4 && big_endian32(b, data) != 45455) {
+      const bool linear = big_endian32(b, data) == 100000;
       if (!linear) header.unsupported_features = true;
       header.transfer = linear ? "linear" : "custom";
     }
     if (std::memcmp(type, "cHRM", 4) == 0 && length >= 32)
       for (int k = 0; k < 8; ++k)
-        if (big_endian32(data + 4 * k) != kSrgbChromaticities[k]) {
+        if (big_endian32(b, data + 4 * k) != kSrgbChromaticities[k]) {
           header.unsupported_features = true;
           header.primaries = "custom";
         }
@@ -140,7 +134,7 @@ void read_jpeg(std::span<const std::uint8_t> b, ImageHeader& header) {
       offset += 2;
       continue;
     }
-    const std::uint32_t length = big_endian16(&b[offset + 2]);
+    const std::uint32_t length = big_endian16(b, offset + 2);
     if (length < 2) {
       header.problem = HeaderProblem::Invalid;
       header.problem_message = "Invalid JPEG marker segment length.";
@@ -153,8 +147,8 @@ void read_jpeg(std::span<const std::uint8_t> b, ImageHeader& header) {
         return;
       }
       header.bits = b[offset + 4];
-      header.height = big_endian16(&b[offset + 5]);
-      header.width = big_endian16(&b[offset + 7]);
+      header.height = big_endian16(b, offset + 5);
+      header.width = big_endian16(b, offset + 7);
       // A glTF JPEG is grey or colour (JFIF: 1 or 3 components); 4 is CMYK, which renderers do
       // not decode as colour (the reference: IMAGE_DATA_INVALID, no image info).
       const int components = b[offset + 9];
@@ -189,8 +183,8 @@ void read_webp(std::span<const std::uint8_t> b, ImageHeader& header) {
     if ((bits >> 28) & 1) header.channels = "rgba";
   } else if (std::memcmp(&b[12], "VP8X", 4) == 0) {
     if (b[20] & 0x10) header.channels = "rgba";
-    header.width = little_endian24(&b[24]) + 1;
-    header.height = little_endian24(&b[27]) + 1;
+    header.width = little_endian24(b, 24) + 1;
+    header.height = little_endian24(b, 27) + 1;
   }
 }
 

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/asset.hpp"
+#include "core/byte_order.hpp"
 #include "core/error.hpp"
 #include "core/meshopt.hpp"
 
@@ -45,33 +46,27 @@ struct GlbChunks {
   std::span<const std::uint8_t> bin;
 };
 
-std::uint32_t read_u32(const Bytes& bytes, size_t at) {
-  std::uint32_t value;
-  std::memcpy(&value, bytes.data() + at, 4);
-  return value;  // glTF 2.0 section 4.4: little-endian, as on every platform we build for
-}
-
 // glTF 2.0 spec section 4.4 (GLB file format specification).
 GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
   auto fail = [&](size_t offset, const std::string& why) -> GlbChunks {
     throw InputError(file, ByteOffset{offset}, why);
   };
   if (bytes.size() < 20) fail(0, "truncated GLB: " + std::to_string(bytes.size()) + " bytes, a header needs 20");
-  if (read_u32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(read_u32(bytes, 4)) + ", only 2 is supported");
-  const std::uint32_t length = read_u32(bytes, 8);
+  if (little_endian32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(little_endian32(bytes, 4)) + ", only 2 is supported");
+  const std::uint32_t length = little_endian32(bytes, 8);
   if (length > bytes.size())
     fail(8,
          "truncated GLB: header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
-  const std::uint32_t json_length = read_u32(bytes, 12);
-  if (read_u32(bytes, 16) != 0x4E4F534A) fail(16, "first GLB chunk is not JSON");
+  const std::uint32_t json_length = little_endian32(bytes, 12);
+  if (little_endian32(bytes, 16) != 0x4E4F534A) fail(16, "first GLB chunk is not JSON");
   if (20ull + json_length > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
   GlbChunks chunks{std::string(reinterpret_cast<const char*>(bytes.data()) + 20, json_length), {}};
   const size_t bin_header = 20ull + json_length;
   if (bin_header + 8 <= length) {
-    const std::uint32_t bin_length = read_u32(bytes, bin_header);
+    const std::uint32_t bin_length = little_endian32(bytes, bin_header);
     if (bin_header + 8 + bin_length > length)
       fail(bin_header, "truncated GLB: BIN chunk runs past the end of the file");
-    if (read_u32(bytes, bin_header + 4) == 0x004E4942) chunks.bin = {bytes.data() + bin_header + 8, bin_length};
+    if (little_endian32(bytes, bin_header + 4) == 0x004E4942) chunks.bin = {bytes.data() + bin_header + 8, bin_length};
   }
   return chunks;
 }

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include "core/byte_order.hpp"
 #include "validators/structure/structure_internal.hpp"
 
 namespace gltf_pbr::structure {
@@ -14,12 +15,6 @@ namespace {
 constexpr std::uint32_t kMagicGltf = 0x46546C67;  // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
-
-std::uint32_t read_u32(std::span<const std::uint8_t> bytes, std::size_t offset) {
-  std::uint32_t value;
-  std::memcpy(&value, bytes.data() + offset, 4);
-  return value;  // GLB is little-endian, as are the hosts we build for
-}
 
 std::string hex32(std::uint32_t value) {
   char text[16];
@@ -32,21 +27,21 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
                                                       bool& empty_json_ended) {
   IssueSink& issues = context.issues;
   empty_json_ended = false;
-  if (bytes.size() >= 4 && read_u32(bytes, 0) != kMagicGltf) {
-    issues.at_offset("GLB_INVALID_MAGIC", 0, {arg(static_cast<std::uint64_t>(read_u32(bytes, 0)))});
+  if (bytes.size() >= 4 && little_endian32(bytes, 0) != kMagicGltf) {
+    issues.at_offset("GLB_INVALID_MAGIC", 0, {arg(static_cast<std::uint64_t>(little_endian32(bytes, 0)))});
     return std::nullopt;
   }
   if (bytes.size() < 12) {
     issues.at_offset("GLB_UNEXPECTED_END_OF_HEADER", bytes.size());
     return std::nullopt;
   }
-  const std::uint32_t version = read_u32(bytes, 4);
+  const std::uint32_t version = little_endian32(bytes, 4);
   if (version != 2) {
     // Another container version has another layout (glTF 1.0's binary extension): stop here.
     issues.at_offset("GLB_INVALID_VERSION", 4, {arg(static_cast<std::uint64_t>(version))});
     return std::nullopt;
   }
-  const std::uint64_t declared_length = read_u32(bytes, 8);
+  const std::uint64_t declared_length = little_endian32(bytes, 8);
   if (declared_length < 12) issues.at_offset("GLB_LENGTH_TOO_SMALL", 8, {arg(declared_length)});
 
   std::optional<std::span<const std::uint8_t>> json;
@@ -67,8 +62,8 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
       return json;
     }
     const std::uint64_t chunk_start = offset;
-    const std::uint64_t chunk_length = read_u32(bytes, offset);
-    const std::uint32_t chunk_type = read_u32(bytes, offset + 4);
+    const std::uint64_t chunk_length = little_endian32(bytes, offset);
+    const std::uint32_t chunk_type = little_endian32(bytes, offset + 4);
     offset += 8;
     if (chunk_length % 4 != 0)
       issues.at_offset("GLB_CHUNK_LENGTH_UNALIGNED", chunk_start, {arg_raw(hex32(chunk_type))});

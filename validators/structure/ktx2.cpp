@@ -7,19 +7,12 @@
 //   block"; KHR_texture_basisu README, "KTX v2 Images with Basis Universal Supercompression".
 #include <algorithm>
 
+#include "core/byte_order.hpp"
 #include "validators/structure/images.hpp"
 
 namespace gltf_pbr::structure {
 
 namespace {
-
-std::uint32_t u32(std::span<const std::uint8_t> b, std::size_t at) {
-  return std::uint32_t(b[at]) | (std::uint32_t(b[at + 1]) << 8) | (std::uint32_t(b[at + 2]) << 16) |
-         (std::uint32_t(b[at + 3]) << 24);
-}
-std::uint64_t u64(std::span<const std::uint8_t> b, std::size_t at) {
-  return std::uint64_t(u32(b, at)) | (std::uint64_t(u32(b, at + 4)) << 32);
-}
 
 // Whether [offset, offset + length) lies inside `size` bytes, without overflow.
 bool inside(std::uint64_t offset, std::uint64_t length, std::uint64_t size) {
@@ -65,14 +58,14 @@ class Ktx2Checker {
       container("the file ends at byte " + str(b_.size()) + ", inside the 80-byte header");
       return std::move(found_);
     }
-    vk_format_ = u32(b_, 12);
-    width_ = u32(b_, 20);
-    height_ = u32(b_, 24);
-    depth_ = u32(b_, 28);
-    layers_ = u32(b_, 32);
-    faces_ = u32(b_, 36);
-    level_count_ = u32(b_, 40);
-    scheme_ = u32(b_, 44);
+    vk_format_ = little_endian32(b_, 12);
+    width_ = little_endian32(b_, 20);
+    height_ = little_endian32(b_, 24);
+    depth_ = little_endian32(b_, 28);
+    layers_ = little_endian32(b_, 32);
+    faces_ = little_endian32(b_, 36);
+    level_count_ = little_endian32(b_, 40);
+    scheme_ = little_endian32(b_, 44);
     for (std::uint32_t largest = std::max({width_, height_, depth_}); largest > 0; largest >>= 1) ++full_levels_;
     header();
     index();
@@ -108,9 +101,9 @@ class Ktx2Checker {
   // with), then at least a basic descriptor block with one sample.
   void index() {
     const std::uint64_t size = b_.size();
-    const std::uint32_t dfd_offset = u32(b_, 48), dfd_length = u32(b_, 52);
-    const std::uint32_t kvd_offset = u32(b_, 56), kvd_length = u32(b_, 60);
-    const std::uint64_t sgd_offset = u64(b_, 64), sgd_length = u64(b_, 72);
+    const std::uint32_t dfd_offset = little_endian32(b_, 48), dfd_length = little_endian32(b_, 52);
+    const std::uint32_t kvd_offset = little_endian32(b_, 56), kvd_length = little_endian32(b_, 60);
+    const std::uint64_t sgd_offset = little_endian64(b_, 64), sgd_length = little_endian64(b_, 72);
     if (dfd_length == 0)
       container("there is no Data Format Descriptor (dfdByteLength 0)");
     else if (!inside(dfd_offset, dfd_length, size))
@@ -119,8 +112,8 @@ class Ktx2Checker {
     else if (dfd_length < kSmallestDfd)
       container("the Data Format Descriptor is " + str(dfd_length) + " bytes, shorter than the " + str(kSmallestDfd) +
                 " of a basic block with one sample");
-    else if (u32(b_, dfd_offset) != dfd_length)
-      container("the Data Format Descriptor says it is " + str(u32(b_, dfd_offset)) + " bytes, the index says " +
+    else if (little_endian32(b_, dfd_offset) != dfd_length)
+      container("the Data Format Descriptor says it is " + str(little_endian32(b_, dfd_offset)) + " bytes, the index says " +
                 str(dfd_length));
     else
       dfd_ = b_.subspan(dfd_offset, dfd_length);
@@ -151,7 +144,7 @@ class Ktx2Checker {
     bool said_uncompressed = false, said_order = false;
     for (std::size_t level = 0; level < entries; ++level) {
       const std::size_t at = kHeaderBytes + level * kLevelEntryBytes;
-      const Level entry{u64(b_, at), u64(b_, at + 8), u64(b_, at + 16)};
+      const Level entry{little_endian64(b_, at), little_endian64(b_, at + 8), little_endian64(b_, at + 16)};
       const std::string name = "mip level " + str(level);
       if (entry.length == 0 || !inside(entry.offset, entry.length, size)) {
         container(name + " (bytes " + str(entry.offset) + " + " + str(entry.length) + ") " +
@@ -206,7 +199,7 @@ class Ktx2Checker {
         container("the key/value data ends inside an entry's length, " + str(at) + " bytes in");
         return;
       }
-      const std::uint32_t length = u32(kvd_, at);
+      const std::uint32_t length = little_endian32(kvd_, at);
       if (length > kvd_.size() - at - 4) {
         container("the key/value entry " + str(at) + " bytes in (" + str(length) +
                   " bytes) runs past the end of the key/value data (" + str(kvd_.size()) + " bytes)");
