@@ -20,7 +20,6 @@ namespace gltf_pbr {
 namespace {
 
 constexpr float kDielectricDiffuse = 1.0f - kDielectricF0;  // (1 - F) at normal incidence
-constexpr float kDarkestMetalF0 = 0.45f;                    // Unity material validator; Hoffman's table
 
 // The metric: CIELAB linearised at each target colour (Gauss-Newton on CIE 1976 L*a*b*). Around
 // a target t, a small linear-RGB error r moves Lab by J r, with
@@ -54,11 +53,6 @@ constexpr float kBlendWidthAbsolute = 1.0f;
 float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
 float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
-
-float smoothstep01(float t) {
-  t = std::clamp(t, 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 // (u + eps)^(-2/3) / 3, from a table with linear interpolation on [0, 2] (continuous, and six pow
 // calls a texel were a third of the solve time), exact beyond.
@@ -225,7 +219,7 @@ Objective objective_for(const SpecGloss& legacy, ErrorModel model, const Objecti
   }
   const float mean_f0 = (legacy.specular.x + legacy.specular.y + legacy.specular.z) / 3.0f;
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
-  o.prior_m = smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
+  o.prior_m = metal_likeness(mean_f0);
   o.prior_weight = kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
                                               (1.0f - smoothstep01(max3(r.diffuse) / kBrightDiffuse));
   return o;

@@ -14,6 +14,21 @@ constexpr float kPi = std::numbers::pi_v<float>;
 
 // glTF 2.0 Appendix B: the F0 of every core dielectric (ior 1.5).
 inline constexpr float kDielectricF0 = 0.04f;
+// The darkest metal's mean F0: titanium's 0.496 in Hoffman's table ("Physics and Math of Shading",
+// SIGGRAPH 2015), rounded down as Unity's material validator does.
+inline constexpr float kDarkestMetalF0 = 0.45f;
+
+inline float smoothstep01(float t) {
+  t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// How metal-like a legacy specular of mean F0 `mean_f0` is, 0 at a core dielectric's 0.04 and 1 at
+// the darkest metal, smooth between: the converter solver's metalness prior (converter/solver.hpp)
+// and the metalness the material model gives a spec-gloss material.
+inline float metal_likeness(float mean_f0) {
+  return smoothstep01((mean_f0 - kDielectricF0) / (kDarkestMetalF0 - kDielectricF0));
+}
 
 // glTF 2.0 spec, Appendix B.3.5 ("alpha = roughness^2") forbids alpha = 0: a perfect mirror is a
 // Dirac lobe that GGX cannot represent. Clamping keeps D finite (Filament's MIN_PERCEPTUAL_ROUGHNESS).

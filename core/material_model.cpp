@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/common.hpp>
 
+#include "core/brdf.hpp"
 #include "core/color.hpp"
 #include "core/json_pointer.hpp"
 
@@ -15,19 +16,9 @@ constexpr const char* kSpecularExtension = "KHR_materials_specular";
 constexpr const char* kIorExtension = "KHR_materials_ior";
 constexpr const char* kTextureTransform = "KHR_texture_transform";
 
-// glTF 2.0 Appendix B: the dielectric F0 of ior 1.5.
-constexpr float kCoreDielectricF0 = 0.04f;
-// The converter solver's metalness prior (converter/solver.hpp): 0 at plastic, 1 at the darkest
-// metal of Hoffman's table (titanium, mean 0.496; Unity's validator uses 0.45).
-constexpr float kDarkestMetalF0 = 0.45f;
 
 float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 float mean3(glm::vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
-
-float smoothstep01(float t) {
-  t = std::clamp(t, 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 bool finite_number(const tinygltf::Value& value) {
   return value.IsNumber() && std::isfinite(value.GetNumberAsDouble());
@@ -196,7 +187,7 @@ SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texel
     s.c_diff = diffuse * std::max(0.0f, 1.0f - max3(specular));
     s.f0 = specular;
     s.roughness = 1.0f - glossiness;
-    s.metalness = smoothstep01((mean3(specular) - kCoreDielectricF0) / (kDarkestMetalF0 - kCoreDielectricF0));
+    s.metalness = metal_likeness(mean3(specular));
     s.albedo = diffuse;
     s.dielectric_f0 = specular;
     s.metal_f0 = specular;
@@ -210,7 +201,7 @@ SurfaceSample evaluate_surface(const MaterialInputs& m, const TexelInputs& texel
   const glm::vec4 metal_rough = texels[TextureRole::MetallicRoughness];
   s.metalness = m.metallic * metal_rough.b;
   s.roughness = m.roughness * metal_rough.g;
-  glm::vec3 dielectric_f0(kCoreDielectricF0);
+  glm::vec3 dielectric_f0(kDielectricF0);
   if (!core_only && (m.has_ior || m.has_specular)) {
     // KHR_materials_ior: F0 = ((ior - 1) / (ior + 1))^2. KHR_materials_specular:
     // F0 = min(F0(ior) * specularColor, 1) * specular.
