@@ -18,19 +18,9 @@ ImageFormat image_format_of(std::span<const std::uint8_t> bytes) {
 }
 
 const char* mime_type_of(ImageFormat format) {
-  switch (format) {
-    case ImageFormat::Png:
-      return "image/png";
-    case ImageFormat::Jpeg:
-      return "image/jpeg";
-    case ImageFormat::Webp:
-      return "image/webp";
-    case ImageFormat::Ktx2:
-      return "image/ktx2";
-    case ImageFormat::Unknown:
-      break;
-  }
-  return "";
+  // In ImageFormat's order.
+  static constexpr const char* kMimeTypes[] = {"", "image/png", "image/jpeg", "image/webp", "image/ktx2"};
+  return kMimeTypes[static_cast<int>(format)];
 }
 
 namespace {

@@ -268,19 +268,27 @@ TEST(BadInput, BadBase64InADataUriImageIsRefused) {
   EXPECT_NE(e.reason.find("base64"), std::string::npos) << e.reason;
 }
 
+// RFC 4648 base64 of `bytes`, with `last_two` as the alphabet's characters 62 and 63 ("+/" for the
+// standard alphabet, "-_" for the URL-safe one), padded with '=' or not.
+std::string base64_of(const Bytes& bytes, const char* last_two, bool padded) {
+  const std::string alphabet = std::string("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") + last_two;
+  std::string text;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    std::uint32_t v = 0;
+    for (size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? bytes[i + k] : 0u);
+    for (size_t k = 0; k < 4; ++k)
+      if (k <= n || padded) text += k <= n ? alphabet[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return text;
+}
+
 // The counterpart of the refusals above: a well-formed data URI loads.
 TEST(DataUri, ValidBase64BufferLoadsItsBytes) {
   ScratchDir scratch;
   const auto bin = read_file(model_folder("Box") / "Box0.bin");
   ASSERT_TRUE(bin);
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string base64;
-  for (size_t i = 0; i < bin->size(); i += 3) {
-    const size_t n = std::min<size_t>(3, bin->size() - i);
-    std::uint32_t v = 0;
-    for (size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? (*bin)[i + k] : 0u);
-    for (size_t k = 0; k < 4; ++k) base64 += k <= n ? alphabet[(v >> (18 - 6 * k)) & 63] : '=';
-  }
+  const std::string base64 = base64_of(*bin, "+/", true);
   const fs::path gltf = box_with_buffer_uri(scratch / "box", "data:application/octet-stream;base64," + base64);
   const Asset asset = load_asset(gltf);
   EXPECT_EQ(asset.model.buffers.at(0).data, *bin);
@@ -292,14 +300,7 @@ TEST(DataUri, UrlSafeUnpaddedBase64IsReadAsTheStructureStepReadsIt) {
   ScratchDir scratch;
   const auto bin = read_file(model_folder("Box") / "Box0.bin");
   ASSERT_TRUE(bin);
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
-  std::string base64;
-  for (size_t i = 0; i < bin->size(); i += 3) {
-    const size_t n = std::min<size_t>(3, bin->size() - i);
-    std::uint32_t v = 0;
-    for (size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? (*bin)[i + k] : 0u);
-    for (size_t k = 0; k <= n; ++k) base64 += alphabet[(v >> (18 - 6 * k)) & 63];
-  }
+  const std::string base64 = base64_of(*bin, "-_", false);
   ASSERT_NE(base64.find_first_of("-_"), std::string::npos);  // the test needs the URL-safe characters
   const fs::path gltf = box_with_buffer_uri(scratch / "box", "data:application/octet-stream;base64," + base64);
   EXPECT_EQ(decode_base64(base64), *bin);
