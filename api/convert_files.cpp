@@ -180,6 +180,8 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   }
   result.save_ms = ms_between(converted, Clock::now());
   if (original) {
+    // The material rules read the conversion's pixels before the scene takes and frees them.
+    nlohmann::json issues = material_issues(*original, asset, options.preview_lint, &decoded);
     preview::PreviewOptions preview_options;
     preview_options.convert = converter;
     preview_options.width = preview_options.height = options.preview_size;
@@ -188,7 +190,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     result.preview_complete = drawn.scene.warnings.empty();
     nlohmann::json report = preview::preview_report(drawn, preview_options);
     report["input"] = job.input.string();
-    report["material_issues"] = material_issues(*original, asset, options.preview_lint);
+    report["material_issues"] = std::move(issues);
     result.preview_written = preview::write_preview(drawn, report, job.preview_dir);
   }
   result.total_ms = ms_between(start, Clock::now());

@@ -77,7 +77,9 @@ DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const p
 // its conversion, as report.json's "material_issues": {"profile", "before": [...], "after": [...]},
 // each issue {code, severity (its name), pointer, message, count when folded}; null when `lint`
 // is std::nullopt (not run).
-nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint);
+// `decoded`: pixels the run already holds (the conversion's), read instead of decoding again.
+nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint,
+                               DecodedImages* decoded = nullptr);
 
 // The tail of preview_one for any drawn result (the tool's --grid too): refuses a picture of
 // nothing, adds `extra` and "input": name to the report, and writes the folder.

@@ -24,18 +24,22 @@ DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const p
                          bool allow_outside_uris, std::optional<LintProfile> lint) {
   const Asset asset = load_asset(input, {allow_outside_uris, nullptr});
   preview::PreviewOptions drawing = options;
-  drawing.keep_converted = lint.has_value();
+  nlohmann::json issues = nullptr;
+  if (lint)
+    drawing.on_converted = [&](const Asset& converted, DecodedImages& decoded) {
+      issues = material_issues(asset, converted, lint, &decoded);
+    };
   preview::PreviewResult result = preview::render_preview(asset, drawing);
-  nlohmann::json issues = lint ? material_issues(asset, *result.converted, lint) : nullptr;
-  result.converted.reset();
   return finish_preview(std::move(result), options, input.string(), {{"material_issues", std::move(issues)}}, out_dir);
 }
 
-nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint) {
+nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint,
+                               DecodedImages* decoded) {
   if (!lint) return nullptr;
   const RuleSet& rules = builtin_rules(*lint);
   MaterialCheckOptions materials_only;
   materials_only.textures = false;
+  materials_only.decoded = decoded;
   auto issues_of = [&](const Asset& asset) {
     Report report;
     validate_materials(asset, rules, materials_only, report);

@@ -2,6 +2,7 @@
 // in-process conversion to albedo + metalness ("after"), with a CPU deferred renderer, and
 // measures the difference (GitHub issue 5; DESIGN.md "Preview renderer").
 #pragma once
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -29,7 +30,10 @@ struct PreviewOptions {
   std::shared_ptr<const Environment> loaded_environment;
   ConvertOptions convert;
   bool keep_radiance = false;   // keep PreviewResult::before_hdr/after_hdr (24 bytes a pixel more)
-  bool keep_converted = false;  // render_preview keeps its conversion in PreviewResult::converted
+  // Called by render_preview between its conversion and the scene, with the conversion and the
+  // pixels decoded so far (the input's maps the conversion read, its baked maps), which the scene
+  // reuses and then frees: a step that also reads the textures (preview --lint) decodes none again.
+  std::function<void(const Asset& converted, DecodedImages& decoded)> on_converted;
 };
 
 // --grid: spheres in a metalness (rows, top 0 to bottom 1) x roughness (columns, left 0 to
@@ -60,7 +64,6 @@ struct PreviewResult {
   SceneStats scene;
   RasterStats raster;
   std::optional<ConversionReport> conversion;
-  std::optional<Asset> converted;  // render_preview's conversion, when PreviewOptions::keep_converted
   nlohmann::json camera;
 };
 

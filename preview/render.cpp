@@ -86,10 +86,10 @@ PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) 
   convert_options.keep_decoded = &decoded;
   ConversionReport conversion = convert(converted, convert_options);
   const double convert_ms = ms_since(start);
+  if (options.on_converted) options.on_converted(converted, decoded);
   PreviewResult result = render_pair(asset, converted, options, &decoded);
   result.times.convert_ms = convert_ms;
   result.conversion = std::move(conversion);
-  if (options.keep_converted) result.converted = std::move(converted);
   return result;
 }
 

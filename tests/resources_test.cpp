@@ -1,6 +1,7 @@
 // One front end: the steps of one `validate` read a file's resources through one FileResources
 // (core/resources.hpp), so each external file is opened once and each Draco mesh decoded once,
 // whichever steps ask for them.
+#include "api/files.hpp"
 #include "core/resources.hpp"
 
 #include <gtest/gtest.h>
@@ -56,6 +57,24 @@ TEST(OneFrontEnd, ValidateOpensEachExternalFileOnceAndDecodesEachImageOnce) {
   EXPECT_EQ(work_counters().files_opened - opened, 2);  // BoxTextured0.bin and CesiumLogoFlat.png
   EXPECT_EQ(work_counters().images_decoded - decoded, 1);
   EXPECT_FALSE(report.info.is_null());
+}
+
+// preview --lint reads the textures the preview decoded: the material rules on both sides decode
+// none of them again (Avocado: the conversion reads two legacy maps and bakes two).
+TEST(OneFrontEnd, PreviewLintDecodesNoImageThePreviewAlreadyHolds) {
+  ScratchDir scratch;
+  const fs::path input = assets_dir() / "Avocado/specgloss/Avocado.gltf";
+  preview::PreviewOptions options;
+  options.width = options.height = 32;
+  auto decodes = [&](std::optional<LintProfile> lint, const std::string& folder) {
+    const long before = work_counters().images_decoded;
+    const DrawnPreview drawn = preview_one(input, scratch / folder, options, false, lint);
+    EXPECT_EQ(drawn.report["material_issues"].is_null(), !lint.has_value());
+    return work_counters().images_decoded - before;
+  };
+  const long without = decodes(std::nullopt, "plain");
+  EXPECT_GT(without, 0);
+  EXPECT_EQ(decodes(LintProfile::Tolerant, "lint"), without);
 }
 
 TEST(OneFrontEnd, AResourceNamedTwiceIsOneFileOpenedOnce) {

@@ -20,12 +20,14 @@ void add_issue(const RuleSet& rules, const std::string& code, const std::vector<
 // reported once (IMAGE_UNDECODABLE, when enabled) and then reads as nullptr.
 class TexelSource {
  public:
-  explicit TexelSource(const Asset& asset) : asset_(asset) {}
+  // `shared`: a run's decoded pixels to read and add to; null: its own.
+  TexelSource(const Asset& asset, DecodedImages* shared) : asset_(asset), decoded_(shared ? *shared : own_) {}
   const Pixels* get(int image, const RuleSet& rules, Report& report);
 
  private:
   const Asset& asset_;
-  DecodedImages decoded_;
+  DecodedImages own_;
+  DecodedImages& decoded_;
   std::set<int> failed_;
 };
 

@@ -501,7 +501,7 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
 }
 
 void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report) {
-  TexelSource images(asset);  // shared: each image is decoded at most once per file
+  TexelSource images(asset, options.decoded);  // shared: each image is decoded at most once per file
   if (options.materials) check_material_plausibility(asset, rules, options, images, report);
   if (options.textures) check_material_textures(asset, rules, options, images, report);
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/asset.hpp"
+#include "core/image.hpp"
 #include "core/report.hpp"
 #include "rules/rule_set.hpp"
 
@@ -25,6 +26,9 @@ struct MaterialCheckOptions {
   // Only the reported rules are painted; where several fail, out of range wins over too bright
   // over too dark. PBR_F0_ABOVE_ONE (gold is real) is never painted.
   std::filesystem::path heatmaps_dir;
+  // Pixels another step of the run already decoded (a preview's conversion), read and added to
+  // instead of decoding again; null: the checks keep their own.
+  DecodedImages* decoded = nullptr;
 };
 
 // Every material is evaluated under its own model (core/material_model.hpp). An image is decoded
