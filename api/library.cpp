@@ -70,7 +70,7 @@ FileValidation validate_file(const fs::path& file, const ValidateFileOptions& op
   ValidateOptions validate;
   if (!options.steps.empty()) {
     validate.steps.clear();
-    for (const ValidationStep step : options.steps) validate.steps.insert(validation_step_name(step));
+    validate.steps.insert(options.steps.begin(), options.steps.end());
   }
   validate.heatmaps_dir = options.heatmaps_dir;
   validate.allow_outside_uris = options.allow_outside_uris;

@@ -89,7 +89,7 @@ nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity
 // What every file's report depends on besides the file and those it names (ResultCache::key).
 std::string run_settings(const ValidateArgs& args, const ValidateOptions& options) {
   std::string text = std::string("validate ") + tool_version() + " steps";
-  for (const std::string& step : options.steps) text += " " + step;
+  for (const ValidationStep step : options.steps) text += std::string(" ") + validation_step_name(step);
   text += std::string(" self-intersections ") + (options.self_intersections ? "on" : "off") + " allow-outside " +
           (options.allow_outside_uris ? "on" : "off") + " max-image-pixels " + std::to_string(max_image_pixels()) +
           " profile " + args.profile + "\n" + builtin_rules_text();
@@ -110,7 +110,7 @@ int run(const ValidateArgs& args) {
   ValidateOptions options;
   if (!args.only.empty()) {
     options.steps.clear();
-    for (const std::string& step : args.only) options.steps.insert(step);
+    for (const std::string& step : args.only) options.steps.insert(*validation_step_from_name(step));  // CLI11 checked
   }
   options.heatmaps_dir = args.heatmaps;
   if (!args.heatmaps.empty()) {

@@ -310,7 +310,7 @@ TEST(DataUri, UrlSafeUnpaddedBase64IsReadAsTheStructureStepReadsIt) {
   EXPECT_FALSE(decode_base64("QUI=="));                 // completing the last quantum
   EXPECT_EQ(load_asset(gltf).model.buffers.at(0).data, *bin);
   ValidateOptions structure_only;
-  structure_only.steps = {"structure"};
+  structure_only.steps = {ValidationStep::Structure};
   const Report report = validate_file(gltf, "box.gltf", builtin_rules(), {}, structure_only);
   for (const Issue& issue : report.messages)
     EXPECT_TRUE(issue.code != "INVALID_URI" && issue.code != "BUFFER_BYTE_LENGTH_MISMATCH") << issue.message;

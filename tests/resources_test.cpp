@@ -35,7 +35,7 @@ TEST(OneFrontEnd, ValidateDecodesEachDracoMeshOnceForTheStructureAndMeshSteps) {
   const fs::path gltf = assets_dir() / "2CylinderEngine/metalrough-draco/2CylinderEngine.gltf";
   const long meshes = static_cast<long>(draco_views(gltf).size());
   ASSERT_GT(meshes, 1);
-  auto decoded_by = [&](std::set<std::string> steps) {
+  auto decoded_by = [&](std::set<ValidationStep> steps) {
     ValidateOptions options;
     options.steps = std::move(steps);
     options.self_intersections = false;
@@ -45,9 +45,9 @@ TEST(OneFrontEnd, ValidateDecodesEachDracoMeshOnceForTheStructureAndMeshSteps) {
       EXPECT_TRUE(issue.code != "MESH_PRIMITIVE_UNREADABLE" && issue.code != "DRACO_DECODE_FAILED") << issue.message;
     return work_counters().meshes_decoded - before;
   };
-  EXPECT_EQ(decoded_by({"structure"}), meshes);
-  EXPECT_EQ(decoded_by({"meshes"}), meshes);
-  EXPECT_EQ(decoded_by({"structure", "meshes"}), meshes);
+  EXPECT_EQ(decoded_by({ValidationStep::Structure}), meshes);
+  EXPECT_EQ(decoded_by({ValidationStep::Meshes}), meshes);
+  EXPECT_EQ(decoded_by({ValidationStep::Structure, ValidationStep::Meshes}), meshes);
 }
 
 TEST(OneFrontEnd, ValidateOpensEachExternalFileOnceAndDecodesEachImageOnce) {

@@ -13,7 +13,7 @@
 namespace gltf_pbr {
 
 namespace {
-bool wants(const ValidateOptions& options, const char* step) { return options.steps.contains(step); }
+bool wants(const ValidateOptions& options, ValidationStep step) { return options.steps.contains(step); }
 
 // Prefixed to a loader failure when the structure step ran, so the report says what was skipped.
 constexpr const char* kChecksDidNotRun = "the material, texture and mesh checks did not run: ";
@@ -39,7 +39,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   const auto resources = std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
 
   bool structure_found_errors = false;
-  if (wants(options, "structure")) {
+  if (wants(options, ValidationStep::Structure)) {
     StructureOptions structure_options;
     structure_options.resources = resources;
     try {
@@ -57,7 +57,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     report.mime_type = glb ? "model/gltf-binary" : "model/gltf+json";
   }
 
-  const bool needs_document = wants(options, "materials") || wants(options, "textures") || wants(options, "meshes");
+  const bool needs_document = wants(options, ValidationStep::Materials) || wants(options, ValidationStep::Textures) || wants(options, ValidationStep::Meshes);
   std::optional<Asset> asset;
   if (needs_document) {
     try {
@@ -69,7 +69,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
       // the steps that needed the document must not vanish silently: PBR_CHECKS_NOT_RUN says so.
       Issue issue = load_failure_issue(error);
       if (!structure_found_errors) {
-        if (wants(options, "structure")) issue.message = kChecksDidNotRun + issue.message;
+        if (wants(options, ValidationStep::Structure)) issue.message = kChecksDidNotRun + issue.message;
       } else if (const Rule* rule = rules.find("PBR_CHECKS_NOT_RUN"); rule && rule->enabled) {
         // The error is already in the report, in the reference's codes; say what it cost.
         issue.code = rule->code;
@@ -90,15 +90,15 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   if (asset) {
     for (const auto& material : asset->model.materials) report.material_names.push_back(material.name);
     try {
-      if (wants(options, "materials") || wants(options, "textures")) {
+      if (wants(options, ValidationStep::Materials) || wants(options, ValidationStep::Textures)) {
         MaterialCheckOptions material_options;
-        material_options.materials = wants(options, "materials");
-        material_options.textures = wants(options, "textures");
+        material_options.materials = wants(options, ValidationStep::Materials);
+        material_options.textures = wants(options, ValidationStep::Textures);
         material_options.heatmaps_dir = options.heatmaps_dir;
-        material_options.power_of_two = !(wants(options, "structure") && rules.enabled("IMAGE_NPOT_DIMENSIONS"));
+        material_options.power_of_two = !(wants(options, ValidationStep::Structure) && rules.enabled("IMAGE_NPOT_DIMENSIONS"));
         validate_materials(*asset, rules, material_options, report);
       }
-      if (wants(options, "meshes"))
+      if (wants(options, ValidationStep::Meshes))
         validate_meshes(*asset, rules, MeshCheckOptions{options.self_intersections}, report);
     } catch (const std::bad_alloc&) {
       report.add({"IO_ERROR",

@@ -12,17 +12,19 @@
 #include <string>
 
 #include "core/report.hpp"
+#include "gltf_pbr/gltf_pbr.hpp"  // ValidationStep
 #include "rules/rule_set.hpp"
 
 namespace gltf_pbr {
 
-inline const std::set<std::string>& all_validation_steps() {
-  static const std::set<std::string> steps{"structure", "materials", "textures", "meshes"};
+inline const std::set<ValidationStep>& all_validation_steps() {
+  static const std::set<ValidationStep> steps{ValidationStep::Structure, ValidationStep::Materials,
+                                              ValidationStep::Textures, ValidationStep::Meshes};
   return steps;
 }
 
 struct ValidateOptions {
-  std::set<std::string> steps = all_validation_steps();
+  std::set<ValidationStep> steps = all_validation_steps();
   std::filesystem::path heatmaps_dir;  // empty: no heat-map images
   bool allow_outside_uris = false;
   bool self_intersections = true;      // the costliest mesh check

@@ -58,7 +58,7 @@ std::set<std::pair<std::string, std::string>> problem_places(const Report& repor
 
 TEST(LintProfiles, TolerantWarnsOnlyWhereStrictDoesOnEverySharedAsset) {
   ValidateOptions options;
-  options.steps = {"materials"};
+  options.steps = {ValidationStep::Materials};
   int files = 0, tolerant_files = 0, strict_files = 0;
   for (const auto& entry : fs::recursive_directory_iterator(test::assets_dir())) {
     const std::string extension = entry.path().extension().string();
@@ -82,7 +82,7 @@ TEST(LintProfiles, TolerantWarnsOnlyWhereStrictDoesOnEverySharedAsset) {
 TEST(LintProfiles, AReferenceTexturePassesTheDefaultAndStrictNamesItsWhite) {
   const fs::path box = test::assets_dir() / "BoxTextured/metalrough/BoxTextured.gltf";
   ValidateOptions options;
-  options.steps = {"materials"};
+  options.steps = {ValidationStep::Materials};
   const Report tolerant = validate_file(box, "BoxTextured.gltf", builtin_rules(), {}, options);
   EXPECT_TRUE(problems(tolerant).empty()) << describe(problems(tolerant));
   const Report strict = validate_file(box, "BoxTextured.gltf", builtin_rules(LintProfile::Strict), {}, options);

@@ -369,7 +369,7 @@ TEST(MaterialPlausibility, UserConfigChangesSeveritiesThresholdsAndSilencesCodes
   IssuePolicy policy;
   apply_user_config(config, rules, policy);
   ValidateOptions options;
-  options.steps = {"materials"};
+  options.steps = {ValidationStep::Materials};
   const Report defaults =
       validate_file(two_cylinder_engine(), "2CylinderEngine.gltf", builtin_rules(LintProfile::Strict), {}, options);
   const Report configured = validate_file(two_cylinder_engine(), "2CylinderEngine.gltf", rules, policy, options);

@@ -453,7 +453,7 @@ TEST(MeshChecks, AvocadoTangentsAgreeWithTheHandednessConvention) {
 TEST(MeshChecks, ValidateFileRunsTheMeshStepWithItsSelfIntersectionSwitch) {
   const fs::path file = shared_assets() / "2CylinderEngine/metalrough/2CylinderEngine.gltf";
   ValidateOptions options;
-  options.steps = {"meshes"};
+  options.steps = {ValidationStep::Meshes};
   auto count_code = [](const Report& report, const std::string& code) {
     return std::count_if(report.messages.begin(), report.messages.end(),
                          [&](const Issue& issue) { return issue.code == code; });
