@@ -14,8 +14,9 @@ constexpr float kPi = std::numbers::pi_v<float>;
 
 // glTF 2.0 Appendix B: the F0 of every core dielectric (ior 1.5).
 inline constexpr float kDielectricF0 = 0.04f;
-// The darkest metal's mean F0: titanium's 0.496 in Hoffman's table ("Physics and Math of Shading",
-// SIGGRAPH 2015), rounded down as Unity's material validator does.
+// Where metals begin: the mean F0 below which Unity's material validator calls a metal too dark,
+// a little under the darkest metal of Hoffman's table (titanium, 0.496; "Physics and Math of
+// Shading", SIGGRAPH 2015).
 inline constexpr float kDarkestMetalF0 = 0.45f;
 
 inline float smoothstep01(float t) {

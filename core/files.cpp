@@ -221,13 +221,24 @@ std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_t
   return decode_base64(std::string_view(uri).substr(comma + 1));
 }
 
-std::optional<Bytes> decode_base64(std::string_view text) {
+std::optional<Bytes> decode_base64(std::string_view text, Base64Problem* problem) {
+  using Kind = Base64Problem::Kind;
+  auto fail = [&](Kind kind, std::size_t at) -> std::optional<Bytes> {
+    if (problem) *problem = {kind, at};
+    return std::nullopt;
+  };
   Bytes out;
   out.reserve(text.size() / 4 * 3);
   std::uint32_t accumulator = 0;
   int bits = 0;
-  std::size_t padding = 0;
-  for (const char c : text) {
+  std::size_t first_padding = std::string_view::npos;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '=') {
+      if (first_padding == std::string_view::npos) first_padding = i;
+      if (i - first_padding >= 2) return fail(Kind::PaddingTooLong, first_padding);
+      continue;
+    }
     int value;
     if (c >= 'A' && c <= 'Z')
       value = c - 'A';
@@ -239,12 +250,9 @@ std::optional<Bytes> decode_base64(std::string_view text) {
       value = 62;
     else if (c == '/' || c == '_')
       value = 63;
-    else if (c == '=') {
-      ++padding;
-      continue;
-    } else
-      return std::nullopt;
-    if (padding) return std::nullopt;
+    else
+      return fail(Kind::Character, i);
+    if (first_padding != std::string_view::npos) return fail(Kind::PaddingNotAtEnd, first_padding);
     accumulator = (accumulator << 6) | static_cast<std::uint32_t>(value);
     bits += 6;
     if (bits >= 8) {
@@ -252,8 +260,10 @@ std::optional<Bytes> decode_base64(std::string_view text) {
       out.push_back(static_cast<std::uint8_t>((accumulator >> bits) & 0xFF));
     }
   }
-  // RFC 4648 section 3.2: padding fills the last quantum, so a padded text is whole quanta.
-  if (padding > 2 || (padding != 0 && text.size() % 4 != 0)) return std::nullopt;
+  // RFC 4648 section 3.2: padding fills the last quantum, so a padded text is whole quanta; an
+  // unpadded one may end two or three characters into one, never one (6 bits make no byte).
+  if (first_padding != std::string_view::npos && text.size() % 4 != 0) return fail(Kind::PaddedLength, text.size());
+  if (first_padding == std::string_view::npos && text.size() % 4 == 1) return fail(Kind::Length, text.size());
   return out;
 }
 

@@ -77,8 +77,20 @@ bool is_data_uri(const std::string& uri);
 std::optional<Bytes> decode_data_uri(const std::string& uri, std::string* mime_type = nullptr);
 // Decodes base64 as glTF validators take it (RFC 4648): the standard alphabet (section 4) or the
 // URL- and filename-safe one (section 5); '=' padding may be left out, but when present it ends the
-// text and completes its last quantum (section 3.2). std::nullopt when the text is not base64.
-std::optional<Bytes> decode_base64(std::string_view text);
+// text and completes its last quantum (section 3.2), and an unpadded text never ends one character
+// into a quantum. std::nullopt when the text is not base64, with `problem` saying why and where.
+struct Base64Problem {
+  enum class Kind {
+    Character,        // not in either alphabet
+    PaddingNotAtEnd,  // '=' followed by data
+    PaddingTooLong,   // more than two '='
+    PaddedLength,     // padded, but not whole quanta
+    Length,           // unpadded, one character into a quantum
+  };
+  Kind kind = Kind::Character;
+  std::size_t at = 0;  // index of the character at fault (the first '=' for padding); the size for lengths
+};
+std::optional<Bytes> decode_base64(std::string_view text, Base64Problem* problem = nullptr);
 
 // The one path policy for every URI a command reads (buffers, images; convert, validate, preview):
 // percent-decoded (RFC 3986 2.1), relative to the asset's folder; schemes are never read; absolute

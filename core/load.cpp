@@ -409,6 +409,7 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   if (file == context->buffer_files.end())
     return (*err += "refused to read a file the loader did not check: " + path + "\n"), false;
   out->assign(file->second->bytes().begin(), file->second->bytes().end());
+  file->second->release_pages();  // tinygltf keeps its copy; the mapping's pages go back
   return true;
 }
 
@@ -465,8 +466,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   BufferFiles buffer_files;
   nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
+  const auto relabelled = relabel_foreign_data_images(root);  // first: it keeps the URIs as written
   const bool standardised = standardise_base64_alphabet(root);
-  const auto relabelled = relabel_foreign_data_images(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
   const bool rewritten = !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;

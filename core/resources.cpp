@@ -6,8 +6,10 @@
 
 namespace gltf_pbr {
 
-FileResources::FileResources(fs::path folder, bool allow_outside)
-    : folder_(folder.empty() ? fs::path(".") : std::move(folder)), allow_outside_(allow_outside) {}
+FileResources::FileResources(fs::path folder, bool allow_outside, bool keep_draco_meshes)
+    : folder_(folder.empty() ? fs::path(".") : std::move(folder)),
+      allow_outside_(allow_outside),
+      keep_draco_meshes_(keep_draco_meshes) {}
 
 const FileResources::External& FileResources::external(const std::string& uri) {
   const std::lock_guard lock(mutex_);
@@ -22,6 +24,7 @@ const FileResources::External& FileResources::external(const std::string& uri) {
 }
 
 FileResources::DracoMesh FileResources::draco_mesh(std::span<const std::uint8_t> compressed) {
+  if (!keep_draco_meshes_) return decode_draco_mesh(compressed);
   const XXH128_hash_t hash = XXH3_128bits(compressed.data(), compressed.size());
   const std::pair<std::uint64_t, std::uint64_t> key{hash.high64, hash.low64};
   // Decoding runs under the lock: two steps asking for one mesh must not both decode it, and the

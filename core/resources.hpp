@@ -22,8 +22,10 @@ namespace gltf_pbr {
 class FileResources {
  public:
   // `folder` is the asset's folder, against which URIs resolve; `allow_outside` is the policy's
-  // one switch (--allow-outside-uris).
-  FileResources(fs::path folder, bool allow_outside);
+  // one switch (--allow-outside-uris). `keep_draco_meshes`: hold decoded meshes for the file's
+  // later steps (validate's structure and mesh steps both read them) at the cost of their memory;
+  // without it each request decodes and nothing is held.
+  FileResources(fs::path folder, bool allow_outside, bool keep_draco_meshes = false);
   FileResources(const FileResources&) = delete;
   FileResources& operator=(const FileResources&) = delete;
 
@@ -35,21 +37,24 @@ class FileResources {
     std::shared_ptr<const MappedFile> file;  // set when Readable and the file could be mapped
   };
   // The file that `uri` (as written, not a data URI) names, mapped on first use and kept: later
-  // calls, from any step or thread, get the same mapping. Pages are read as they are touched.
+  // calls, from any step or thread, get the same mapping (one per spelling: "a.bin" and "./a.bin"
+  // map twice). Pages are read as they are touched; as with any mapping, a file truncated while
+  // mapped ends the process with SIGBUS when the lost pages are read.
   const External& external(const std::string& uri);
 
   struct DracoMesh {
     std::shared_ptr<const draco::Mesh> mesh;  // null when the data does not decode
     std::string problem;                      // libdraco's reason then
   };
-  // The mesh that KHR_draco_mesh_compression data decodes to, decoded once per distinct data (keyed
-  // by the bytes' XXH3-128, so the structure step's copy of a buffer and the loader's find the same
-  // entry). Counts into work_counters().meshes_decoded.
+  // The mesh that KHR_draco_mesh_compression data decodes to; with keep_draco_meshes decoded once
+  // per distinct data (keyed by the bytes' XXH3-128, so the structure step's copy of a buffer and
+  // the loader's find the same entry). Counts into work_counters().meshes_decoded.
   DracoMesh draco_mesh(std::span<const std::uint8_t> compressed);
 
  private:
   fs::path folder_;
   bool allow_outside_;
+  bool keep_draco_meshes_;
   std::mutex mutex_;
   std::map<std::string, External> externals_;  // map: entries stay where they are
   std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;

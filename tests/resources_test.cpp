@@ -104,7 +104,7 @@ TEST(OneFrontEnd, ARefusedUriIsNeverOpened) {
 }
 
 TEST(OneFrontEnd, DracoDataThatDoesNotDecodeIsRememberedWithItsReason) {
-  FileResources resources(".", false);
+  FileResources resources(".", false, /*keep_draco_meshes=*/true);
   const std::vector<std::uint8_t> junk{'D', 'R', 'A', 'C', 'O', 0, 0, 0, 1, 2, 3};
   const FileResources::DracoMesh first = resources.draco_mesh(junk);
   EXPECT_FALSE(first.mesh);

@@ -35,8 +35,11 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     return report;
   }
   const std::span<const std::uint8_t> bytes = mapped->bytes();
-  // One set of resources for every step: each external file is opened once, each Draco mesh decoded once.
-  const auto resources = std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
+  // One set of resources for every step: each external file is opened once, each Draco mesh decoded
+  // once (held for the mesh step when the structure step decodes it first).
+  const bool both_read_meshes = wants(options, ValidationStep::Structure) && wants(options, ValidationStep::Meshes);
+  const auto resources =
+      std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris, both_read_meshes);
 
   bool structure_found_errors = false;
   if (wants(options, ValidationStep::Structure)) {

@@ -1138,5 +1138,31 @@ TEST(StructureChecks, TheInfoBlockNamesAnImagesFormatAndColourSpaceAsItsBytesDo)
   EXPECT_EQ(image_info(jpeg(4), "image/jpeg"), "no image: IMAGE_DATA_INVALID /images/0");
 }
 
+// Bad base64 in a data URI is INVALID_URI with the reference's parser output: its reason and a
+// caret under the character at fault (read off these URIs against the npm validator). An unpadded
+// payload may end two or three characters into a quantum, not one.
+TEST(StructureChecks, BadBase64IsNamedWithTheReasonAndItsPlace) {
+  const std::string prefix = "data:application/octet-stream;base64,";  // 37 characters
+  auto message_for = [&](const std::string& payload) {
+    const Report report = validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":1,"uri":")" + prefix +
+                                        payload + R"("}]})");
+    const Issue* issue = find(report, "INVALID_URI");
+    if (!issue) return std::string("no INVALID_URI");
+    const std::size_t output = issue->message.find("FormatException: ");  // the parser output
+    return output == std::string::npos ? issue->message : issue->message.substr(output);
+  };
+  auto expected = [&](const std::string& payload, const std::string& reason, std::size_t column) {
+    return "FormatException: " + reason + " (at character " + std::to_string(column + 1) + ")\n" + prefix + payload +
+           "\n" + std::string(column, ' ') + "^";
+  };
+  EXPECT_EQ(message_for("QU!D"), expected("QU!D", "Invalid base64 data", 39));
+  EXPECT_EQ(message_for("QUJ=QUJD"), expected("QUJ=QUJD", "Invalid base64 padding, '=' not at the end", 40));
+  EXPECT_EQ(message_for("Q==="), expected("Q===", "Invalid base64 padding, more than two '=' characters", 38));
+  EXPECT_EQ(message_for("QUJDR="),
+            expected("QUJDR=", "Invalid base64 padding, padded length must be multiple of four, is 6", 43));
+  EXPECT_EQ(message_for("QUJDR"), expected("QUJDR", "Invalid base64 encoding length ", 42));
+  for (const char* fine : {"QQ", "QUI", "QUJD", "QQ==", "QUI="}) EXPECT_EQ(message_for(fine), "no INVALID_URI") << fine;
+}
+
 }  // namespace
 }  // namespace gltf_pbr

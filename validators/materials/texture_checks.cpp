@@ -34,7 +34,7 @@ std::string coverage_text(std::uint64_t failing, std::uint64_t total) {
          std::to_string(total) + " texels";
 }
 
-bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+bool power_of_two(std::int64_t n) { return n > 0 && (n & (n - 1)) == 0; }
 
 // glTF 2.0 spec 3.9.3: a normal texel t decodes to n = 2t - 1, a tangent-space unit vector with z > 0.
 void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& rules, Report& report) {
@@ -245,7 +245,7 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
     }
   }
 
-  // Sizes come from the PNG/JPEG header: this check decodes nothing.
+  // Sizes come from the image header (core/image_header.hpp: PNG, JPEG, WebP): this check decodes nothing.
   if (options.power_of_two && rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
     for (const auto& [image, where] : used_images) {
       const ImageHeader header = read_image_header(encoded_image_bytes(asset, image));
