@@ -41,20 +41,73 @@ double Rule::threshold(const std::string& name) const {
   return found->second;
 }
 
-std::string Rule::format(const std::vector<std::string>& arguments) const {
-  std::string text;
-  for (size_t i = 0; i < message.size(); ++i) {
-    if (message[i] == '%' && i + 1 < message.size() && message[i + 1] >= '1' && message[i + 1] <= '9') {
-      const size_t argument = static_cast<size_t>(message[i + 1] - '1');
-      if (argument < arguments.size()) {
-        text += arguments[argument];
-        ++i;
-        continue;
+namespace {
+std::string render(const MessageArg& value, bool quoted_slot) {
+  return quoted_slot && value.is_string ? "'" + value.text + "'" : value.text;
+}
+}  // namespace
+
+std::string Rule::format(const std::vector<MessageArg>& arguments, const std::vector<MessageArg>& list) const {
+  const std::string& pattern = message;
+  auto digit = [&](std::size_t at) { return at < pattern.size() && pattern[at] >= '1' && pattern[at] <= '9'; };
+  std::string out;
+  out.reserve(pattern.size() + 32);
+  for (std::size_t i = 0; i < pattern.size();) {
+    // The list slot "('`%a`', '`%b`', '`%c`')" stands for every allowed value.
+    static constexpr std::string_view list_slot = "('`%a`', '`%b`', '`%c`')";
+    if (pattern.compare(i, list_slot.size(), list_slot) == 0) {
+      // The reference shortens a list of more than five accessor formats ("Must be one of") to its
+      // first three, "..." and its last two; lists of values ("Valid values are") stay whole.
+      const bool elide = list.size() > 5 && pattern.find("Must be one of") != std::string::npos;
+      out += '(';
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        if (elide && k >= 3 && k < list.size() - 2) {
+          if (k == 3) out += ", ...";
+          continue;
+        }
+        out += (k ? ", " : "") + render(list[k], true);
       }
+      out += ')';
+      i += list_slot.size();
+      continue;
     }
-    text += message[i];
+    static constexpr std::string_view long_list = "('`%1`', '`%2`', '`%3`', '`%4`', '`%5`')";
+    if (pattern.compare(i, long_list.size(), long_list) == 0) {
+      out += '(';
+      for (std::size_t k = 0; k < list.size(); ++k) out += (k ? ", " : "") + render(list[k], true);
+      out += ')';
+      i += long_list.size();
+      continue;
+    }
+    const bool quoted = pattern.compare(i, 3, "'`%") == 0;
+    const std::size_t start = quoted ? i + 1 : i;
+    if (pattern.compare(start, 2, "`%") == 0 && digit(start + 2) && start + 3 < pattern.size() &&
+        pattern[start + 3] == '`') {
+      const std::size_t slot = static_cast<std::size_t>(pattern[start + 2] - '1');
+      const std::string value = slot < arguments.size() ? render(arguments[slot], quoted) : std::string();
+      // A multi-line value (a parser's output) starts on its own line, with no space before it.
+      if (!value.empty() && value.front() == '\n' && !out.empty() && out.back() == ' ') out.pop_back();
+      out += value;
+      i = start + 4 + (quoted && start + 4 < pattern.size() && pattern[start + 4] == '\'' ? 1 : 0);
+      continue;
+    }
+    if (pattern[i] == '%' && digit(i + 1) && static_cast<std::size_t>(pattern[i + 1] - '1') < arguments.size()) {
+      out += arguments[static_cast<std::size_t>(pattern[i + 1] - '1')].text;
+      i += 2;
+      continue;
+    }
+    out += pattern[i++];
   }
-  return text;
+  // A catalogue template whose last value is empty ("... length `%1`" with "") ends without a space.
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+std::string Rule::format(const std::vector<std::string>& arguments) const {
+  std::vector<MessageArg> values;
+  values.reserve(arguments.size());
+  for (const std::string& text : arguments) values.push_back({text, false});
+  return format(values);
 }
 
 const Rule* RuleSet::find(const std::string& code) const {

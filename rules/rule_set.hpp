@@ -22,12 +22,19 @@ inline constexpr std::array<LintProfile, 2> kLintProfiles{LintProfile::Tolerant,
 // The profile's name in the rule data, the tool's --profile and messages ("tolerant", "strict").
 const char* rule_profile_name(LintProfile profile);
 
+// One value for a message template. A string is quoted ('text') where the template quotes its slot,
+// as the Khronos catalogue writes '`%1`'; numbers and preformatted text never are.
+struct MessageArg {
+  std::string text;
+  bool is_string = false;
+};
+
 struct Rule {
   std::string code;
   Severity severity = Severity::Error;
   bool enabled = true;                       // off: the check does not run at all (and costs nothing)
   std::map<std::string, double> thresholds;  // named numbers the check compares against
-  std::string message;                       // message template, placeholders %1, %2, ...
+  std::string message;                       // message template: placeholders %1, %2, ... or `%1` (catalogue)
   std::string explanation;                   // one line: why this is implausible or wrong
   std::string source;                        // where the threshold comes from
   std::string file;                          // the rules/ file it came from (for error messages)
@@ -38,7 +45,12 @@ struct Rule {
 
   // The named threshold; a missing name is a defect of the shipped rules, so it is a CHECK.
   double threshold(const std::string& name) const;
-  // The message with %1, %2, ... replaced by `arguments` (a placeholder past them stays as it is).
+  // The one message formatter of every step. Fills %N with arguments[N-1] (one past them stays as
+  // it is), and the catalogue's forms (rules/structure.json, Khronos ISSUES.md): `%N` with the value
+  // (empty past them), '`%N`' with it quoted when it is a string, and the list slots
+  // "('`%a`', '`%b`', '`%c`')" and "('`%1`', ..., '`%5`')" with every entry of `list`.
+  std::string format(const std::vector<MessageArg>& arguments, const std::vector<MessageArg>& list = {}) const;
+  // Preformatted text arguments, never quoted.
   std::string format(const std::vector<std::string>& arguments) const;
 };
 

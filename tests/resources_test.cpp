@@ -77,6 +77,28 @@ TEST(OneFrontEnd, PreviewLintDecodesNoImageThePreviewAlreadyHolds) {
   EXPECT_EQ(decodes(LintProfile::Tolerant, "lint"), without);
 }
 
+// One code for one finding: a non-power-of-two image is IMAGE_NPOT_DIMENSIONS with the same
+// message and pointer whether the structure step or, without it, the texture step reads its size.
+TEST(OneFrontEnd, NonPowerOfTwoImageIsOneIssueWhicheverStepsRun) {
+  const fs::path gltf = assets_dir() / "BoxTexturedNonPowerOfTwo/specgloss/BoxTexturedNonPowerOfTwo.gltf";
+  auto npot_issues = [&](std::set<ValidationStep> steps) {
+    ValidateOptions options;
+    options.steps = std::move(steps);
+    std::vector<std::pair<std::string, std::string>> found;
+    for (const Issue& issue : validate_file(gltf, "BoxTexturedNonPowerOfTwo.gltf", builtin_rules(), {}, options).messages)
+      if (issue.code == "IMAGE_NPOT_DIMENSIONS") found.emplace_back(issue.pointer, issue.message);
+    return found;
+  };
+  const auto all_steps = npot_issues({ValidationStep::Structure, ValidationStep::Materials, ValidationStep::Textures,
+                                      ValidationStep::Meshes});
+  ASSERT_EQ(all_steps.size(), 1u);
+  EXPECT_EQ(all_steps[0].first, "/images/0");
+  EXPECT_EQ(all_steps[0].second, "Image has non-power-of-two dimensions: 211x211.");
+  EXPECT_EQ(npot_issues({ValidationStep::Textures}), all_steps);
+  EXPECT_EQ(npot_issues({ValidationStep::Structure}), all_steps);
+  EXPECT_TRUE(npot_issues({ValidationStep::Materials, ValidationStep::Meshes}).empty());
+}
+
 TEST(OneFrontEnd, AResourceNamedTwiceIsOneFileOpenedOnce) {
   ScratchDir scratch;
   test::write_text(scratch / "data.bin", "0123");

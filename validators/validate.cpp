@@ -98,7 +98,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
         material_options.materials = wants(options, ValidationStep::Materials);
         material_options.textures = wants(options, ValidationStep::Textures);
         material_options.heatmaps_dir = options.heatmaps_dir;
-        material_options.power_of_two = !(wants(options, ValidationStep::Structure) && rules.enabled("IMAGE_NPOT_DIMENSIONS"));
+        material_options.npot_dimensions = !wants(options, ValidationStep::Structure);
         validate_materials(*asset, rules, material_options, report);
       }
       if (wants(options, ValidationStep::Meshes))

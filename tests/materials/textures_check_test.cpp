@@ -115,12 +115,12 @@ TEST(TextureChecks, NonPowerOfTwoSizeIsReadFromTheHeaderWithoutDecoding) {
       load_asset(test::assets_dir() / "BoxTexturedNonPowerOfTwo/specgloss/BoxTexturedNonPowerOfTwo.gltf");
   RuleSet rules = builtin_rules();
   for (const auto& [code, rule] : builtin_rules().all())
-    rules.mutable_rule(code).enabled = code == "IMAGE_NOT_POWER_OF_TWO";
+    rules.mutable_rule(code).enabled = code == "IMAGE_NPOT_DIMENSIONS";
   const long before = work_counters().images_decoded.load();
   Report report;
   validate_materials(asset, rules, MaterialCheckOptions{}, report);
   EXPECT_EQ(work_counters().images_decoded.load() - before, 0);
-  const auto npot = issues_with(report, "IMAGE_NOT_POWER_OF_TWO");
+  const auto npot = issues_with(report, "IMAGE_NPOT_DIMENSIONS");
   ASSERT_EQ(npot.size(), 1u) << describe(report.messages);
   EXPECT_NE(npot[0].message.find("211x211"), std::string::npos) << npot[0].message;
 }

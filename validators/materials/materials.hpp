@@ -13,8 +13,8 @@ namespace gltf_pbr {
 struct MaterialCheckOptions {
   bool materials = true;  // PBR_* rules, factors and texels
   bool textures = true;   // IMAGE_* rules
-  // IMAGE_NOT_POWER_OF_TWO; off when the structure step reports the same as IMAGE_NPOT_DIMENSIONS.
-  bool power_of_two = true;
+  // IMAGE_NPOT_DIMENSIONS, the structure step's code, for a run without that step (validate.cpp).
+  bool npot_dimensions = true;
   // Empty: no heat maps. Else, for every textured material with a reported PBR_* texel rule, one
   // 8-bit RGB PNG "<file stem>-material<M>-texture<T>.png" at the size of texture T (the largest
   // texture the material's checks read; the others are sampled at the same UV):

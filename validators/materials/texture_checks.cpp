@@ -1,5 +1,6 @@
 // IMAGE_* checks of the images that materials use: normal-map texels, constant images, empty used
-// channels of metallicRoughness images, resolution without detail, and power-of-two sizes.
+// channels of metallicRoughness images, resolution without detail; and power-of-two sizes of every
+// image when the structure step does not run.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -33,8 +34,6 @@ std::string coverage_text(std::uint64_t failing, std::uint64_t total) {
   return format_number(100.0 * static_cast<double>(failing) / static_cast<double>(total), 2) + "% of " +
          std::to_string(total) + " texels";
 }
-
-bool power_of_two(std::int64_t n) { return n > 0 && (n & (n - 1)) == 0; }
 
 // glTF 2.0 spec 3.9.3: a normal texel t decodes to n = 2t - 1, a tangent-space unit vector with z > 0.
 void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& rules, Report& report) {
@@ -245,14 +244,14 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
     }
   }
 
-  // Sizes come from the image header (core/image_header.hpp: PNG, JPEG, WebP): this check decodes nothing.
-  if (options.power_of_two && rules.enabled("IMAGE_NOT_POWER_OF_TWO"))
-    for (const auto& [image, where] : used_images) {
-      const ImageHeader header = read_image_header(encoded_image_bytes(asset, image));
-      if (header.width > 0 && header.height > 0 && (!power_of_two(header.width) || !power_of_two(header.height)))
-        add_issue(rules, "IMAGE_NOT_POWER_OF_TWO",
-                  {std::to_string(header.width) + "x" + std::to_string(header.height) + " (used by " + where + ")"},
-                  pointer("images", image), report);
+  // The structure step's code and message, for every image as it reports them, when it does not
+  // run itself. Sizes come from the image header (core/image_header.hpp): this decodes nothing.
+  if (options.npot_dimensions && rules.enabled("IMAGE_NPOT_DIMENSIONS"))
+    for (size_t image = 0; image < asset.model.images.size(); ++image) {
+      const ImageHeader header = read_image_header(encoded_image_bytes(asset, static_cast<int>(image)));
+      if (has_npot_dimensions(header))
+        add_issue(rules, "IMAGE_NPOT_DIMENSIONS", {std::to_string(header.width), std::to_string(header.height)},
+                  pointer("images", static_cast<int>(image)), report);
     }
 }
 

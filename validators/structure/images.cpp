@@ -9,7 +9,6 @@ namespace gltf_pbr::structure {
 
 namespace {
 
-bool power_of_two(std::int64_t value) { return value > 0 && (value & (value - 1)) == 0; }
 
 // The textureInfo keys whose texture holds colour (sRGB) data: glTF 2.0 section 3.9.2 (base colour,
 // emissive), KHR_materials_sheen (sheenColorTexture), KHR_materials_specular (specularColorTexture),
@@ -133,7 +132,7 @@ void check_images(Context& context) {
           if (!header.primaries.empty()) info["primaries"] = header.primaries;
           if (!header.transfer.empty()) info["transfer"] = header.transfer;
           info["bits"] = header.bits;
-          if (!power_of_two(header.width) || !power_of_two(header.height))
+          if (has_npot_dimensions(header))
             issues.at("IMAGE_NPOT_DIMENSIONS", p, {arg(header.width), arg(header.height)});
         }
       }

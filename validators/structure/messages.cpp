@@ -55,64 +55,9 @@ std::string json_text(const Json& value) {
   }
 }
 
-std::string render(const MessageArg& value, bool quoted_slot) {
-  return quoted_slot && value.is_string ? "'" + value.text + "'" : value.text;
-}
 }  // namespace
 
 MessageArg arg_json(const Json& value) { return {json_text(value), false}; }
-
-std::string IssueSink::format(const std::string& code, const std::vector<MessageArg>& args,
-                              const std::vector<MessageArg>& list) const {
-  const Rule* rule = rules_.find(code);
-  if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
-  const std::string& pattern = rule->message;
-  std::string out;
-  out.reserve(pattern.size() + 32);
-  for (std::size_t i = 0; i < pattern.size();) {
-    // The list slot "('`%a`', '`%b`', '`%c`')" stands for every allowed value.
-    static constexpr std::string_view list_slot = "('`%a`', '`%b`', '`%c`')";
-    if (pattern.compare(i, list_slot.size(), list_slot) == 0) {
-      // The reference shortens a list of more than five accessor formats ("Must be one of") to its
-      // first three, "..." and its last two; lists of values ("Valid values are") stay whole.
-      const bool elide = list.size() > 5 && pattern.find("Must be one of") != std::string::npos;
-      out += '(';
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        if (elide && k >= 3 && k < list.size() - 2) {
-          if (k == 3) out += ", ...";
-          continue;
-        }
-        out += (k ? ", " : "") + render(list[k], true);
-      }
-      out += ')';
-      i += list_slot.size();
-      continue;
-    }
-    static constexpr std::string_view long_list = "('`%1`', '`%2`', '`%3`', '`%4`', '`%5`')";
-    if (pattern.compare(i, long_list.size(), long_list) == 0) {
-      out += '(';
-      for (std::size_t k = 0; k < list.size(); ++k) out += (k ? ", " : "") + render(list[k], true);
-      out += ')';
-      i += long_list.size();
-      continue;
-    }
-    const bool quoted = pattern.compare(i, 3, "'`%") == 0;
-    const std::size_t start = quoted ? i + 1 : i;
-    if (pattern.compare(start, 2, "`%") == 0 && start + 3 < pattern.size() && pattern[start + 3] == '`' &&
-        pattern[start + 2] >= '1' && pattern[start + 2] <= '9') {
-      const std::size_t slot = static_cast<std::size_t>(pattern[start + 2] - '1');
-      const std::string value = slot < args.size() ? render(args[slot], quoted) : std::string();
-      // A multi-line value (a parser's output) starts on its own line, with no space before it.
-      if (!value.empty() && value.front() == '\n' && !out.empty() && out.back() == ' ') out.pop_back();
-      out += value;
-      i = start + 4 + (quoted && start + 4 < pattern.size() && pattern[start + 4] == '\'' ? 1 : 0);
-      continue;
-    }
-    out += pattern[i++];
-  }
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
-}
 
 void IssueSink::at(const std::string& code, const std::string& pointer, const std::vector<MessageArg>& args,
                    const std::vector<MessageArg>& list) {
@@ -120,7 +65,7 @@ void IssueSink::at(const std::string& code, const std::string& pointer, const st
   if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
   found_error_ = found_error_ || rule->severity == Severity::Error;
   if (!rule->enabled) return;
-  report_.add({code, format(code, args, list), rule->severity, pointer, {}, 1});
+  report_.add({code, rule->format(args, list), rule->severity, pointer, {}, 1});
 }
 
 void IssueSink::at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args) {
@@ -128,7 +73,7 @@ void IssueSink::at_offset(const std::string& code, std::uint64_t offset, const s
   if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
   found_error_ = found_error_ || rule->severity == Severity::Error;
   if (!rule->enabled) return;
-  report_.add({code, format(code, args, {}), rule->severity, "", offset, 1});
+  report_.add({code, rule->format(args), rule->severity, "", offset, 1});
 }
 
 bool Context::declared(std::string_view extension) const {

@@ -25,12 +25,9 @@ namespace gltf_pbr::structure {
 
 using Json = nlohmann::ordered_json;
 
-// One argument of a message template: numbers follow Dart's printing (the reference runs on the
-// Dart VM: integral doubles print as "1.0"), strings are quoted where the template quotes them.
-struct MessageArg {
-  std::string text;
-  bool is_string = false;  // quoted as 'text' in '`%N`' slots
-};
+// Arguments of the catalogue's templates (Rule::format fills them): numbers follow Dart's printing
+// (the reference runs on the Dart VM: integral doubles print as "1.0"), strings are quoted where the
+// template quotes them.
 MessageArg arg(std::string_view text);  // a string
 MessageArg arg(std::int64_t value);
 MessageArg arg(std::uint64_t value);
@@ -53,8 +50,6 @@ class IssueSink {
   bool found_error() const { return found_error_; }
 
  private:
-  std::string format(const std::string& code, const std::vector<MessageArg>& args,
-                     const std::vector<MessageArg>& list) const;
   const RuleSet& rules_;
   Report& report_;
   bool found_error_ = false;
