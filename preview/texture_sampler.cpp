@@ -13,7 +13,7 @@ namespace {
 // glTF 2.0 section 5.26 sampler wrap modes (OpenGL enums).
 constexpr int kRepeat = 10497, kClampToEdge = 33071, kMirroredRepeat = 33648;
 
-// As scene.cpp: the coordinate folded into [0, 1] by the wrap mode.
+// The coordinate folded into [0, 1] by the wrap mode (floor_fast is exact: the same as std::floor).
 inline float wrap_coordinate(float t, int mode) {
   if (mode == kClampToEdge) return std::clamp(t, 0.0f, 1.0f);
   if (mode == kMirroredRepeat) {
@@ -23,7 +23,8 @@ inline float wrap_coordinate(float t, int mode) {
   return t - floor_fast(t);
 }
 
-// As scene.cpp: taps of a folded coordinate fall in [-1, size], so one comparison wraps them.
+// Texel index for bilinear taps: a folded coordinate's taps fall in [-1, size], so one comparison
+// wraps them (no integer division).
 inline int wrap_texel(int i, int size, int mode) {
   if (i < 0) return mode == kRepeat ? i + size : 0;
   if (i >= size) return mode == kRepeat ? i - size : size - 1;
@@ -65,7 +66,7 @@ bool same_footprint(const TextureSlot& a, const TextureSlot& b) {
 
 }  // namespace
 
-// 8-bit code -> float, as scene.cpp's decode_texel computes it: sRGB through core's table
+// 8-bit code -> float, as decode_texel (the scalar reference, below) computes it: sRGB through core's table
 // (IEC 61966-2-1), linear as code / 255.
 const TexelDecodeTables kTexelDecode = [] {
   TexelDecodeTables tables;
@@ -118,7 +119,7 @@ MaterialSamplingPlan plan_sampling(const PreviewMaterial& material) {
 }
 
 Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
-  // scene.cpp `sample`, step by step: where the slot reads, then taps of one or two levels.
+  // `sample` (below), step by step: where the slot reads, then taps of one or two levels.
   const Texture& texture = *slot.texture;
   const SlotLookup lookup = slot_lookup(slot, uv_sets, derivatives);
   const glm::vec2 uv = lookup.uv;
@@ -137,6 +138,105 @@ Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], cons
     level_taps(slot, width, height, wrapped, blend ? (k == 0 ? 1.0f - t : t) : 1.0f, f.offset[k], f.weight[k]);
   }
   return f;
+}
+
+// ---- The scalar reference: one texture sample at a time (scene.hpp `sample`).
+
+void Texture::build_mips() {
+  mips.clear();
+  int w = width, h = height;
+  const TexelBytes* source = &rgba;
+  while (w > 1 || h > 1) {
+    TextureLevel level{std::max(1, w / 2), std::max(1, h / 2), {}};
+    level.rgba.resize(static_cast<size_t>(level.width) * static_cast<size_t>(level.height) * 4);
+    std::uint8_t* out = level.rgba.data();
+    for (int y = 0; y < level.height; ++y) {  // a 2 x 2 box; an odd last row or column repeats
+      const size_t row0 = static_cast<size_t>(std::min(2 * y, h - 1)) * static_cast<size_t>(w);
+      const size_t row1 = static_cast<size_t>(std::min(2 * y + 1, h - 1)) * static_cast<size_t>(w);
+      for (int x = 0; x < level.width; ++x, out += 4) {
+        const size_t x0 = static_cast<size_t>(std::min(2 * x, w - 1)),
+                     x1 = static_cast<size_t>(std::min(2 * x + 1, w - 1));
+        const std::uint8_t *a = &(*source)[(row0 + x0) * 4], *b = &(*source)[(row0 + x1) * 4];
+        const std::uint8_t *c = &(*source)[(row1 + x0) * 4], *d = &(*source)[(row1 + x1) * 4];
+        for (int k = 0; k < 4; ++k) out[k] = static_cast<std::uint8_t>((a[k] + b[k] + c[k] + d[k] + 2) / 4);
+      }
+    }
+    mips.push_back(std::move(level));
+    w = mips.back().width, h = mips.back().height;
+    source = &mips.back().rgba;
+  }
+}
+
+namespace {
+
+[[gnu::always_inline]] inline glm::vec4 decode_texel(const std::uint8_t* t, const float* srgb_lut) {
+  if (srgb_lut) return {srgb_lut[t[0]], srgb_lut[t[1]], srgb_lut[t[2]], static_cast<float>(t[3]) * (1.0f / 255.0f)};
+  return glm::vec4(t[0], t[1], t[2], t[3]) * (1.0f / 255.0f);
+}
+
+glm::vec4 sample_level(const TextureSlot& slot, const std::uint8_t* texels, int width, int height, glm::vec2 uv) {
+  static const float* const srgb_lut = srgb8_to_linear_table().data();
+  const float* lut = slot.srgb ? srgb_lut : nullptr;
+  const float u = wrap_coordinate(uv.x, slot.wrap_s) * static_cast<float>(width) - 0.5f;
+  const float v = wrap_coordinate(uv.y, slot.wrap_t) * static_cast<float>(height) - 0.5f;
+  const size_t stride = static_cast<size_t>(width) * 4;
+  if (slot.nearest) {
+    const int x = wrap_texel(static_cast<int>(floor_fast(u + 0.5f)), width, slot.wrap_s);
+    const int y = wrap_texel(static_cast<int>(floor_fast(v + 0.5f)), height, slot.wrap_t);
+    return decode_texel(texels + static_cast<size_t>(y) * stride + static_cast<size_t>(x) * 4, lut);
+  }
+  const float fx = floor_fast(u), fy = floor_fast(v);
+  const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+  const float tx = u - fx, ty = v - fy;
+  const size_t column0 = static_cast<size_t>(wrap_texel(x0, width, slot.wrap_s)) * 4;
+  const size_t column1 = static_cast<size_t>(wrap_texel(x0 + 1, width, slot.wrap_s)) * 4;
+  const std::uint8_t* row0 = texels + static_cast<size_t>(wrap_texel(y0, height, slot.wrap_t)) * stride;
+  const std::uint8_t* row1 = texels + static_cast<size_t>(wrap_texel(y0 + 1, height, slot.wrap_t)) * stride;
+  const glm::vec4 top = glm::mix(decode_texel(row0 + column0, lut), decode_texel(row0 + column1, lut), tx);
+  const glm::vec4 bottom = glm::mix(decode_texel(row1 + column0, lut), decode_texel(row1 + column1, lut), tx);
+  return glm::mix(top, bottom, ty);
+}
+
+}  // namespace
+
+SlotLookup slot_lookup(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
+  const Texture& texture = *slot.texture;
+  SlotLookup lookup{uv_sets[slot.tex_coord]};
+  auto transform_linear = [&](glm::vec2 d) {
+    return slot.has_transform
+               ? glm::vec2(slot.row_u.x * d.x + slot.row_u.y * d.y, slot.row_v.x * d.x + slot.row_v.y * d.y)
+               : d;
+  };
+  glm::vec2& uv = lookup.uv;
+  if (slot.has_transform)  // rows of the affine matrix
+    uv = glm::vec2(slot.row_u.x * uv.x + slot.row_u.y * uv.y + slot.row_u.z,
+                   slot.row_v.x * uv.x + slot.row_v.y * uv.y + slot.row_v.z);
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+  if (derivatives && !texture.mips.empty()) {
+    const glm::vec2 size(static_cast<float>(texture.width), static_cast<float>(texture.height));
+    const glm::vec2 dx = transform_linear(derivatives->dx[slot.tex_coord]) * size;
+    const glm::vec2 dy = transform_linear(derivatives->dy[slot.tex_coord]) * size;
+    const float rho2 = std::max(dx.x * dx.x + dx.y * dx.y, dy.x * dy.x + dy.y * dy.y);
+    if (rho2 > 1.0f && std::isfinite(rho2))
+      lookup.lod = std::min(0.5f * std::log2(rho2), static_cast<float>(texture.mips.size()));
+  }
+  return lookup;
+}
+
+glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives) {
+  const Texture& texture = *slot.texture;
+  const SlotLookup lookup = slot_lookup(slot, uv_sets, derivatives);
+  const glm::vec2 uv = lookup.uv;  // named, not a structured binding: clang 14 lambdas cannot capture those
+  const float lod = lookup.lod;
+  auto level = [&](int l) {
+    if (l == 0) return sample_level(slot, texture.rgba.data(), texture.width, texture.height, uv);
+    const TextureLevel& m = texture.mips[static_cast<size_t>(l - 1)];
+    return sample_level(slot, m.rgba.data(), m.width, m.height, uv);
+  };
+  const int l0 = static_cast<int>(lod);
+  const float t = lod - static_cast<float>(l0);
+  const glm::vec4 a = level(l0);
+  return t > 0.0f && l0 < static_cast<int>(texture.mips.size()) ? glm::mix(a, level(l0 + 1), t) : a;
 }
 
 }  // namespace gltf_pbr::preview

@@ -1,10 +1,11 @@
 // The G-buffer pass's texture sampler: the same trilinear filter as scene.hpp `sample` (its scalar
-// reference, compared in tests/preview/texture_sampler_test.cpp), restructured for a pixel that
-// reads five or six textures. Texture coordinates, the mip level (a log2) and the eight tap
-// addresses and weights are computed once per *footprint group*, the slots of a material that share
-// a UV set, level-0 size, sampler and KHR_texture_transform, and reused for every texture of the
-// group (an asset's textures are usually all the same size on UV set 0). The fetch then reads
-// 8-bit texels directly: a 256-entry table decodes sRGB, a multiply converts linear channels.
+// reference, defined beside it in texture_sampler.cpp and compared in
+// tests/preview/texture_sampler_test.cpp), restructured for a pixel that reads five or six
+// textures. Texture coordinates, the mip level (a log2) and the eight tap addresses and weights are
+// computed once per *footprint group*, the slots of a material that share a UV set, level-0 size,
+// sampler and KHR_texture_transform, and reused for every texture of the group (an asset's textures
+// are usually all the same size on UV set 0). The fetch then reads 8-bit texels directly: a
+// 256-entry table decodes sRGB, a multiply converts linear channels.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -56,7 +57,7 @@ const TextureSlot& slot_of(const PreviewMaterial& material, MaterialSlot slot);
 
 MaterialSamplingPlan plan_sampling(const PreviewMaterial& material);
 
-// The footprint of `slot` at a pixel (scene.cpp `sample`: KHR_texture_transform, wrap modes,
+// The footprint of `slot` at a pixel (`sample`: KHR_texture_transform, wrap modes,
 // OpenGL 4.6 section 8.14.1 level of detail, section 8.14.2 bilinear taps).
 Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDerivatives* derivatives);
 
