@@ -57,7 +57,7 @@ class Converter {
     for (size_t i = 0; i < model_.materials.size(); ++i) {
       const auto extension = model_.materials[i].extensions.find(kSpecGloss);
       if (extension == model_.materials[i].extensions.end()) continue;
-      legacy_materials.emplace_back(i, read_legacy_material(asset_, static_cast<int>(i), extension->second));
+      legacy_materials.emplace_back(i, read_legacy_material(asset_, static_cast<int>(i)));
       for (int image : images_of(legacy_materials.back().second)) ++pending_uses_[image];
     }
     for (const auto& [i, legacy] : legacy_materials) {

@@ -34,9 +34,8 @@ std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const As
     if (i >= converted.model.materials.size())
       throw InputError(converted.path.string(), pointer("materials", static_cast<int>(i)),
                        "material missing in the converted asset");
-    // Refuses non-finite or malformed legacy factors, naming them, as convert does.
-    (void)read_legacy_material(legacy, static_cast<int>(i), extension->second);
-    const MaterialInputs before = read_material_inputs(legacy.model, static_cast<int>(i));
+    // Strict, as convert reads it: non-finite or malformed legacy factors are refused, named.
+    const MaterialInputs before = read_material_inputs(legacy, static_cast<int>(i), MaterialReading::Strict);
     const MaterialInputs after = read_material_inputs(converted.model, static_cast<int>(i));
     const int n = before.textured() || after.textured() ? grid : 1;
     ErrorAccumulator error;

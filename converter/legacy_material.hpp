@@ -1,4 +1,5 @@
-// The legacy KHR_materials_pbrSpecularGlossiness material as read from a document, checked.
+// The legacy KHR_materials_pbrSpecularGlossiness material as the conversion uses it: factors and the
+// textureInfos it carries over, read strictly through core/material_model.hpp.
 #pragma once
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -17,8 +18,8 @@ struct LegacyMaterial {
   std::optional<tinygltf::TextureInfo> diffuse_texture, spec_gloss_texture;
 };
 
-// Reads and checks the extension object of material `index`. Throws InputError naming the JSON
-// pointer for non-finite factors, wrong shapes, and textures or images that do not exist.
-LegacyMaterial read_legacy_material(const Asset& asset, int index, const tinygltf::Value& extension);
+// Reads and checks the extension object of material `index`, which has one. Throws InputError naming
+// the JSON pointer for non-finite factors, wrong shapes, and textures or images that do not exist.
+LegacyMaterial read_legacy_material(const Asset& asset, int index);
 
 }  // namespace gltf_pbr

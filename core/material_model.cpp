@@ -6,6 +6,7 @@
 
 #include "core/brdf.hpp"
 #include "core/color.hpp"
+#include "core/error.hpp"
 #include "core/json_pointer.hpp"
 
 namespace gltf_pbr {
@@ -16,67 +17,91 @@ constexpr const char* kSpecularExtension = "KHR_materials_specular";
 constexpr const char* kIorExtension = "KHR_materials_ior";
 constexpr const char* kTextureTransform = "KHR_texture_transform";
 
-
 float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 float mean3(glm::vec3 v) { return (v.x + v.y + v.z) / 3.0f; }
 
-bool finite_number(const tinygltf::Value& value) {
-  return value.IsNumber() && std::isfinite(value.GetNumberAsDouble());
-}
-
 // Reads a factor from an extension object; records its pointer (the factor when written, else the
-// extension object, where its default applies).
+// extension object, where its default applies). `strict_file`: the file to name when a present
+// value has a shape the schema forbids (MaterialReading::Strict); null: the default applies.
 class ExtensionReader {
  public:
-  ExtensionReader(const tinygltf::Value& object, std::string pointer, MaterialInputs& out)
-      : object_(object), pointer_(std::move(pointer)), out_(out) {}
+  ExtensionReader(const tinygltf::Value& object, std::string pointer, MaterialInputs& out,
+                  const std::string* strict_file)
+      : object_(object), pointer_(std::move(pointer)), out_(out), strict_file_(strict_file) {
+    if (!object_.IsObject()) refuse(pointer_, "the extension is not an object");
+  }
 
   void number(const char* key, float* value) {
     const tinygltf::Value& v = object_.Get(key);
-    const bool written = object_.IsObject() && object_.Has(key) && finite_number(v);
+    const bool written = object_.IsObject() && object_.Has(key) && finite(v, pointer_ + "/" + key);
     if (written) *value = static_cast<float>(v.GetNumberAsDouble());
     out_.factor_pointers[key] = written ? pointer_ + "/" + key : pointer_;
   }
   void numbers(const char* key, float* values, int count) {
     const tinygltf::Value& v = object_.Get(key);
-    bool written = object_.IsObject() && object_.Has(key) && v.IsArray() && static_cast<int>(v.ArrayLen()) == count;
-    for (int i = 0; written && i < count; ++i) written = finite_number(v.Get(i));
+    const std::string where = pointer_ + "/" + key;
+    bool written = object_.IsObject() && object_.Has(key);
+    if (written && !(v.IsArray() && static_cast<int>(v.ArrayLen()) == count)) {
+      refuse(where, "must be an array of " + std::to_string(count) + " numbers");
+      written = false;
+    }
+    for (int i = 0; written && i < count; ++i) written = finite(v.Get(i), where + "/" + std::to_string(i));
     if (written)
       for (int i = 0; i < count; ++i) values[i] = static_cast<float>(v.Get(i).GetNumberAsDouble());
-    out_.factor_pointers[key] = written ? pointer_ + "/" + key : pointer_;
+    out_.factor_pointers[key] = written ? where : pointer_;
   }
   void texture(const char* key, TextureRole role, const tinygltf::Model& model) {
-    const tinygltf::Value& info = object_.Get(key);
-    if (!info.IsObject() || !info.Get("index").IsInt()) return;
+    if (!object_.IsObject() || !object_.Has(key)) return;
+    const tinygltf::Value& value = object_.Get(key);
+    const std::string where = pointer_ + "/" + key;
+    if (!value.IsObject() || !value.Get("index").IsInt()) return refuse(where, "textureInfo needs an integer index");
     MaterialTexture& t = out_.textures[static_cast<size_t>(role)];
-    t.texture = info.Get("index").GetNumberAsInt();
-    t.tex_coord = info.Get("texCoord").IsInt() ? info.Get("texCoord").GetNumberAsInt() : 0;
-    t.transformed = info.Get("extensions").IsObject() && info.Get("extensions").Has(kTextureTransform);
-    t.pointer = pointer_ + "/" + key;
-    if (t.texture >= 0 && static_cast<size_t>(t.texture) < model.textures.size()) {
-      const int source = model.textures[static_cast<size_t>(t.texture)].source;
-      if (source >= 0 && static_cast<size_t>(source) < model.images.size()) t.image = source;
+    t.info.index = value.Get("index").GetNumberAsInt();
+    t.info.texCoord = value.Get("texCoord").IsInt() ? value.Get("texCoord").GetNumberAsInt() : 0;
+    if (value.Get("extensions").IsObject())
+      for (const std::string& name : value.Get("extensions").Keys())
+        t.info.extensions[name] = value.Get("extensions").Get(name);
+    if (value.Get("extras").IsObject()) t.info.extras = value.Get("extras");
+    read_texture_info(model, t.info, where, t);
+    const std::string texture = "texture " + std::to_string(t.texture);
+    if (t.texture < 0 || static_cast<size_t>(t.texture) >= model.textures.size())
+      refuse(where + "/index", texture + " does not exist");
+    else if (t.image < 0)
+      refuse(where + "/index", texture + " has no image this tool can read");
+  }
+
+  // The textureInfo fields every reader keeps, and the image its texture names (-1: none).
+  static void read_texture_info(const tinygltf::Model& model, const tinygltf::TextureInfo& info, std::string pointer,
+                                MaterialTexture& out) {
+    if (info.index < 0) return;
+    if (&out.info != &info) out.info = info;
+    out.texture = info.index;
+    out.tex_coord = info.texCoord;
+    out.transformed = info.extensions.contains(kTextureTransform);
+    out.pointer = std::move(pointer);
+    if (static_cast<size_t>(info.index) < model.textures.size()) {
+      const int source = model.textures[static_cast<size_t>(info.index)].source;
+      if (source >= 0 && static_cast<size_t>(source) < model.images.size()) out.image = source;
     }
   }
 
  private:
+  // Strict: throws. Tolerant: the caller falls back to the default.
+  void refuse(const std::string& where, const std::string& why) const {
+    if (strict_file_) throw InputError(*strict_file_, where, why);
+  }
+  bool finite(const tinygltf::Value& value, const std::string& where) const {
+    if (!value.IsNumber()) return refuse(where, "not a number"), false;
+    const double v = value.GetNumberAsDouble();
+    if (!std::isfinite(v)) return refuse(where, "is " + std::to_string(v) + "; factors must be finite"), false;
+    return true;
+  }
+
   const tinygltf::Value& object_;
   std::string pointer_;
   MaterialInputs& out_;
+  const std::string* strict_file_;
 };
-
-void read_core_texture(const tinygltf::Model& model, const tinygltf::TextureInfo& info, std::string pointer,
-                       MaterialTexture& out) {
-  if (info.index < 0) return;
-  out.texture = info.index;
-  out.tex_coord = info.texCoord;
-  out.transformed = info.extensions.contains(kTextureTransform);
-  out.pointer = std::move(pointer);
-  if (static_cast<size_t>(info.index) < model.textures.size()) {
-    const int source = model.textures[static_cast<size_t>(info.index)].source;
-    if (source >= 0 && static_cast<size_t>(source) < model.images.size()) out.image = source;
-  }
-}
 
 }  // namespace
 
@@ -102,7 +127,9 @@ bool MaterialInputs::textured() const {
   return std::any_of(textures.begin(), textures.end(), [](const MaterialTexture& t) { return t.present(); });
 }
 
-MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
+namespace {
+
+MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::string* strict_file) {
   const tinygltf::Material& material = model.materials.at(static_cast<size_t>(index));
   MaterialInputs in;
   in.index = index;
@@ -125,17 +152,17 @@ MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
       in.base_color == glm::vec4(1.0f) ? pbr_pointer : pbr_pointer + "/baseColorFactor";
   in.factor_pointers["metallicFactor"] = in.metallic == 1.0f ? pbr_pointer : pbr_pointer + "/metallicFactor";
   in.factor_pointers["roughnessFactor"] = in.roughness == 1.0f ? pbr_pointer : pbr_pointer + "/roughnessFactor";
-  read_core_texture(model, pbr.baseColorTexture, pbr_pointer + "/baseColorTexture",
-                    in.textures[static_cast<size_t>(TextureRole::BaseColor)]);
-  read_core_texture(model, pbr.metallicRoughnessTexture, pbr_pointer + "/metallicRoughnessTexture",
-                    in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)]);
+  ExtensionReader::read_texture_info(model, pbr.baseColorTexture, pbr_pointer + "/baseColorTexture",
+                                     in.textures[static_cast<size_t>(TextureRole::BaseColor)]);
+  ExtensionReader::read_texture_info(model, pbr.metallicRoughnessTexture, pbr_pointer + "/metallicRoughnessTexture",
+                                     in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)]);
 
   const std::string extensions_pointer = in.pointer + "/extensions/";
   if (auto it = material.extensions.find(kSpecGlossExtension); it != material.extensions.end()) {
     // The archived extension replaces the core model in the viewers that support it; the core
     // material is only its fallback.
     in.model = MaterialModel::SpecGloss;
-    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecGlossExtension), in);
+    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecGlossExtension), in, strict_file);
     reader.numbers("diffuseFactor", &in.diffuse[0], 4);
     reader.numbers("specularFactor", &in.legacy_specular[0], 3);
     reader.number("glossinessFactor", &in.glossiness);
@@ -148,17 +175,29 @@ MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
   }
   if (auto it = material.extensions.find(kIorExtension); it != material.extensions.end()) {
     in.has_ior = true;
-    ExtensionReader(it->second, extensions_pointer + escape_pointer_token(kIorExtension), in).number("ior", &in.ior);
+    ExtensionReader(it->second, extensions_pointer + escape_pointer_token(kIorExtension), in, strict_file)
+        .number("ior", &in.ior);
   }
   if (auto it = material.extensions.find(kSpecularExtension); it != material.extensions.end()) {
     in.has_specular = true;
-    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecularExtension), in);
+    ExtensionReader reader(it->second, extensions_pointer + escape_pointer_token(kSpecularExtension), in, strict_file);
     reader.number("specularFactor", &in.specular);
     reader.numbers("specularColorFactor", &in.specular_color[0], 3);
     reader.texture("specularTexture", TextureRole::Specular, model);
     reader.texture("specularColorTexture", TextureRole::SpecularColor, model);
   }
   return in;
+}
+
+}  // namespace
+
+MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
+  return read_inputs(model, index, nullptr);
+}
+
+MaterialInputs read_material_inputs(const Asset& asset, int index, MaterialReading reading) {
+  const std::string file = asset.path.string();
+  return read_inputs(asset.model, index, reading == MaterialReading::Strict ? &file : nullptr);
 }
 
 float srgb_texel_to_linear(float encoded) {

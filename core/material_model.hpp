@@ -33,8 +33,9 @@ constexpr int kTextureRoleCount = 6;
 const char* texture_role_name(TextureRole role);  // "baseColorTexture", ...
 
 struct MaterialTexture {
-  int texture = -1;  // index into textures; -1: none
-  int image = -1;    // textures[texture].source; -1 when the texture has no readable source
+  tinygltf::TextureInfo info;  // as written: index, texCoord, extensions (KHR_texture_transform), extras
+  int texture = -1;            // index into textures; -1: none
+  int image = -1;              // textures[texture].source; -1 when the texture has no readable source
   int tex_coord = 0;
   bool transformed = false;  // KHR_texture_transform on the textureInfo
   std::string pointer;       // JSON pointer of the textureInfo
@@ -70,9 +71,19 @@ struct MaterialInputs {
   bool textured() const;
 };
 
-// Reads material `index`. Never throws: shapes the schema forbids (wrong array lengths, non-numbers,
-// non-finite numbers) fall back to the spec default, since the structure step reports them.
-MaterialInputs read_material_inputs(const tinygltf::Model& model, int index);
+// The one reader of materials, in two strictnesses.
+enum class MaterialReading {
+  // For checks (validate, compare, the error model): never throws. Shapes the schema forbids
+  // (wrong array lengths, non-numbers, non-finite numbers, a textureInfo without an integer index)
+  // fall back to the spec default, since the structure step reports them.
+  Tolerant,
+  // For conversion, which writes what it reads: the same shapes in an extension object, and a
+  // textureInfo naming a texture that does not exist or has no image, throw InputError naming the
+  // file and the JSON pointer.
+  Strict,
+};
+MaterialInputs read_material_inputs(const tinygltf::Model& model, int index);  // Tolerant
+MaterialInputs read_material_inputs(const Asset& asset, int index, MaterialReading reading);
 
 // Raw texel values as stored (RGBA in [0, 1]; absent textures read 1), one per role.
 struct TexelInputs {

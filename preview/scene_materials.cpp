@@ -169,7 +169,7 @@ void read_materials(const Asset& original, const Asset& converted, Scene& scene,
     read_metal_rough(converted, c, m.base_color_factor, m.base_color_texture, m.metallic_factor, m.roughness_factor,
                      m.metallic_roughness_texture);
     if (auto it = o.extensions.find(kSpecGloss); it != o.extensions.end()) {
-      const LegacyMaterial legacy = read_legacy_material(original, static_cast<int>(i), it->second);
+      const LegacyMaterial legacy = read_legacy_material(original, static_cast<int>(i));
       m.has_spec_gloss = true;
       m.diffuse_factor = legacy.diffuse_factor;
       m.specular_factor = legacy.specular_factor;

@@ -253,8 +253,7 @@ TEST(SpecularTarget, UnderTheAppearanceModelTakesTheRouteOnlyWhereItLowersTheApp
     for (const MaterialReport& m : report.materials) {
       EXPECT_FALSE(m.note.empty()) << name << " material " << m.index;
       ASSERT_TRUE(m.error_a && m.error_a->appearance) << name << " material " << m.index;
-      const auto& extensions = original.model.materials[static_cast<size_t>(m.index)].extensions;
-      const LegacyMaterial legacy = read_legacy_material(original, m.index, extensions.at(kSpecGloss));
+      const LegacyMaterial legacy = read_legacy_material(original, m.index);
       if (legacy.diffuse_texture || legacy.spec_gloss_texture) continue;
       const SpecGloss factors{glm::vec3(legacy.diffuse_factor), legacy.specular_factor, legacy.glossiness_factor};
       const Appearance seen = legacy_appearance(factors);

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "core/color.hpp"
+#include "core/error.hpp"
 #include "core/image_header.hpp"
 #include "material_test_support.hpp"
 
@@ -27,6 +30,62 @@ TEST(MaterialModel, LegacyTexturesAreSrgbInRgbAndLinearInAlpha) {
   EXPECT_FLOAT_EQ(s.albedo.g, srgb_to_linear(0.5f));
   EXPECT_FLOAT_EQ(s.c_diff.b, srgb_to_linear(0.5f) * (1.0f - specular));  // c_diff = diffuse (1 - max(spec))
   EXPECT_FLOAT_EQ(s.roughness, 0.75f);                                    // 1 - glossiness, glossiness linear
+}
+
+// One reader, two strictnesses: what the tolerant reading (validate) takes as the spec default, the
+// strict reading (convert) refuses, naming the value; on a well-formed material they agree.
+TEST(MaterialModel, StrictReadingRefusesWhatTolerantReadingDefaultsAndNamesIt) {
+  struct Case {
+    const char* key;
+    tinygltf::Value value;
+    const char* pointer;
+    const char* reason;
+  };
+  tinygltf::Value::Object no_index;
+  no_index["texCoord"] = tinygltf::Value(0);
+  tinygltf::Value::Object missing_texture;
+  missing_texture["index"] = tinygltf::Value(7);
+  const std::vector<Case> cases{
+      {"diffuseFactor", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.5), tinygltf::Value(0.5)}),
+       "/diffuseFactor", "must be an array of 4 numbers"},
+      {"specularFactor",
+       tinygltf::Value(
+           tinygltf::Value::Array{tinygltf::Value(0.5), tinygltf::Value(std::string("x")), tinygltf::Value(0.5)}),
+       "/specularFactor/1", "not a number"},
+      {"glossinessFactor", tinygltf::Value(std::numeric_limits<double>::infinity()), "/glossinessFactor",
+       "factors must be finite"},
+      {"diffuseTexture", tinygltf::Value(no_index), "/diffuseTexture", "textureInfo needs an integer index"},
+      {"specularGlossinessTexture", tinygltf::Value(missing_texture), "/specularGlossinessTexture/index",
+       "texture 7 does not exist"},
+  };
+  const std::string extension = "/materials/0/extensions/KHR_materials_pbrSpecularGlossiness";
+  for (const Case& c : cases) {
+    AssetBuilder builder;
+    tinygltf::Material& material = builder.spec_gloss(glm::vec4(0.25f), glm::vec3(0.5f), 0.5);
+    tinygltf::Value::Object object =
+        material.extensions.at("KHR_materials_pbrSpecularGlossiness").Get<tinygltf::Value::Object>();
+    object[c.key] = c.value;
+    material.extensions["KHR_materials_pbrSpecularGlossiness"] = tinygltf::Value(object);
+    const MaterialInputs tolerant = read_material_inputs(builder.asset(), 0, MaterialReading::Tolerant);
+    EXPECT_FALSE(tolerant.texture(TextureRole::Diffuse).present()) << c.key;
+    EXPECT_FALSE(tolerant.texture(TextureRole::SpecularGlossiness).present()) << c.key;
+    try {
+      (void)read_material_inputs(builder.asset(), 0, MaterialReading::Strict);
+      ADD_FAILURE() << c.key << ": the strict reading took it";
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.pointer, extension + c.pointer) << c.key;
+      EXPECT_NE(std::string(error.what()).find(c.reason), std::string::npos) << error.what();
+    }
+  }
+  AssetBuilder builder;
+  builder.spec_gloss(glm::vec4(0.25f, 0.5f, 0.75f, 1.0f), glm::vec3(0.1f, 0.2f, 0.3f), 0.4);
+  const MaterialInputs strict = read_material_inputs(builder.asset(), 0, MaterialReading::Strict);
+  const MaterialInputs tolerant = read_material_inputs(builder.asset().model, 0);
+  EXPECT_EQ(strict.diffuse, tolerant.diffuse);
+  EXPECT_EQ(strict.legacy_specular, tolerant.legacy_specular);
+  EXPECT_EQ(strict.glossiness, tolerant.glossiness);
+  EXPECT_EQ(strict.factor_pointers, tolerant.factor_pointers);
+  EXPECT_EQ(strict.diffuse, glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
 }
 
 TEST(MaterialModel, MetallicRoughnessReadsGreenAndBlueLinearly) {
