@@ -280,14 +280,16 @@ class Converter {
     } else {
       auto start = Clock::now();
       // Asked before the decode, which gives the encoded pages back.
-      const bool jpeg_diffuse = diffuse_image >= 0 && image_format_of(encoded_image_bytes(asset_, diffuse_image)) == ImageFormat::Jpeg;
+      const bool jpeg_diffuse =
+          diffuse_image >= 0 && image_format_of(encoded_image_bytes(asset_, diffuse_image)) == ImageFormat::Jpeg;
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
       parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },
                       [&] { diffuse = diffuse_image >= 0 && !roughness_only ? decode(diffuse_image) : nullptr; });
-      inputs.width = std::max(diffuse ? diffuse->width : 1, spec_gloss ? spec_gloss->width : 1);
-      inputs.height = std::max(diffuse ? diffuse->height : 1, spec_gloss ? spec_gloss->height : 1);
-      // The bake takes the larger of each dimension: 16384x1 beside 1x16384 would be 16384².
+      const Pixels* const both[] = {diffuse.get(), spec_gloss.get()};
+      const TexelGrid grid = bake_grid(both);
+      inputs.width = grid.width;
+      inputs.height = grid.height;
       const auto bake_pixels = static_cast<std::uint64_t>(inputs.width) * static_cast<std::uint64_t>(inputs.height);
       if (bake_pixels > max_image_pixels())
         throw InputError(asset_.path.string(), pointer("materials", entry.index),

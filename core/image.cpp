@@ -105,6 +105,13 @@ Pixels resize(const Pixels& pixels, int width, int height) {
   return codec().resample(pixels, width, height);
 }
 
+TexelGrid bake_grid(std::span<const Pixels* const> textures) {
+  TexelGrid grid;
+  for (const Pixels* pixels : textures)
+    if (pixels) grid.width = std::max(grid.width, pixels->width), grid.height = std::max(grid.height, pixels->height);
+  return grid;
+}
+
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
   return codecs::encode_png(texels, width, height, channels, compression_level);
 }
@@ -148,6 +155,5 @@ void DecodedImages::clear() {
   by_content_.clear();
   by_image_.clear();
 }
-
 
 }  // namespace gltf_pbr

@@ -64,12 +64,20 @@ Pixels decode_image_with_openimageio(std::span<const std::uint8_t> encoded);
 // Resamples to width x height (OpenImageIO's filtered resize); a no-op when the size matches.
 Pixels resize(const Pixels& pixels, int width, int height);
 
+// The texel grid that a material's textures are baked and judged on (DESIGN.md, "Textures": the
+// larger input resolution), each dimension on its own: 16384x1 beside 1x16384 is 16384². A texture
+// of another size is read through `resize` to it, by the bake and by the material checks alike.
+// 1 x 1 without textures (null entries are skipped).
+struct TexelGrid {
+  int width = 1, height = 1;
+};
+TexelGrid bake_grid(std::span<const Pixels* const> textures);
+
 // Encodes 8-bit PNG; `channels` is 1-4, interleaved.
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
 
 // Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
-
 
 // The identity of an image's encoded bytes: their XXH3-128 and their size. Two images with one key
 // hold the same bytes (a collision is ~2^-64 likely even across millions of images).

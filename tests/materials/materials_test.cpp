@@ -7,6 +7,7 @@
 #include <set>
 
 #include "converter/convert.hpp"
+#include "core/image_header.hpp"
 #include "core/material_model.hpp"
 #include "material_test_support.hpp"
 #include "test_support.hpp"
@@ -257,6 +258,44 @@ TEST(MaterialPlausibility, TextureCoverageCountsExactlyTheFailingTexelsAndPaints
         EXPECT_LE(rgb[0], 127);
       }
     }
+}
+
+// Textures of different sizes are judged on the texels the converter bakes: the grid of the larger
+// width and height, each texture resampled to it the way the bake resamples it. A 4x1 diffuse whose
+// first column is black beside a 1x4 specular-glossiness map bakes at 4x4, so the black column is
+// 4 of 16 texels; judged on the larger texture alone it would have been 1 of 4.
+TEST(MaterialPlausibility, TexturesOfDifferentSizesAreJudgedOnTheGridTheConverterBakes) {
+  AssetBuilder builder;
+  const std::vector<std::uint8_t> diffuse{5, 5, 5, 255, 128, 128, 128, 255, 128, 128, 128, 255, 128, 128, 128, 255};
+  std::vector<std::uint8_t> spec_gloss;
+  for (int y = 0; y < 4; ++y) spec_gloss.insert(spec_gloss.end(), {56, 56, 56, 128});  // F0 0.04, glossiness 0.5
+  const int diffuse_texture = builder.add_png(4, 1, 4, diffuse);
+  const int spec_gloss_texture = builder.add_png(1, 4, 4, spec_gloss);
+  tinygltf::Material& material = builder.spec_gloss(glm::vec4(1.0f), glm::vec3(1.0f), 1.0);
+  tinygltf::Value::Object extension =
+      material.extensions.at("KHR_materials_pbrSpecularGlossiness").Get<tinygltf::Value::Object>();
+  extension["diffuseTexture"] = tinygltf::Value(tinygltf::Value::Object{{"index", tinygltf::Value(diffuse_texture)}});
+  extension["specularGlossinessTexture"] =
+      tinygltf::Value(tinygltf::Value::Object{{"index", tinygltf::Value(spec_gloss_texture)}});
+  material.extensions["KHR_materials_pbrSpecularGlossiness"] = tinygltf::Value(extension);
+
+  MaterialCheckOptions options;
+  options.textures = false;
+  const Report report = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict), options);
+  const auto dark = issues_with(report, "PBR_ALBEDO_TOO_DARK");
+  ASSERT_EQ(dark.size(), 1u) << describe(report.messages);
+  EXPECT_NE(dark[0].message.find("25.00% of 16 texels (4x4)"), std::string::npos) << dark[0].message;
+
+  Asset converted = builder.asset();
+  ConvertOptions convert_options;
+  convert_options.target = Target::Metalness;
+  (void)convert(converted, convert_options);
+  const int base_color = converted.model.materials[0].pbrMetallicRoughness.baseColorTexture.index;
+  ASSERT_GE(base_color, 0);
+  const ImageHeader baked = read_image_header(
+      encoded_image_bytes(converted, converted.model.textures[static_cast<size_t>(base_color)].source));
+  EXPECT_EQ(baked.width, 4);
+  EXPECT_EQ(baked.height, 4);
 }
 
 // Avocado's specular-glossiness map is black (F0 0) where the skin is: the reported coverage and

@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <map>
 #include <set>
+#include <tuple>
 
 #include "core/color.hpp"
 #include "core/error.hpp"
@@ -377,6 +379,7 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
   const Limits limits = limits_from(rules, enabled);
 
   const auto& model = asset.model;
+  std::map<std::tuple<int, int, int>, Pixels> resampled;  // (image, grid width, grid height)
   for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
     // KHR_materials_unlit: the base colour is shown as is, no reflectance model to judge.
     if (model.materials[static_cast<size_t>(index)].extensions.contains("KHR_materials_unlit")) continue;
@@ -396,8 +399,8 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
     }
     if (!any_check) continue;
     std::array<const Pixels*, kTextureRoleCount> pixels{};
-    const Pixels* grid = nullptr;
-    int grid_texture = -1;
+    const Pixels* largest = nullptr;
+    int grid_texture = -1;  // names the heat map
     bool undecodable = false;
     for (int role = 0; role < kTextureRoleCount; ++role) {
       const MaterialTexture& texture = material.textures[static_cast<size_t>(role)];
@@ -405,13 +408,27 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
       pixels[static_cast<size_t>(role)] = images.get(texture.image, rules, report);
       const Pixels* p = pixels[static_cast<size_t>(role)];
       undecodable |= !p;
-      if (p && (!grid || static_cast<long>(p->width) * p->height > static_cast<long>(grid->width) * grid->height))
-        grid = p, grid_texture = texture.texture;
+      if (p &&
+          (!largest || static_cast<long>(p->width) * p->height > static_cast<long>(largest->width) * largest->height))
+        largest = p, grid_texture = texture.texture;
     }
 
     // Judging the factors alone would be wrong where a texture multiplies them; IMAGE_UNDECODABLE
     // has said that these texels went unchecked.
     if (undecodable) continue;
+
+    // The texels judged are the texels the converter bakes: every texture on the bake's grid,
+    // resampled to it the same way where its size differs (once per image and grid in this call).
+    // Factor-only: one sample (the grid is 1 x 1).
+    const TexelGrid grid = bake_grid(pixels);
+    for (int role = 0; role < kTextureRoleCount; ++role) {
+      const Pixels*& p = pixels[static_cast<size_t>(role)];
+      if (!p || (p->width == grid.width && p->height == grid.height)) continue;
+      const auto key = std::make_tuple(material.textures[static_cast<size_t>(role)].image, grid.width, grid.height);
+      auto found = resampled.find(key);
+      if (found == resampled.end()) found = resampled.emplace(key, resize(*p, grid.width, grid.height)).first;
+      p = &found->second;
+    }
 
     // Texels of textures read through different texCoord sets or KHR_texture_transform meet at
     // different UVs on the mesh; combined at equal UV they are not what renders. Say so.
@@ -430,25 +447,18 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
             "not as the mesh maps them)";
     }
 
-    // Factor-only: one sample. Textured: every texel of the largest texture, the others sampled
-    // at the same UV (nearest texel), as the converter bakes (DESIGN.md, "Textures").
-    const int width = grid ? grid->width : 1, height = grid ? grid->height : 1;
+    const int width = grid.width, height = grid.height;
     const size_t total = static_cast<size_t>(width) * static_cast<size_t>(height);
-    const bool heat_maps = !options.heatmaps_dir.empty() && grid;
+    const bool heat_maps = !options.heatmaps_dir.empty() && largest;
     std::vector<std::uint16_t> masks(heat_maps ? total : 0);
     std::vector<std::uint8_t> greys(heat_maps ? total : 0);
     std::array<Finding, kPbrCheckCount> findings;
     TexelInputs texels;
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
-        const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(width),
-                           (static_cast<float>(y) + 0.5f) / static_cast<float>(height));
-        for (int role = 0; role < kTextureRoleCount; ++role) {
-          const Pixels* p = pixels[static_cast<size_t>(role)];
-          if (!p) continue;
-          texels.raw[static_cast<size_t>(role)] =
-              p->width == width && p->height == height ? texel_rgba(*p, x, y) : nearest_texel(*p, uv);
-        }
+        for (int role = 0; role < kTextureRoleCount; ++role)
+          if (const Pixels* p = pixels[static_cast<size_t>(role)])
+            texels.raw[static_cast<size_t>(role)] = texel_rgba(*p, x, y);
         const SurfaceSample sample = evaluate_surface(material, texels);
         std::uint16_t mask = 0;
         for (int check = 0; check < kPbrCheckCount; ++check) {

@@ -16,8 +16,9 @@ struct MaterialCheckOptions {
   // IMAGE_NPOT_DIMENSIONS, the structure step's code, for a run without that step (validate.cpp).
   bool npot_dimensions = true;
   // Empty: no heat maps. Else, for every textured material with a reported PBR_* texel rule, one
-  // 8-bit RGB PNG "<file stem>-material<M>-texture<T>.png" at the size of texture T (the largest
-  // texture the material's checks read; the others are sampled at the same UV):
+  // 8-bit RGB PNG "<file stem>-material<M>-texture<T>.png" on the bake's grid (core/image.hpp
+  // bake_grid: the larger width and height of the textures the checks read; T is the largest of
+  // them, whose size it is unless another is wider or taller):
   //   blue   (0, 0, 255)     too dark: dielectric F0 too low, metal F0 too dark, albedo too dark
   //   red    (255, 0, 0)     too bright: dielectric F0 too high, albedo too bright, energy > 1
   //   yellow (255, 255, 0)   out of range: chromatic dielectric specular, metal with diffuse,
