@@ -11,6 +11,7 @@
 #include "core/asset.hpp"
 #include "core/byte_order.hpp"
 #include "core/error.hpp"
+#include "core/glb.hpp"
 #include "core/meshopt.hpp"
 
 namespace gltf_pbr {
@@ -41,34 +42,36 @@ void release_encoded_image_pages(const Asset& asset, int index) {
 
 namespace {
 
-struct GlbChunks {
+struct GlbParts {
   std::string json;
   std::span<const std::uint8_t> bin;
 };
 
-// glTF 2.0 spec section 4.4 (GLB file format specification).
-GlbChunks split_glb(const std::string& file, const Bytes& bytes) {
-  auto fail = [&](size_t offset, const std::string& why) -> GlbChunks {
+// glTF 2.0 spec section 4.4 (GLB file format specification), strictly: a JSON chunk first, an
+// optional BIN chunk second, both inside the header's length.
+GlbParts split_glb(const std::string& file, const Bytes& bytes) {
+  auto fail = [&](size_t offset, const std::string& why) -> GlbParts {
     throw InputError(file, ByteOffset{offset}, why);
   };
   if (bytes.size() < 20) fail(0, "truncated GLB: " + std::to_string(bytes.size()) + " bytes, a header needs 20");
-  if (little_endian32(bytes, 4) != 2) fail(4, "GLB version " + std::to_string(little_endian32(bytes, 4)) + ", only 2 is supported");
+  if (little_endian32(bytes, 4) != 2)
+    fail(4, "GLB version " + std::to_string(little_endian32(bytes, 4)) + ", only 2 is supported");
   const std::uint32_t length = little_endian32(bytes, 8);
   if (length > bytes.size())
     fail(8,
          "truncated GLB: header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
-  const std::uint32_t json_length = little_endian32(bytes, 12);
-  if (little_endian32(bytes, 16) != 0x4E4F534A) fail(16, "first GLB chunk is not JSON");
-  if (20ull + json_length > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
-  GlbChunks chunks{std::string(reinterpret_cast<const char*>(bytes.data()) + 20, json_length), {}};
-  const size_t bin_header = 20ull + json_length;
-  if (bin_header + 8 <= length) {
-    const std::uint32_t bin_length = little_endian32(bytes, bin_header);
-    if (bin_header + 8 + bin_length > length)
-      fail(bin_header, "truncated GLB: BIN chunk runs past the end of the file");
-    if (little_endian32(bytes, bin_header + 4) == 0x004E4942) chunks.bin = {bytes.data() + bin_header + 8, bin_length};
+  // Walked to the end of the bytes: each chunk is judged against `length` here.
+  GlbChunks chunks(bytes, bytes.size());
+  const std::optional<GlbChunk> json = chunks.next();  // the 20 bytes hold its header
+  if (json->type != kGlbChunkJson) fail(16, "first GLB chunk is not JSON");
+  if (json->end() > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
+  GlbParts parts{std::string(json->data.begin(), json->data.end()), {}};
+  if (json->end() + kGlbChunkHeaderSize <= length) {
+    const std::optional<GlbChunk> bin = chunks.next();
+    if (bin->end() > length) fail(bin->offset, "truncated GLB: BIN chunk runs past the end of the file");
+    if (bin->type == kGlbChunkBin) parts.bin = bin->data;
   }
-  return chunks;
+  return parts;
 }
 
 // The JSON pointer (RFC 6901) of the value a SAX parse failed on. nlohmann refuses a number
@@ -215,8 +218,9 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
         if (value == extension->end() || !value->is_number()) continue;  // its absence is the decoder's to name
         const double number = value->get<double>();
         if (!(number >= 0 && number <= INT32_MAX && std::trunc(number) == number))
-          throw InputError(file, pointer("bufferViews", static_cast<int>(v)) + "/extensions/EXT_meshopt_compression/" + member,
-                           "is not an integer from 0 to 2^31 - 1 (the largest the document library reads)");
+          throw InputError(
+              file, pointer("bufferViews", static_cast<int>(v)) + "/extensions/EXT_meshopt_compression/" + member,
+              "is not an integer from 0 to 2^31 - 1 (the largest the document library reads)");
       }
     }
   for (const char* collection : {"buffers", "images"}) {
@@ -455,7 +459,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
 
   bool glb_has_bin = false;
   if (asset.binary) {
-    GlbChunks chunks = split_glb(file, *bytes);
+    GlbParts chunks = split_glb(file, *bytes);
     glb_has_bin = !chunks.bin.empty();
     asset.original_json = std::move(chunks.json);
   } else {
@@ -474,7 +478,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   if (rewritten) {
     json_for_tinygltf = root.dump();
     if (asset.binary) {
-      const GlbChunks chunks = split_glb(file, *bytes);
+      const GlbParts chunks = split_glb(file, *bytes);
       *bytes = glb_bytes(json_for_tinygltf, chunks.bin);
     }
   }

@@ -7,15 +7,12 @@
 #include <limits>
 
 #include "core/byte_order.hpp"
+#include "core/glb.hpp"
 #include "validators/structure/structure_internal.hpp"
 
 namespace gltf_pbr::structure {
 
 namespace {
-constexpr std::uint32_t kMagicGltf = 0x46546C67;  // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
-constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
-
 std::string hex32(std::uint32_t value) {
   char text[16];
   std::snprintf(text, sizeof text, "0x%08x", value);
@@ -27,7 +24,7 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
                                                       bool& empty_json_ended) {
   IssueSink& issues = context.issues;
   empty_json_ended = false;
-  if (bytes.size() >= 4 && little_endian32(bytes, 0) != kMagicGltf) {
+  if (bytes.size() >= 4 && little_endian32(bytes, 0) != kGlbMagic) {
     issues.at_offset("GLB_INVALID_MAGIC", 0, {arg(static_cast<std::uint64_t>(little_endian32(bytes, 0)))});
     return std::nullopt;
   }
@@ -46,33 +43,32 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
 
   std::optional<std::span<const std::uint8_t>> json;
   bool json_seen = false, bin_seen = false, json_was_empty = false;
-  std::uint64_t offset = 12;
   int chunk_index = 0;
   // Chunks are read until they end exactly at the declared length or the stream ends, so a length
   // declared too small (GLB_LENGTH_TOO_SMALL, or one a chunk steps over) is measured against every
-  // chunk there is (GLB_CHUNK_TOO_BIG each) and the real end (GLB_LENGTH_MISMATCH). The stream's
-  // real end bounds every read; each chunk moves on by at least its 8-byte header.
-  while (offset != declared_length && offset < bytes.size()) {
+  // chunk there is (GLB_CHUNK_TOO_BIG each) and the real end (GLB_LENGTH_MISMATCH).
+  GlbChunks chunks(bytes, declared_length);
+  while (!chunks.done()) {
     // An empty JSON chunk leaves the JSON text open until something follows it; then it is parsed
     // as the empty text it is (INVALID_JSON), as the reference does (checked against the npm build).
     if (json_seen && json_was_empty) empty_json_ended = true;
-    if (bytes.size() - offset < 8) {
+    const std::optional<GlbChunk> chunk = chunks.next();
+    if (!chunk) {
       context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_HEADER", bytes.size(), {}});
       context.glb_ended_inside_chunk = true;
       return json;
     }
-    const std::uint64_t chunk_start = offset;
-    const std::uint64_t chunk_length = little_endian32(bytes, offset);
-    const std::uint32_t chunk_type = little_endian32(bytes, offset + 4);
-    offset += 8;
+    const std::uint64_t chunk_start = chunk->offset;
+    const std::uint64_t chunk_length = chunk->length;
+    const std::uint32_t chunk_type = chunk->type;
     if (chunk_length % 4 != 0)
       issues.at_offset("GLB_CHUNK_LENGTH_UNALIGNED", chunk_start, {arg_raw(hex32(chunk_type))});
-    if (offset + chunk_length > declared_length)
+    if (chunk->end() > declared_length)
       issues.at_offset("GLB_CHUNK_TOO_BIG", chunk_start, {arg_raw(hex32(chunk_type)), arg(chunk_length)});
-    if (chunk_type == kChunkJson) {
+    if (chunk_type == kGlbChunkJson) {
       if (chunk_length == 0) issues.at_offset("GLB_EMPTY_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
       if (json_seen) issues.at_offset("GLB_DUPLICATE_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
-    } else if (chunk_type == kChunkBin) {
+    } else if (chunk_type == kGlbChunkBin) {
       context.glb_bin_chunk = true;
       if (chunk_index == 0)
         issues.at_offset("GLB_UNEXPECTED_FIRST_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
@@ -84,23 +80,22 @@ std::optional<std::span<const std::uint8_t>> read_glb(std::span<const std::uint8
       if (chunk_index == 0) issues.at_offset("GLB_UNEXPECTED_FIRST_CHUNK", chunk_start, {arg_raw(hex32(chunk_type))});
       issues.at_offset("GLB_UNKNOWN_CHUNK_TYPE", chunk_start, {arg_raw(hex32(chunk_type))});
     }
-    if (bytes.size() - offset < chunk_length) {
+    if (!chunk->whole()) {
       context.glb_end_issues.push_back({"GLB_UNEXPECTED_END_OF_CHUNK_DATA", bytes.size(), {}});
       context.glb_ended_inside_chunk = true;
       return json;
     }
-    const auto data = bytes.subspan(offset, chunk_length);
-    if (chunk_type == kChunkJson && !json_seen) {
+    if (chunk_type == kGlbChunkJson && !json_seen) {
       json_seen = true;
       json_was_empty = chunk_length == 0;
-      if (chunk_length > 0) json = data;
-    } else if (chunk_type == kChunkBin && !bin_seen) {
+      if (chunk_length > 0) json = chunk->data;
+    } else if (chunk_type == kGlbChunkBin && !bin_seen) {
       bin_seen = true;
-      context.glb_bin = data;
+      context.glb_bin = chunk->data;
     }
-    offset += chunk_length;
     ++chunk_index;
   }
+  const std::uint64_t offset = chunks.position();
   if (offset != declared_length) {
     context.glb_end_issues.push_back({"GLB_LENGTH_MISMATCH", offset, {arg(declared_length), arg(offset)}});
   } else if (bytes.size() > offset) {
