@@ -39,11 +39,12 @@ struct ImageHeader {
 // KTX2 and unknown formats get only `format`. Bounded by the bytes there are, whatever they claim.
 ImageHeader read_image_header(std::span<const std::uint8_t> bytes);
 
-// Whether a header that was read gives a size other than a power of two on either side
-// (IMAGE_NPOT_DIMENSIONS: WebGL 1.0 section 5.13.8 neither mipmaps nor repeats such textures).
+// Whether a header read without a problem gives a size other than a power of two on either side, 0
+// included (IMAGE_NPOT_DIMENSIONS: WebGL 1.0 section 5.13.8 neither mipmaps nor repeats such textures).
 inline bool has_npot_dimensions(const ImageHeader& header) {
   const auto power_of_two = [](std::int64_t n) { return n > 0 && (n & (n - 1)) == 0; };
-  return header.width > 0 && header.height > 0 && (!power_of_two(header.width) || !power_of_two(header.height));
+  return header.problem == HeaderProblem::None && header.width >= 0 && header.height >= 0 &&
+         (!power_of_two(header.width) || !power_of_two(header.height));
 }
 
 }  // namespace gltf_pbr

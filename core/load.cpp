@@ -67,7 +67,7 @@ GlbParts split_glb(const std::string& file, const Bytes& bytes) {
   if (json->end() > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
   GlbParts parts{std::string(json->data.begin(), json->data.end()), {}};
   if (json->end() + kGlbChunkHeaderSize <= length) {
-    const std::optional<GlbChunk> bin = chunks.next();
+    const std::optional<GlbChunk> bin = chunks.next();  // its header lies inside `length`, so in the bytes
     if (bin->end() > length) fail(bin->offset, "truncated GLB: BIN chunk runs past the end of the file");
     if (bin->type == kGlbChunkBin) parts.bin = bin->data;
   }

@@ -63,8 +63,8 @@ class ExtensionReader {
         t.info.extensions[name] = value.Get("extensions").Get(name);
     if (value.Get("extras").IsObject()) t.info.extras = value.Get("extras");
     read_texture_info(model, t.info, where, t);
-    const std::string texture = "texture " + std::to_string(t.texture);
-    if (t.texture < 0 || static_cast<size_t>(t.texture) >= model.textures.size())
+    const std::string texture = "texture " + std::to_string(t.info.index);
+    if (t.info.index < 0 || static_cast<size_t>(t.info.index) >= model.textures.size())
       refuse(where + "/index", texture + " does not exist");
     else if (t.image < 0)
       refuse(where + "/index", texture + " has no image this tool can read");

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.hpp"
+#include "core/json_pointer.hpp"
 
 namespace gltf_pbr::preview {
 

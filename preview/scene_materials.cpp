@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "converter/legacy_material.hpp"
-#include "core/error.hpp"
+#include "core/json_pointer.hpp"
 #include "core/parallel.hpp"
 
 namespace gltf_pbr::preview {

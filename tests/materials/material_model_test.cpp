@@ -43,8 +43,9 @@ TEST(MaterialModel, StrictReadingRefusesWhatTolerantReadingDefaultsAndNamesIt) {
   };
   tinygltf::Value::Object no_index;
   no_index["texCoord"] = tinygltf::Value(0);
-  tinygltf::Value::Object missing_texture;
+  tinygltf::Value::Object missing_texture, negative_texture;
   missing_texture["index"] = tinygltf::Value(7);
+  negative_texture["index"] = tinygltf::Value(-5);
   const std::vector<Case> cases{
       {"diffuseFactor", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.5), tinygltf::Value(0.5)}),
        "/diffuseFactor", "must be an array of 4 numbers"},
@@ -57,6 +58,7 @@ TEST(MaterialModel, StrictReadingRefusesWhatTolerantReadingDefaultsAndNamesIt) {
       {"diffuseTexture", tinygltf::Value(no_index), "/diffuseTexture", "textureInfo needs an integer index"},
       {"specularGlossinessTexture", tinygltf::Value(missing_texture), "/specularGlossinessTexture/index",
        "texture 7 does not exist"},
+      {"diffuseTexture", tinygltf::Value(negative_texture), "/diffuseTexture/index", "texture -5 does not exist"},
   };
   const std::string extension = "/materials/0/extensions/KHR_materials_pbrSpecularGlossiness";
   for (const Case& c : cases) {

@@ -296,6 +296,18 @@ TEST(MaterialPlausibility, TexturesOfDifferentSizesAreJudgedOnTheGridTheConverte
       encoded_image_bytes(converted, converted.model.textures[static_cast<size_t>(base_color)].source));
   EXPECT_EQ(baked.width, 4);
   EXPECT_EQ(baked.height, 4);
+
+  // The grid is bounded as the bake is: above --max-image-pixels the texels go unchecked, and say so.
+  const std::uint64_t limit = max_image_pixels();
+  set_max_image_pixels(15);
+  const Report bounded = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict), options);
+  set_max_image_pixels(limit);
+  EXPECT_TRUE(issues_with(bounded, "PBR_ALBEDO_TOO_DARK").empty()) << describe(bounded.messages);
+  const auto unchecked = issues_with(bounded, "PBR_TEXELS_NOT_CHECKED");
+  ASSERT_EQ(unchecked.size(), 1u) << describe(bounded.messages);
+  EXPECT_EQ(unchecked[0].pointer, "/materials/0");
+  EXPECT_NE(unchecked[0].message.find("bake at 4x4, above the limit of 15 pixels"), std::string::npos)
+      << unchecked[0].message;
 }
 
 // Avocado's specular-glossiness map is black (F0 0) where the skin is: the reported coverage and

@@ -8,9 +8,7 @@
 #include <cstdint>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <map>
 #include <set>
-#include <tuple>
 
 #include "core/color.hpp"
 #include "core/error.hpp"
@@ -379,7 +377,6 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
   const Limits limits = limits_from(rules, enabled);
 
   const auto& model = asset.model;
-  std::map<std::tuple<int, int, int>, Pixels> resampled;  // (image, grid width, grid height)
   for (int index = 0; index < static_cast<int>(model.materials.size()); ++index) {
     // KHR_materials_unlit: the base colour is shown as is, no reflectance model to judge.
     if (model.materials[static_cast<size_t>(index)].extensions.contains("KHR_materials_unlit")) continue;
@@ -418,16 +415,29 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
     if (undecodable) continue;
 
     // The texels judged are the texels the converter bakes: every texture on the bake's grid,
-    // resampled to it the same way where its size differs (once per image and grid in this call).
-    // Factor-only: one sample (the grid is 1 x 1).
+    // resampled to it the same way where its size differs. Factor-only: one sample (1 x 1). The
+    // grid is bounded as the bake's is (convert refuses it; here the material's texels go unchecked).
     const TexelGrid grid = bake_grid(pixels);
-    for (int role = 0; role < kTextureRoleCount; ++role) {
+    std::vector<Pixels> resampled;         // this material's, freed with it
+    resampled.reserve(kTextureRoleCount);  // stable addresses: `pixels` points into it
+    std::string not_checked;
+    if (static_cast<std::uint64_t>(grid.width) * static_cast<std::uint64_t>(grid.height) > max_image_pixels())
+      not_checked = "its textures bake at " + std::to_string(grid.width) + "x" + std::to_string(grid.height) +
+                    ", above the limit of " + std::to_string(max_image_pixels()) + " pixels (--max-image-pixels)";
+    for (int role = 0; role < kTextureRoleCount && not_checked.empty(); ++role) {
       const Pixels*& p = pixels[static_cast<size_t>(role)];
       if (!p || (p->width == grid.width && p->height == grid.height)) continue;
-      const auto key = std::make_tuple(material.textures[static_cast<size_t>(role)].image, grid.width, grid.height);
-      auto found = resampled.find(key);
-      if (found == resampled.end()) found = resampled.emplace(key, resize(*p, grid.width, grid.height)).first;
-      p = &found->second;
+      try {
+        p = &resampled.emplace_back(resize(*p, grid.width, grid.height));
+      } catch (const std::exception& error) {
+        not_checked = std::string("cannot resample ") + texture_role_name(static_cast<TextureRole>(role)) + " to " +
+                      std::to_string(grid.width) + "x" + std::to_string(grid.height) + ": " + error.what();
+      }
+    }
+    if (!not_checked.empty()) {
+      if (rules.enabled("PBR_TEXELS_NOT_CHECKED"))
+        add_issue(rules, "PBR_TEXELS_NOT_CHECKED", {not_checked}, material.pointer, report);
+      continue;
     }
 
     // Texels of textures read through different texCoord sets or KHR_texture_transform meet at

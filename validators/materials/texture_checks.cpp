@@ -248,6 +248,11 @@ void check_material_textures(const Asset& asset, const RuleSet& rules, const Mat
   // run itself. Sizes come from the image header (core/image_header.hpp): this decodes nothing.
   if (options.npot_dimensions && rules.enabled("IMAGE_NPOT_DIMENSIONS"))
     for (size_t image = 0; image < asset.model.images.size(); ++image) {
+      // A strided view holds no image (the structure step says IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE).
+      const int view = asset.model.images[image].bufferView;
+      if (view >= 0 && static_cast<size_t>(view) < asset.model.bufferViews.size() &&
+          asset.model.bufferViews[static_cast<size_t>(view)].byteStride != 0)
+        continue;
       const ImageHeader header = read_image_header(encoded_image_bytes(asset, static_cast<int>(image)));
       if (has_npot_dimensions(header))
         add_issue(rules, "IMAGE_NPOT_DIMENSIONS", {std::to_string(header.width), std::to_string(header.height)},

@@ -2,6 +2,7 @@
 // issues carry byte offsets instead of pointers: the offset of the header field or chunk header at
 // fault, or the stream position where reading stopped.
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
