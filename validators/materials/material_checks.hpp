@@ -12,7 +12,7 @@
 
 namespace gltf_pbr {
 
-// Adds an issue for `code` with its rule's severity.
+// Adds an issue for `code` through the one sink (rules/issue_sink.hpp): text arguments, never quoted.
 void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,
                const std::string& pointer, Report& report);
 

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "core/material_model.hpp"
+#include "rules/issue_sink.hpp"
 #include "validators/materials/f0_reference.hpp"
 #include "validators/materials/material_checks.hpp"
 
@@ -353,8 +354,7 @@ void write_heat_map(const fs::path& file, int width, int height, const std::vect
 
 void add_issue(const RuleSet& rules, const std::string& code, const std::vector<std::string>& arguments,
                const std::string& pointer, Report& report) {
-  const Rule& rule = rules.at(code);
-  report.add({code, rule.format(arguments), rule.severity, pointer, {}, 1});
+  IssueSink(rules, report).at_text(code, pointer, arguments);
 }
 
 const Pixels* TexelSource::get(int image, const RuleSet& rules, Report& report) {

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "core/error.hpp"
+#include "rules/issue_sink.hpp"
 #include "validators/mesh/triangle_mesh.hpp"
 
 namespace gltf_pbr {
@@ -33,23 +34,16 @@ class PrimitiveReporter {
   void add(const std::string& code, std::size_t count, std::size_t total, const std::string& listed_text,
            const std::string& threshold = "") const {
     if (count == 0) return;
-    const Rule& rule = rules_.at(code);
-    const std::string threshold_text = threshold.empty() ? "" : format_number(rule.threshold(threshold));
-    report_.add(
-        {code,
-         rule.format({std::to_string(count), std::to_string(total), listed_text, threshold_text}),
-         rule.severity,
-         pointer_,
-         {},
-         1});
+    const std::string threshold_text = threshold.empty() ? "" : format_number(rules_.at(code).threshold(threshold));
+    IssueSink(rules_, report_)
+        .at_text(code, pointer_, {std::to_string(count), std::to_string(total), listed_text, threshold_text});
   }
   void add(const std::string& code, const std::vector<std::uint32_t>& indices, std::size_t total,
            const std::string& threshold = "") const {
     add(code, indices.size(), total, first_indices(indices, listed_), threshold);
   }
   void add_text(const std::string& code, const std::string& text) const {
-    const Rule& rule = rules_.at(code);
-    report_.add({code, rule.format({text}), rule.severity, pointer_, {}, 1});
+    IssueSink(rules_, report_).at_text(code, pointer_, {text});
   }
 
  private:
@@ -142,14 +136,8 @@ void check_primitive(const Asset& asset, int mesh_index, int primitive_index, co
       pairs += (i ? ", " : "") + std::to_string(found.pairs[i].first) + "/" + std::to_string(found.pairs[i].second);
     if (found.pairs.size() > options.listed_indices) pairs += ", ...";
     if (!found.pairs.empty()) {
-      const Rule& rule = rules.at("MESH_SELF_INTERSECTION");
       const std::string count = (found.stopped_at_limit ? "At least " : "") + std::to_string(found.pairs.size());
-      report.add({rule.code,
-                  rule.format({count, std::to_string(triangle_count), pairs}),
-                  rule.severity,
-                  where,
-                  {},
-                  1});
+      IssueSink(rules, report).at_text("MESH_SELF_INTERSECTION", where, {count, std::to_string(triangle_count), pairs});
     }
   }
 

@@ -59,23 +59,6 @@ std::string json_text(const Json& value) {
 
 MessageArg arg_json(const Json& value) { return {json_text(value), false}; }
 
-void IssueSink::at(const std::string& code, const std::string& pointer, const std::vector<MessageArg>& args,
-                   const std::vector<MessageArg>& list) {
-  const Rule* rule = rules_.find(code);
-  if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
-  found_error_ = found_error_ || rule->severity == Severity::Error;
-  if (!rule->enabled) return;
-  report_.add({code, rule->format(args, list), rule->severity, pointer, {}, 1});
-}
-
-void IssueSink::at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args) {
-  const Rule* rule = rules_.find(code);
-  if (!rule) check_failed("structure code in rules/structure.json", code, __FILE__);
-  found_error_ = found_error_ || rule->severity == Severity::Error;
-  if (!rule->enabled) return;
-  report_.add({code, rule->format(args), rule->severity, "", offset, 1});
-}
-
 bool Context::declared(std::string_view extension) const {
   for (const auto& name : doc.extensions_used)
     if (name == extension) return true;

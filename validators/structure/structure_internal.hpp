@@ -18,6 +18,7 @@
 #include "core/json_pointer.hpp"
 #include "core/meshopt.hpp"
 #include "core/report.hpp"
+#include "rules/issue_sink.hpp"
 #include "rules/rule_set.hpp"
 #include "validators/structure/structure.hpp"
 
@@ -38,22 +39,6 @@ MessageArg arg_raw(std::string text);    // never quoted
 
 std::string format_double(double value);
 
-// Emits issues with the catalogue's severity and message template (rules/structure.json).
-class IssueSink {
- public:
-  IssueSink(const RuleSet& rules, Report& report) : rules_(rules), report_(report) {}
-  void at(const std::string& code, const std::string& pointer, const std::vector<MessageArg>& args = {},
-          const std::vector<MessageArg>& list = {});
-  void at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args = {});
-  bool enabled(const std::string& code) const { return rules_.enabled(code); }
-  // Whether an error-severity issue was found, shown or silenced by the configuration.
-  bool found_error() const { return found_error_; }
-
- private:
-  const RuleSet& rules_;
-  Report& report_;
-  bool found_error_ = false;
-};
 
 struct Document;
 struct AccessorModel;
