@@ -118,6 +118,7 @@ void release_encoded_image_pages(const Asset& asset, int index);
 // Counters that prove lazy work: how often assets were loaded and pixels or meshes decoded.
 struct WorkCounters {
   std::atomic<long> assets_loaded{0};  // load_asset calls: what a run served from a cache did not do
+  std::atomic<long> json_texts_read{0};  // read_json calls (core/json.hpp)
   std::atomic<long> images_decoded{0};
   std::atomic<long> meshes_decoded{0};
   std::atomic<long> views_decoded{0};  // EXT_meshopt_compression bufferViews

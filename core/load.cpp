@@ -1,17 +1,19 @@
-// Loading: a pre-pass over the container and the URIs gives errors that name the file, a JSON
-// pointer and the reason; tinygltf then builds the document with images kept encoded.
+// Loading: a pre-pass over the container, the JSON tree (the one reader's, core/json.hpp) and the
+// URIs gives errors that name the file, a JSON pointer and the reason; tinygltf then builds the
+// document with images kept encoded.
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "core/asset.hpp"
 #include "core/byte_order.hpp"
 #include "core/error.hpp"
 #include "core/glb.hpp"
+#include "core/json.hpp"
 #include "core/meshopt.hpp"
 
 namespace gltf_pbr {
@@ -74,91 +76,9 @@ GlbParts split_glb(const std::string& file, const Bytes& bytes) {
   return parts;
 }
 
-// The JSON pointer (RFC 6901) of the value a SAX parse failed on. nlohmann refuses a number
-// too large for a double (1e999, which would read as Inf) without saying where it is.
-class FailurePointer : public nlohmann::json_sax<nlohmann::json> {
- public:
-  std::string pointer, token;
-  bool null() override { return next_value(); }
-  bool boolean(bool) override { return next_value(); }
-  bool number_integer(number_integer_t) override { return next_value(); }
-  bool number_unsigned(number_unsigned_t) override { return next_value(); }
-  bool number_float(number_float_t, const string_t&) override { return next_value(); }
-  bool string(string_t&) override { return next_value(); }
-  bool binary(binary_t&) override { return next_value(); }
-  bool start_object(std::size_t) override { return open(false); }
-  bool key(string_t& name) override {
-    levels_.back().key = name;
-    return true;
-  }
-  bool end_object() override { return close(); }
-  bool start_array(std::size_t) override { return open(true); }
-  bool end_array() override { return close(); }
-  bool parse_error(std::size_t, const std::string& last_token, const nlohmann::json::exception&) override {
-    next_value();  // the value that failed is the next one in its container
-    for (const Level& level : levels_) {
-      pointer += "/";
-      if (level.array) {
-        pointer += std::to_string(level.index);
-        continue;
-      }
-      for (char c : level.key) pointer += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
-    }
-    token = last_token;
-    return false;
-  }
-
- private:
-  struct Level {
-    bool array;
-    long index;
-    std::string key;
-  };
-  bool next_value() {
-    if (!levels_.empty() && levels_.back().array) ++levels_.back().index;
-    return true;
-  }
-  bool open(bool array) {
-    next_value();
-    levels_.push_back({array, -1, {}});
-    return true;
-  }
-  bool close() {
-    levels_.pop_back();
-    return true;
-  }
-  std::vector<Level> levels_;
-};
-
-// glTF needs a few levels; extras may nest more. tinygltf converts values recursively, so a
-// hostile file nested 100 000 deep would overflow the stack: refuse it first, in one cheap pass.
-constexpr int kMaxJsonDepth = 512;
-
-// The byte offset where nesting first exceeds kMaxJsonDepth, if it does.
-std::optional<size_t> too_deep_at(const std::string& json_text) {
-  int depth = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < json_text.size(); ++i) {
-    const char c = json_text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) return i;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return std::nullopt;
-}
-
 // EXT_meshopt_compression "Fallback buffers": {"fallback": true} marks a buffer that holds no
 // bytes of its own; compressed bufferViews decode into its layout (core/meshopt.hpp).
-bool is_meshopt_fallback(const nlohmann::json& buffer) {
+bool is_meshopt_fallback(const JsonDocument& buffer) {
   const auto extensions = buffer.find("extensions");
   if (extensions == buffer.end() || !extensions->is_object()) return false;
   const auto extension = extensions->find("EXT_meshopt_compression");
@@ -170,30 +90,67 @@ bool is_meshopt_fallback(const nlohmann::json& buffer) {
 // External buffer files by absolute, normal path: the only files tinygltf's read callback serves.
 using BufferFiles = std::map<fs::path, std::shared_ptr<const MappedFile>>;
 
-// Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
-// of buffers and images, and that the JSON parses at all. Maps the files it checked through the
-// asset's resources: images into asset.image_files, buffers into `buffer_files`.
-nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool glb_has_bin,
-                               BufferFiles& buffer_files) {
+// The JSON text of a GLB starts after the 12-byte header and the JSON chunk's 8-byte header (glTF
+// 2.0 section 4.4): offsets into it are given as offsets into the file.
+std::size_t json_start(const Asset& asset) { return asset.binary ? kGlbHeaderSize + kGlbChunkHeaderSize : 0; }
+
+// The document's JSON tree: the one the structure step read when it ran on this file (validate),
+// else read here, through the one reader (core/json.hpp).
+JsonDocument read_document(const Asset& asset) {
   const std::string file = asset.path.string();
-  if (const auto offset = too_deep_at(json_text))
-    throw InputError(file, ByteOffset{(asset.binary ? 20u : 0u) + *offset},
-                     "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-  nlohmann::json root;
-  try {
-    root = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // nlohmann counts from 1 within the JSON text; the pointer is a 0-based file offset, as for
-    // GLB header errors, so a GLB's JSON starts at byte 20 (glTF 2.0 section 4.4).
-    const size_t offset = (asset.binary ? 20 : 0) + (e.byte > 0 ? e.byte - 1 : 0);
-    throw InputError(file, ByteOffset{offset}, std::string("malformed JSON: ") + e.what());
-  } catch (const nlohmann::json::out_of_range& e) {
-    // JSON cannot hold NaN or Inf, but 1e999 overflows to Inf: refused here, naming its pointer.
-    FailurePointer failure;
-    nlohmann::json::sax_parse(json_text, &failure);
-    throw InputError(file, failure.pointer, "number " + failure.token + " is out of range: not finite");
+  std::span<const std::uint8_t> text(reinterpret_cast<const std::uint8_t*>(asset.original_json.data()),
+                                     asset.original_json.size());
+  std::size_t start = json_start(asset);
+  // RFC 8259 section 8.1: a parser may ignore a byte order mark; the document library does.
+  if (text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF) {
+    text = text.subspan(3);
+    start += 3;
+  }
+  JsonDocument root;
+  if (std::optional<JsonDocument> kept = asset.resources->take_document(asset.binary)) {
+    root = std::move(*kept);
+  } else if (const std::optional<JsonProblem> problem = read_json(text, root)) {
+    const ByteOffset at{start + problem->offset};
+    switch (problem->kind) {
+      case JsonProblem::Kind::InvalidUtf8:
+        throw InputError(file, at, "malformed JSON: not UTF-8");
+      case JsonProblem::Kind::UnexpectedCharacter: {
+        const std::uint8_t c = text[problem->offset];
+        char shown[8];
+        std::snprintf(shown, sizeof shown, c >= 0x20 && c < 0x7F ? "'%c'" : "0x%02x", c);
+        throw InputError(file, at, std::string("malformed JSON: unexpected character ") + shown);
+      }
+      case JsonProblem::Kind::UnexpectedEnd:
+        throw InputError(file, at, "malformed JSON: unexpected end of the text");
+      case JsonProblem::Kind::TooDeep:
+        throw InputError(file, at, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    }
+  }
+  // JSON cannot hold NaN or Inf, but 1e999 reads as Inf; the document library would refuse it
+  // without saying where. Rare, so the number as written is found by a second read.
+  if (const std::optional<std::string> at = first_non_finite_number(root)) {
+    std::string token;
+    JsonDocument again;
+    read_json(text, again, &token);
+    throw InputError(file, *at, "number " + token + " is out of range: not finite");
   }
   if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
+  return root;
+}
+
+// A non-negative integer, however the reader stored it (int64, or uint64 above its range).
+std::optional<std::uintmax_t> non_negative_integer(const JsonDocument& value) {
+  if (value.is_number_unsigned()) return value.get<std::uintmax_t>();
+  if (value.is_number_integer() && value.get<std::int64_t>() >= 0)
+    return static_cast<std::uintmax_t>(value.get<std::int64_t>());
+  return std::nullopt;
+}
+
+// Checks what tinygltf would otherwise skip or report without a pointer: external and data URIs
+// of buffers and images, and the shape of the collections. Maps the files it checked through the
+// asset's resources: images into asset.image_files, buffers into `buffer_files`.
+void check_resources(Asset& asset, const JsonDocument& root, bool glb_has_bin, BufferFiles& buffer_files) {
+  const std::string file = asset.path.string();
   // tinygltf refuses a misshapen collection without saying where ("`meshes' does not contain an
   // JSON object."); name the pointer instead (glTF 2.0 schema: each is an array of objects).
   for (const char* collection : {"accessors", "animations", "buffers", "bufferViews", "cameras", "images", "materials",
@@ -208,7 +165,7 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
   // length would wrap and decode other bytes, so it is refused here, where it is named.
   if (const auto views = root.find("bufferViews"); views != root.end())
     for (size_t v = 0; v < views->size(); ++v) {
-      const nlohmann::json& view = (*views)[v];
+      const JsonDocument& view = (*views)[v];
       const auto extensions = view.find("extensions");
       if (extensions == view.end() || !extensions->is_object()) continue;
       const auto extension = extensions->find("EXT_meshopt_compression");
@@ -227,7 +184,7 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
     const auto it = root.find(collection);
     if (it == root.end()) continue;
     for (size_t i = 0; i < it->size(); ++i) {
-      const nlohmann::json& entry = (*it)[i];
+      const JsonDocument& entry = (*it)[i];
       const std::string where = pointer(collection, static_cast<int>(i));
       const auto uri = entry.find("uri");
       if (uri == entry.end()) {
@@ -260,9 +217,10 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
       // size mismatch"): both cases are named here. Longer data is valid glTF that we cannot load
       // yet. A wrong-typed byteLength is tinygltf's to refuse.
       const auto length = entry.find("byteLength");
-      if (std::strcmp(collection, "buffers") == 0 && length != entry.end() && length->is_number_unsigned() &&
-          size != length->get<std::uintmax_t>()) {
-        const std::uintmax_t declared = length->get<std::uintmax_t>();
+      const std::optional<std::uintmax_t> declared_length =
+          length != entry.end() ? non_negative_integer(*length) : std::nullopt;
+      if (std::strcmp(collection, "buffers") == 0 && declared_length && size != *declared_length) {
+        const std::uintmax_t declared = *declared_length;
         const std::string data = is_data_uri(text) ? std::string("the data URI") : "the file " + text;
         throw InputError(file, where + "/byteLength",
                          "byteLength is " + std::to_string(declared) + " but " + data + " holds " +
@@ -273,18 +231,17 @@ nlohmann::json check_resources(Asset& asset, const std::string& json_text, bool 
       }
     }
   }
-  return root;
 }
 
 // tinygltf 2.7 reads every buffer: one without a uri is an error in a .gltf and the BIN chunk in a
 // GLB. A fallback buffer without a uri gets a one-byte data URI for the parse and its emptiness
 // back afterwards (its byteLength is derived again when saved, core/save.cpp).
-std::vector<size_t> hide_meshopt_fallbacks(nlohmann::json& root, bool glb_has_bin) {
+std::vector<size_t> hide_meshopt_fallbacks(JsonDocument& root, bool glb_has_bin) {
   std::vector<size_t> hidden;
   const auto buffers = root.find("buffers");
   if (buffers == root.end()) return hidden;
   for (size_t b = 0; b < buffers->size(); ++b) {
-    nlohmann::json& buffer = (*buffers)[b];
+    JsonDocument& buffer = (*buffers)[b];
     // A GLB's first buffer without a uri is its BIN chunk, marked fallback or not (glTF 2.0 4.4.3.2).
     if (buffer.contains("uri") || !is_meshopt_fallback(buffer) || (b == 0 && glb_has_bin)) continue;
     buffer["uri"] = "data:application/octet-stream;base64,AA==";
@@ -303,7 +260,7 @@ struct HiddenIndices {
 
 // check_resources has already refused meshes that are not an array of objects (the fuzzer found
 // a mesh that is a string); `find`, not operator[], so a mesh without primitives gets no null one.
-HiddenIndices hide_draco_indices(nlohmann::json& root) {
+HiddenIndices hide_draco_indices(JsonDocument& root) {
   HiddenIndices hidden;
   const auto meshes = root.find("meshes");
   if (meshes == root.end()) return hidden;
@@ -330,7 +287,7 @@ HiddenIndices hide_draco_indices(nlohmann::json& root) {
 // and reads any other, such as a valid image/webp data URI, as a file name. Such images get a media
 // type it knows for the parse, and their own URI back afterwards: the bytes are the same either
 // way (keep_encoded keeps them undecoded), and the format only matters to a step that needs texels.
-std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(nlohmann::json& root) {
+std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(JsonDocument& root) {
   std::vector<std::pair<size_t, std::string>> relabelled;
   const auto images = root.find("images");
   if (images == root.end()) return relabelled;
@@ -350,12 +307,12 @@ std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(nlohmann
 // decode_base64 (what validators take) also reads the URL-safe one (RFC 4648 section 5). Such data
 // URIs are given to tinygltf in the standard alphabet, which decodes to the same bytes. Returns
 // whether any was.
-bool standardise_base64_alphabet(nlohmann::json& root) {
+bool standardise_base64_alphabet(JsonDocument& root) {
   bool changed = false;
   for (const char* collection : {"buffers", "images"}) {
     const auto entries = root.find(collection);
     if (entries == root.end()) continue;
-    for (nlohmann::json& entry : *entries) {
+    for (JsonDocument& entry : *entries) {
       const auto uri = entry.find("uri");
       if (uri == entry.end() || !uri->is_string() || !is_data_uri(uri->get_ref<const std::string&>())) continue;
       std::string& text = uri->get_ref<std::string&>();
@@ -422,21 +379,24 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes) {
   try {
     const bool binary = file_bytes.size() >= 4 && std::memcmp(file_bytes.data(), "glTF", 4) == 0;
-    const nlohmann::json root = nlohmann::json::parse(binary ? split_glb("", file_bytes).json
-                                                             : std::string(file_bytes.begin(), file_bytes.end()));
-    if (!root.is_object()) return std::nullopt;
+    const std::string json_text = binary ? split_glb("", file_bytes).json : std::string();
+    const std::span<const std::uint8_t> text =
+        binary ? std::span(reinterpret_cast<const std::uint8_t*>(json_text.data()), json_text.size())
+               : std::span<const std::uint8_t>(file_bytes);
+    JsonDocument root;
+    if (read_json(text, root) || !root.is_object()) return std::nullopt;
     std::vector<std::string> uris;
     for (const char* collection : {"buffers", "images"}) {
       const auto entries = root.find(collection);
       if (entries == root.end() || !entries->is_array()) continue;
-      for (const nlohmann::json& entry : *entries) {
+      for (const JsonDocument& entry : *entries) {
         const auto uri = entry.is_object() ? entry.find("uri") : entry.end();
         if (uri != entry.end() && uri->is_string() && !is_data_uri(uri->get<std::string>()))
           uris.push_back(uri->get<std::string>());
       }
     }
     return uris;
-  } catch (const std::exception&) {  // InputError from the container, nlohmann's parse errors
+  } catch (const InputError&) {  // from the container
     return std::nullopt;
   }
 }
@@ -468,7 +428,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   asset.resources = options.resources ? options.resources
                                       : std::make_shared<FileResources>(path.parent_path(), options.allow_outside_uris);
   BufferFiles buffer_files;
-  nlohmann::json root = check_resources(asset, asset.original_json, glb_has_bin, buffer_files);
+  JsonDocument root = read_document(asset);
+  check_resources(asset, root, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
   const auto relabelled = relabel_foreign_data_images(root);  // first: it keeps the URIs as written
   const bool standardised = standardise_base64_alphabet(root);

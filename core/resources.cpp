@@ -34,4 +34,18 @@ FileResources::DracoMesh FileResources::draco_mesh(std::span<const std::uint8_t>
   return draco_meshes_.emplace(key, decode_draco_mesh(compressed)).first->second;
 }
 
+void FileResources::keep_document(JsonDocument document, bool glb) {
+  const std::lock_guard lock(mutex_);
+  document_ = std::move(document);
+  document_glb_ = glb;
+}
+
+std::optional<JsonDocument> FileResources::take_document(bool glb) {
+  const std::lock_guard lock(mutex_);
+  std::optional<JsonDocument> taken;
+  if (document_ && document_glb_ == glb) taken = std::move(document_);
+  document_.reset();
+  return taken;
+}
+
 }  // namespace gltf_pbr

@@ -1,17 +1,20 @@
 // The resources of one glTF file, as every step reads them: the external files its URIs name,
 // resolved through the one path policy (core/files.hpp resolve_uri) and mapped once however many
-// steps read them, and its Draco meshes, decoded once. `validate` hands one to the structure step
-// and to the loader, so an image file or a .bin is opened once and a Draco mesh decoded once per
-// file; an Asset keeps the one it was loaded with, for the steps that run on it.
+// steps read them, its Draco meshes, decoded once, and its JSON tree, read once. `validate` hands
+// one to the structure step and to the loader, so the JSON is parsed once, an image file or a .bin
+// is opened once and a Draco mesh decoded once per file; an Asset keeps the one it was loaded
+// with, for the steps that run on it.
 #pragma once
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "core/files.hpp"
+#include "core/json.hpp"
 
 namespace draco {
 class Mesh;
@@ -51,6 +54,13 @@ class FileResources {
   // the loader's find the same entry). Counts into work_counters().meshes_decoded.
   DracoMesh draco_mesh(std::span<const std::uint8_t> compressed);
 
+  // The file's JSON tree (core/json.hpp), handed from the step that read it to the next one that
+  // needs it: the structure step keeps it, the loader takes it. `glb` says which text it is, the
+  // GLB's JSON chunk or the whole file, so a tree is only taken for the text it was read from.
+  // Taking forgets it, so its memory goes with the one step that uses it.
+  void keep_document(JsonDocument document, bool glb);
+  std::optional<JsonDocument> take_document(bool glb);
+
  private:
   fs::path folder_;
   bool allow_outside_;
@@ -58,6 +68,8 @@ class FileResources {
   std::mutex mutex_;
   std::map<std::string, External> externals_;  // map: entries stay where they are
   std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;
+  std::optional<JsonDocument> document_;
+  bool document_glb_ = false;
 };
 
 // Decodes KHR_draco_mesh_compression data with libdraco, without a cache (core/draco.cpp).

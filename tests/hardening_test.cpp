@@ -400,7 +400,8 @@ TEST(BadImages, AnEmptyImageFileIsRefusedAtLoadNamingItsUri) {
 }
 
 TEST(Reports, MessagesStayValidUtf8WhateverBytesALibraryQuotes) {
-  // nlohmann's parse error quotes the bytes it read ("last read: '\xFF'"); the report keeps them as
+  // A library's error may quote the bytes it read (nlohmann's parse errors, which tinygltf passes
+  // on, say "last read: '\xFF'"); the report keeps them as
   // U+FFFD, so every format serialises (the fuzzer found report_to_json throwing type_error 316).
   ScratchDir scratch;
   test::write_text(scratch / "bytes.gltf", std::string("\xFF\xFE\xFD\x02\x03\x04"));

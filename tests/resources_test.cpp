@@ -59,6 +59,30 @@ TEST(OneFrontEnd, ValidateOpensEachExternalFileOnceAndDecodesEachImageOnce) {
   EXPECT_FALSE(report.info.is_null());
 }
 
+// The structure step's JSON tree is the loader's: validate reads the text once whichever steps
+// run, and the document library's own parse is its only other one.
+TEST(OneFrontEnd, ValidateReadsTheJsonOnceWhicheverStepsRun) {
+  for (const char* model : {"BoxTextured/specgloss/BoxTextured.gltf", "BoxTextured/metalrough-glb/BoxTextured.glb"}) {
+    const fs::path file = assets_dir() / model;
+    auto reads_by = [&](std::set<ValidationStep> steps) {
+      ValidateOptions options;
+      options.steps = std::move(steps);
+      const long before = work_counters().json_texts_read, loaded = work_counters().assets_loaded;
+      const Report report = validate_file(file, file.filename().string(), builtin_rules(), {}, options);
+      for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "PBR_CHECKS_NOT_RUN") << issue.message;
+      const bool needs_document = !options.steps.contains(ValidationStep::Structure) || options.steps.size() > 1;
+      EXPECT_EQ(work_counters().assets_loaded - loaded, needs_document ? 1 : 0) << model;
+      return work_counters().json_texts_read - before;
+    };
+    EXPECT_EQ(reads_by({ValidationStep::Structure}), 1) << model;
+    EXPECT_EQ(reads_by({ValidationStep::Materials, ValidationStep::Textures}), 1) << model;
+    EXPECT_EQ(reads_by({ValidationStep::Structure, ValidationStep::Materials, ValidationStep::Textures,
+                        ValidationStep::Meshes}),
+              1)
+        << model;
+  }
+}
+
 // preview --lint reads the textures the preview decoded: the material rules on both sides decode
 // none of them again (Avocado: the conversion reads two legacy maps and bakes two).
 TEST(OneFrontEnd, PreviewLintDecodesNoImageThePreviewAlreadyHolds) {

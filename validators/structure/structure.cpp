@@ -35,17 +35,23 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
     }
     json_text = *json;
   }
-  if (!parse_json(json_text, context) || !walk_schema(context)) {
+  if (!parse_json(json_text, context)) {
     stream_end();
     return context.issues.found_error();
   }
-  check_links(context);
-  report_unused(context);
-  stream_end();
-  // A GLB that ends inside a chunk has no trustworthy resources: the reference loads none then
-  // (no IO_ERROR, no BUFFER_MISSING_GLB_DATA; checked against the npm validator).
-  if (!context.glb_ended_inside_chunk) check_resources(context);
-  fill_info(context);
+  if (walk_schema(context)) {
+    check_links(context);
+    report_unused(context);
+    stream_end();
+    // A GLB that ends inside a chunk has no trustworthy resources: the reference loads none then
+    // (no IO_ERROR, no BUFFER_MISSING_GLB_DATA; checked against the npm validator).
+    if (!context.glb_ended_inside_chunk) check_resources(context);
+    fill_info(context);
+  } else {
+    stream_end();
+  }
+  // The loader of a later step reads the same tree instead of parsing the JSON again.
+  if (options.resources) options.resources->keep_document(std::move(context.root), context.glb);
   return context.issues.found_error();
 }
 

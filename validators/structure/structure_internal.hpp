@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/files.hpp"
+#include "core/json.hpp"
 #include "core/json_pointer.hpp"
 #include "core/meshopt.hpp"
 #include "core/report.hpp"
@@ -24,7 +25,7 @@
 
 namespace gltf_pbr::structure {
 
-using Json = nlohmann::ordered_json;
+using Json = JsonDocument;
 
 // Arguments of the catalogue's templates (Rule::format fills them): numbers follow Dart's printing
 // (the reference runs on the Dart VM: integral doubles print as "1.0"), strings are quoted where the
