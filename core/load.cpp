@@ -303,6 +303,27 @@ std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(JsonDocu
   return relabelled;
 }
 
+// tinygltf 2.7 URL-decodes a buffer's file name as a form does, reading '+' as a space, where a URI
+// (RFC 3986 section 2.2) keeps '+' as itself: "Box+0.bin" would open "Box 0.bin". Such URIs are
+// given to it with '+' percent-encoded, which both readings decode to '+', and get their own
+// spelling back afterwards.
+std::vector<std::pair<size_t, std::string>> escape_plus_in_buffer_uris(JsonDocument& root) {
+  std::vector<std::pair<size_t, std::string>> escaped;
+  const auto buffers = root.find("buffers");
+  if (buffers == root.end()) return escaped;
+  for (size_t b = 0; b < buffers->size(); ++b) {
+    const auto uri = (*buffers)[b].find("uri");
+    if (uri == (*buffers)[b].end() || !uri->is_string()) continue;
+    const std::string text = uri->get<std::string>();
+    if (is_data_uri(text) || text.find('+') == std::string::npos) continue;
+    escaped.emplace_back(b, text);
+    std::string spelled;
+    for (char c : text) spelled += c == '+' ? std::string("%2B") : std::string(1, c);
+    *uri = spelled;
+  }
+  return escaped;
+}
+
 // tinygltf 2.7 decodes base64 in the standard alphabet only and stops at the first other character;
 // decode_base64 (what validators take) also reads the URL-safe one (RFC 4648 section 5). Such data
 // URIs are given to tinygltf in the standard alphabet, which decodes to the same bytes. Returns
@@ -432,9 +453,11 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   check_resources(asset, root, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
   const auto relabelled = relabel_foreign_data_images(root);  // first: it keeps the URIs as written
+  const auto plus_escaped = escape_plus_in_buffer_uris(root);
   const bool standardised = standardise_base64_alphabet(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
-  const bool rewritten = !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty();
+  const bool rewritten = !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty() ||
+                         !plus_escaped.empty();
   std::string json_for_tinygltf;
   if (rewritten) {
     json_for_tinygltf = root.dump();
@@ -467,6 +490,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   if (!ok) throw InputError(file, "", "cannot load glTF: " + tidy(err.empty() ? warn : err, base_dir));
   if (!warn.empty()) asset.warnings.push_back(tidy(warn, base_dir));
   for (const auto& [image, uri] : relabelled) asset.model.images.at(image).uri = uri;
+  for (const auto& [buffer, uri] : plus_escaped) asset.model.buffers.at(buffer).uri = uri;
   for (size_t buffer : fallbacks) {
     asset.model.buffers.at(buffer).uri.clear();
     asset.model.buffers.at(buffer).data.clear();

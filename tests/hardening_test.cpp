@@ -343,6 +343,26 @@ TEST(ValidateOutsideUris, APercentEncodedImageNameInsideTheFolderIsFound) {
   for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "IO_ERROR") << issue.message;
 }
 
+// RFC 3986 keeps '+' in a path as itself (only forms read it as a space): a buffer file named
+// "Box+0.bin" is read by every step and keeps its name in the saved asset.
+TEST(ValidateOutsideUris, APlusInABufferNameIsThePlusWhicheverStepReadsIt) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "box");
+  fs::rename(scratch / "box" / "Box0.bin", scratch / "box" / "Box+0.bin");
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  ASSERT_EQ(document["buffers"][0]["uri"], "Box0.bin");
+  document["buffers"][0]["uri"] = "Box+0.bin";
+  test::write_text(gltf, document.dump());
+  const Report report = validate_file(gltf, "Box.gltf", builtin_rules(), {}, ValidateOptions{});
+  for (const Issue& issue : report.messages) EXPECT_NE(issue.severity, Severity::Error) << issue.message;
+  Asset asset = load_asset(gltf, {});
+  EXPECT_EQ(asset.model.buffers.at(0).uri, "Box+0.bin");
+  EXPECT_EQ(asset.model.buffers.at(0).data, *read_file(scratch / "box" / "Box+0.bin"));
+  save_asset(asset, scratch / "out" / "Box.gltf");
+  EXPECT_EQ(nlohmann::json::parse(test::read_text(scratch / "out" / "Box.gltf"))["buffers"][0]["uri"], "Box+0.bin");
+  EXPECT_EQ(read_file(scratch / "out" / "Box+0.bin"), read_file(scratch / "box" / "Box+0.bin"));
+}
+
 // An image read from outside the folder (allowed) is saved beside the output under its file
 // name, and one whose name is taken gets another: the saved asset (which convert --preview draws)
 // still reads each image's own bytes under its new URI.
