@@ -81,7 +81,7 @@ const ReportKind kValidation{
 
 Json read_report(const std::string& file, const ReportKind** kind) {
   const std::optional<Bytes> bytes = read_file(file);
-  if (!bytes) throw InputError(file, "", "cannot read the file");
+  if (!bytes) throw InputError(file, "", "cannot read the file: " + unreadable_reason(file));
   const auto bounded = [&](int depth, Json::parse_event_t, Json&) {
     if (depth > kMaxDepth) throw InputError(file, "", "nested deeper than any report");
     return true;

@@ -95,7 +95,7 @@ std::string run_settings(const ValidateArgs& args, const ValidateOptions& option
           " profile " + args.profile + "\n" + builtin_rules_text();
   if (!args.config.empty()) {  // its text, not its name: an edited config is another run
     const std::optional<Bytes> config = read_file(args.config);
-    if (!config) throw InputError(args.config, "", "cannot read the config file");
+    if (!config) throw InputError(args.config, "", "cannot read the config file: " + unreadable_reason(args.config));
     text += "\nconfig\n" + std::string(config->begin(), config->end());
   }
   return text;

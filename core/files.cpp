@@ -37,6 +37,15 @@ std::optional<Bytes> read_file(const fs::path& path) {
   return bytes;
 }
 
+std::string unreadable_reason(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::strerror(errno);
+  struct stat status {};
+  const bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
+  ::close(fd);
+  return regular ? "the read failed" : "not a regular file";
+}
+
 std::optional<MappedFile> MappedFile::open(const fs::path& path, ReadAhead read_ahead) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return std::nullopt;

@@ -16,6 +16,10 @@ using Bytes = std::vector<std::uint8_t>;
 // Reads a whole file; std::nullopt when it cannot be opened.
 std::optional<Bytes> read_file(const fs::path& path);
 
+// Why `path` cannot be read, in the system's words ("No such file or directory", "Permission
+// denied", "not a regular file"), for the message of a read that failed.
+std::string unreadable_reason(const fs::path& path);
+
 // A whole file mapped read-only, for readers that only look: no copy and no zero-filled buffer,
 // the pages come straight from the page cache (validating a 224 MB GLB saves ~0.1 s). The file
 // must not shrink while mapped (as with any mmap reader).

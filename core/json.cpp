@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <unordered_map>
 
 #include "core/asset.hpp"
 #include "core/json_pointer.hpp"
@@ -55,6 +56,8 @@ class JsonParser {
   }
 
  private:
+  static constexpr std::size_t kLinearKeys = 16;
+
   bool fail(JsonProblem problem) {
     if (!problem_) problem_ = problem;
     return false;
@@ -107,6 +110,9 @@ class JsonParser {
   bool object(JsonDocument& out, int depth) {
     ++at_;
     out = JsonDocument::object();
+    // ordered_map is a vector of members; it hides the vector's indexing, which this reads by.
+    auto& members = static_cast<JsonDocument::object_t::Container&>(out.get_ref<JsonDocument::object_t&>());
+    std::unordered_map<std::string, std::size_t> positions;  // key -> member, once past kLinearKeys
     skip_space();
     if (at_ < text_.size() && text_[at_] == '}') {
       ++at_;
@@ -123,7 +129,26 @@ class JsonParser {
       skip_space();
       JsonDocument item;
       if (!value(item, depth + 1)) return false;
-      out[key] = std::move(item);
+      // A repeated key keeps its first position and takes the last value. ordered_json finds a key
+      // by a linear search, so an object of a million keys would take 10^12 steps: past a few keys
+      // an index finds them instead.
+      const auto found = [&]() -> std::size_t {
+        if (members.size() <= kLinearKeys) {
+          for (std::size_t i = 0; i < members.size(); ++i)
+            if (members[i].first == key) return i;
+          return members.size();
+        }
+        if (positions.empty())
+          for (std::size_t i = 0; i < members.size(); ++i) positions.emplace(members[i].first, i);
+        const auto position = positions.find(key);
+        return position == positions.end() ? members.size() : position->second;
+      }();
+      if (found < members.size()) {
+        members[found].second = std::move(item);
+      } else {
+        if (!positions.empty()) positions.emplace(key, members.size());
+        members.emplace_back(std::move(key), std::move(item));
+      }
       skip_space();
       if (at_ >= text_.size()) return fail_here();
       if (text_[at_] == ',') {
@@ -326,16 +351,26 @@ class JsonParser {
   std::optional<JsonProblem> problem_;
 };
 
-bool find_non_finite(const JsonDocument& value, std::string& at) {
-  if (value.is_number_float()) return !std::isfinite(value.get<double>());
+std::optional<JsonFlaw::Kind> flaw_of_text(const std::string& text) {
+  const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+  return first_invalid_utf8(bytes) ? std::optional(JsonFlaw::Kind::NotUnicode) : std::nullopt;
+}
+
+// Depth-first in document order; `at` receives the pointer, built on the way back up.
+std::optional<JsonFlaw::Kind> find_flaw(const JsonDocument& value, std::string& at) {
+  if (value.is_number_float() && !std::isfinite(value.get<double>())) return JsonFlaw::Kind::NonFiniteNumber;
+  if (value.is_string()) return flaw_of_text(value.get_ref<const std::string&>());
   if (value.is_array()) {
     for (std::size_t i = 0; i < value.size(); ++i)
-      if (find_non_finite(value[i], at)) return (at.insert(0, "/" + std::to_string(i)), true);
+      if (const auto flaw = find_flaw(value[i], at)) return (at.insert(0, "/" + std::to_string(i)), flaw);
   } else if (value.is_object()) {
-    for (const auto& [key, item] : value.items())
-      if (find_non_finite(item, at)) return (at.insert(0, "/" + escape_pointer_token(key)), true);
+    for (const auto& [key, item] : value.items()) {
+      std::optional<JsonFlaw::Kind> flaw = flaw_of_text(key);
+      if (!flaw) flaw = find_flaw(item, at);
+      if (flaw) return (at.insert(0, "/" + escape_pointer_token(key)), flaw);
+    }
   }
-  return false;
+  return std::nullopt;
 }
 
 }  // namespace
@@ -347,9 +382,9 @@ std::optional<JsonProblem> read_json(std::span<const std::uint8_t> text, JsonDoc
   return JsonParser(text, first_non_finite).parse(out);
 }
 
-std::optional<std::string> first_non_finite_number(const JsonDocument& value) {
+std::optional<JsonFlaw> first_flaw(const JsonDocument& value) {
   std::string at;
-  if (find_non_finite(value, at)) return at;
+  if (const std::optional<JsonFlaw::Kind> kind = find_flaw(value, at)) return JsonFlaw{*kind, at};
   return std::nullopt;
 }
 

@@ -31,14 +31,24 @@ struct JsonProblem {
 
 // Reads `text` as the Khronos validator's Dart reader does: strict UTF-8 first, then the grammar;
 // integers stay integers (int64, or uint64 above its range), a number beyond a double's range
-// becomes an infinity (Dart reads 1e309 as Infinity; first_non_finite_number finds it for a step
-// that must refuse it; `first_non_finite` receives the first such number as written), and a
-// repeated key keeps its first position with its last value. A byte order mark is the caller's to
+// becomes an infinity (Dart reads 1e309 as Infinity; first_flaw finds it for a step that must
+// refuse it; `first_non_finite` receives the first such number as written), a lone surrogate
+// escape ("\uD800", which RFC 8259 section 8.2 leaves to the reader) is kept as its three bytes,
+// and a repeated key keeps its first position with its last value. A byte order mark is the caller's to
 // skip or report.
 std::optional<JsonProblem> read_json(std::span<const std::uint8_t> text, JsonDocument& out,
                                      std::string* first_non_finite = nullptr);
 
-// The JSON pointer (RFC 6901) of the first number in `value` that is not finite, if any.
-std::optional<std::string> first_non_finite_number(const JsonDocument& value);
+// A value that the reader keeps but a document library cannot hold, and where it is.
+struct JsonFlaw {
+  enum class Kind {
+    NonFiniteNumber,  // JSON numbers are finite (RFC 8259 section 6); 1e999 overflows a double
+    NotUnicode,       // a string or key holding a lone surrogate
+  };
+  Kind kind;
+  std::string pointer;  // RFC 6901
+};
+// The first flaw in `value`, in document order, if any.
+std::optional<JsonFlaw> first_flaw(const JsonDocument& value);
 
 }  // namespace gltf_pbr

@@ -94,20 +94,24 @@ using BufferFiles = std::map<fs::path, std::shared_ptr<const MappedFile>>;
 // 2.0 section 4.4): offsets into it are given as offsets into the file.
 std::size_t json_start(const Asset& asset) { return asset.binary ? kGlbHeaderSize + kGlbChunkHeaderSize : 0; }
 
+// RFC 8259 section 8.1: a reader may ignore a byte order mark, as the document library does.
+std::span<const std::uint8_t> without_bom(std::span<const std::uint8_t> text) {
+  const bool bom = text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF;
+  return bom ? text.subspan(3) : text;
+}
+
+std::span<const std::uint8_t> bytes_of(const std::string& text) {
+  return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
+}
+
 // The document's JSON tree: the one the structure step read when it ran on this file (validate),
 // else read here, through the one reader (core/json.hpp).
 JsonDocument read_document(const Asset& asset) {
   const std::string file = asset.path.string();
-  std::span<const std::uint8_t> text(reinterpret_cast<const std::uint8_t*>(asset.original_json.data()),
-                                     asset.original_json.size());
-  std::size_t start = json_start(asset);
-  // RFC 8259 section 8.1: a parser may ignore a byte order mark; the document library does.
-  if (text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF) {
-    text = text.subspan(3);
-    start += 3;
-  }
+  const std::span<const std::uint8_t> text = without_bom(bytes_of(asset.original_json));
+  const std::size_t start = json_start(asset) + (asset.original_json.size() - text.size());
   JsonDocument root;
-  if (std::optional<JsonDocument> kept = asset.resources->take_document(asset.binary)) {
+  if (std::optional<JsonDocument> kept = asset.resources->take_document(bytes_of(asset.original_json))) {
     root = std::move(*kept);
   } else if (const std::optional<JsonProblem> problem = read_json(text, root)) {
     const ByteOffset at{start + problem->offset};
@@ -126,13 +130,16 @@ JsonDocument read_document(const Asset& asset) {
         throw InputError(file, at, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     }
   }
-  // JSON cannot hold NaN or Inf, but 1e999 reads as Inf; the document library would refuse it
-  // without saying where. Rare, so the number as written is found by a second read.
-  if (const std::optional<std::string> at = first_non_finite_number(root)) {
+  // JSON cannot hold NaN or Inf, but 1e999 reads as Inf, and tinygltf cannot hold a lone
+  // surrogate; it would refuse either without saying where. Rare, so the number as written is
+  // found by a second read.
+  if (const std::optional<JsonFlaw> flaw = first_flaw(root)) {
+    if (flaw->kind == JsonFlaw::Kind::NotUnicode)
+      throw InputError(file, flaw->pointer, "a string holds a lone surrogate (\\uD800-\\uDFFF): not Unicode text");
     std::string token;
     JsonDocument again;
     read_json(text, again, &token);
-    throw InputError(file, *at, "number " + token + " is out of range: not finite");
+    throw InputError(file, flaw->pointer, "number " + token + " is out of range: not finite");
   }
   if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
   return root;
@@ -203,7 +210,9 @@ void check_resources(Asset& asset, const JsonDocument& root, bool glb_has_bin, B
         const FileResources::External& external = asset.resources->external(text);
         if (external.resolved.status != UriStatus::Readable)
           throw InputError(file, where + "/uri", external.resolved.problem);
-        if (!external.file) throw InputError(file, where + "/uri", "cannot read " + text);
+        if (!external.file)
+          throw InputError(file, where + "/uri",
+                           "cannot read " + text + ": " + unreadable_reason(external.resolved.path));
         size = external.file->bytes().size();
         if (std::strcmp(collection, "images") == 0) {
           if (size == 0) throw InputError(file, where + "/uri", "the image file " + text + " is empty");
@@ -401,9 +410,7 @@ std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes) {
   try {
     const bool binary = file_bytes.size() >= 4 && std::memcmp(file_bytes.data(), "glTF", 4) == 0;
     const std::string json_text = binary ? split_glb("", file_bytes).json : std::string();
-    const std::span<const std::uint8_t> text =
-        binary ? std::span(reinterpret_cast<const std::uint8_t*>(json_text.data()), json_text.size())
-               : std::span<const std::uint8_t>(file_bytes);
+    const std::span<const std::uint8_t> text = without_bom(binary ? bytes_of(json_text) : file_bytes);
     JsonDocument root;
     if (read_json(text, root) || !root.is_object()) return std::nullopt;
     std::vector<std::string> uris;
@@ -417,7 +424,7 @@ std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes) {
       }
     }
     return uris;
-  } catch (const InputError&) {  // from the container
+  } catch (const std::exception&) {  // InputError from the container, bad_alloc
     return std::nullopt;
   }
 }
@@ -428,7 +435,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   asset.path = path;
   const std::string file = path.string();
   auto bytes = read_file(path);
-  if (!bytes) throw InputError(file, "", "cannot read the file");
+  if (!bytes) throw InputError(file, "", "cannot read the file: " + unreadable_reason(path));
   asset.binary = bytes->size() >= 4 && std::memcmp(bytes->data(), "glTF", 4) == 0;
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -456,8 +463,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   const auto plus_escaped = escape_plus_in_buffer_uris(root);
   const bool standardised = standardise_base64_alphabet(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
-  const bool rewritten = !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty() ||
-                         !plus_escaped.empty();
+  const bool rewritten =
+      !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty() || !plus_escaped.empty();
   std::string json_for_tinygltf;
   if (rewritten) {
     json_for_tinygltf = root.dump();

@@ -34,16 +34,22 @@ FileResources::DracoMesh FileResources::draco_mesh(std::span<const std::uint8_t>
   return draco_meshes_.emplace(key, decode_draco_mesh(compressed)).first->second;
 }
 
-void FileResources::keep_document(JsonDocument document, bool glb) {
+namespace {
+std::pair<std::uint64_t, std::size_t> fingerprint(std::span<const std::uint8_t> text) {
+  return {XXH3_64bits(text.data(), text.size()), text.size()};
+}
+}  // namespace
+
+void FileResources::keep_document(JsonDocument document, std::span<const std::uint8_t> text) {
   const std::lock_guard lock(mutex_);
   document_ = std::move(document);
-  document_glb_ = glb;
+  document_text_ = fingerprint(text);
 }
 
-std::optional<JsonDocument> FileResources::take_document(bool glb) {
+std::optional<JsonDocument> FileResources::take_document(std::span<const std::uint8_t> text) {
   const std::lock_guard lock(mutex_);
   std::optional<JsonDocument> taken;
-  if (document_ && document_glb_ == glb) taken = std::move(document_);
+  if (document_ && document_text_ == fingerprint(text)) taken = std::move(document_);
   document_.reset();
   return taken;
 }

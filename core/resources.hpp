@@ -55,11 +55,12 @@ class FileResources {
   DracoMesh draco_mesh(std::span<const std::uint8_t> compressed);
 
   // The file's JSON tree (core/json.hpp), handed from the step that read it to the next one that
-  // needs it: the structure step keeps it, the loader takes it. `glb` says which text it is, the
-  // GLB's JSON chunk or the whole file, so a tree is only taken for the text it was read from.
-  // Taking forgets it, so its memory goes with the one step that uses it.
-  void keep_document(JsonDocument document, bool glb);
-  std::optional<JsonDocument> take_document(bool glb);
+  // needs it: the structure step keeps it, the loader takes it. It is kept with the XXH3 hash of
+  // the text it was read from (the GLB's JSON chunk or the whole file), and taken only for the
+  // same text, so a file that changed between the two reads is read again. Taking forgets it, so
+  // its memory goes with the one step that uses it.
+  void keep_document(JsonDocument document, std::span<const std::uint8_t> text);
+  std::optional<JsonDocument> take_document(std::span<const std::uint8_t> text);
 
  private:
   fs::path folder_;
@@ -69,7 +70,7 @@ class FileResources {
   std::map<std::string, External> externals_;  // map: entries stay where they are
   std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;
   std::optional<JsonDocument> document_;
-  bool document_glb_ = false;
+  std::pair<std::uint64_t, std::size_t> document_text_{};  // XXH3-64 and size of its text
 };
 
 // Decodes KHR_draco_mesh_compression data with libdraco, without a cache (core/draco.cpp).

@@ -325,14 +325,15 @@ std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& ou
       if (uri.empty() || is_data_uri(uri)) return;
       const std::string relative = percent_decode(uri);
       const auto bytes = read_file(input_folder / relative);
-      if (!bytes) throw InputError(asset.path.string(), "", "cannot read " + uri + " to copy it");
+      if (!bytes) throw InputError(asset.path.string(), "",
+                                    "cannot read " + uri + " to copy it: " + unreadable_reason(input_folder / relative));
       files.stage(folder / relative, *bytes);
     };
     for (const auto& buffer : asset.model.buffers) copy(buffer.uri);
     for (const auto& image : asset.model.images) copy(image.uri);
   }
   auto bytes = read_file(asset.path);
-  if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file");
+  if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file: " + unreadable_reason(asset.path));
   files.stage(output, *bytes);
   return files.commit();
 }

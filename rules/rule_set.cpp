@@ -261,7 +261,7 @@ void apply_user_config(const std::filesystem::path& config_file, RuleSet& rules,
   try {
     root = YAML::LoadFile(file);
   } catch (const YAML::BadFile&) {
-    throw InputError(file, "", "cannot read the config file");
+    throw InputError(file, "", "cannot read the config file: " + unreadable_reason(config_file));
   } catch (const YAML::Exception& error) {
     throw InputError(file, "", std::string("not valid YAML: ") + error.what());
   }

@@ -68,8 +68,9 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
     } catch (const InputError& error) {
       // The structure step owns saying why a document is unreadable, in the reference's codes (which
       // the config may silence). When it did not run, or found no error at all (the loader refuses
-      // more than the spec: nesting deeper than 512), the loader's reason is the error. Either way
-      // the steps that needed the document must not vanish silently: PBR_CHECKS_NOT_RUN says so.
+      // more than the spec: a buffer longer than its byteLength), the loader's reason is the
+      // error. Either way the steps that needed the document must not vanish silently:
+      // PBR_CHECKS_NOT_RUN says so.
       Issue issue = load_failure_issue(error);
       if (!structure_found_errors) {
         if (wants(options, ValidationStep::Structure)) issue.message = kChecksDidNotRun + issue.message;
