@@ -44,8 +44,7 @@ std::optional<std::size_t> first_invalid_utf8(std::span<const std::uint8_t> text
 
 class JsonParser {
  public:
-  JsonParser(std::span<const std::uint8_t> text, std::string* first_non_finite)
-      : text_(text), first_non_finite_(first_non_finite) {}
+  JsonParser(std::span<const std::uint8_t> text, JsonFlawsSeen* seen) : text_(text), seen_(seen) {}
 
   std::optional<JsonProblem> parse(JsonDocument& out) {
     skip_space();
@@ -284,6 +283,7 @@ class JsonParser {
             else
               at_ = save;
           }
+          if (seen_ && code >= 0xD800 && code < 0xE000) seen_->lone_surrogate = true;
           append_utf8(out, code);
           break;
         }
@@ -340,13 +340,13 @@ class JsonParser {
       }
     }
     const double number = std::strtod(token.c_str(), nullptr);  // overflow gives ±HUGE_VAL = ±Infinity, as in Dart
-    if (first_non_finite_ && first_non_finite_->empty() && !std::isfinite(number)) *first_non_finite_ = token;
+    if (seen_ && seen_->first_non_finite.empty() && !std::isfinite(number)) seen_->first_non_finite = token;
     out = number;
     return true;
   }
 
   std::span<const std::uint8_t> text_;
-  std::string* first_non_finite_;
+  JsonFlawsSeen* seen_;
   std::size_t at_ = 0;
   std::optional<JsonProblem> problem_;
 };
@@ -375,11 +375,10 @@ std::optional<JsonFlaw::Kind> find_flaw(const JsonDocument& value, std::string& 
 
 }  // namespace
 
-std::optional<JsonProblem> read_json(std::span<const std::uint8_t> text, JsonDocument& out,
-                                     std::string* first_non_finite) {
+std::optional<JsonProblem> read_json(std::span<const std::uint8_t> text, JsonDocument& out, JsonFlawsSeen* seen) {
   ++work_counters().json_texts_read;
   if (const auto at = first_invalid_utf8(text)) return JsonProblem{JsonProblem::Kind::InvalidUtf8, *at};
-  return JsonParser(text, first_non_finite).parse(out);
+  return JsonParser(text, seen).parse(out);
 }
 
 std::optional<JsonFlaw> first_flaw(const JsonDocument& value) {

@@ -29,15 +29,22 @@ struct JsonProblem {
   std::size_t offset;  // in the text given
 };
 
-// Reads `text` as the Khronos validator's Dart reader does: strict UTF-8 first, then the grammar;
-// integers stay integers (int64, or uint64 above its range), a number beyond a double's range
-// becomes an infinity (Dart reads 1e309 as Infinity; first_flaw finds it for a step that must
-// refuse it; `first_non_finite` receives the first such number as written), a lone surrogate
-// escape ("\uD800", which RFC 8259 section 8.2 leaves to the reader) is kept as its three bytes,
-// and a repeated key keeps its first position with its last value. A byte order mark is the caller's to
-// skip or report.
+// What the reader kept that a document library cannot hold (first_flaw finds where): a step that
+// must refuse such values walks the tree only when the reader saw one.
+struct JsonFlawsSeen {
+  bool lone_surrogate = false;
+  std::string first_non_finite;  // the first number beyond a double's range, as written
+  bool any() const { return lone_surrogate || !first_non_finite.empty(); }
+};
+
+// Reads `text` as the Khronos validator's Dart reader does: strict UTF-8 first, then the grammar.
+// Integers stay integers (int64, or uint64 above its range). A number beyond a double's range
+// becomes an infinity, as Dart reads 1e309 as Infinity. A lone surrogate escape ("\uD800", which
+// RFC 8259 section 8.2 leaves to the reader) is kept as its three bytes. Both are noted in `seen`.
+// A repeated key keeps its first position with its last value. A byte order mark is the caller's
+// to skip or report.
 std::optional<JsonProblem> read_json(std::span<const std::uint8_t> text, JsonDocument& out,
-                                     std::string* first_non_finite = nullptr);
+                                     JsonFlawsSeen* seen = nullptr);
 
 // A value that the reader keeps but a document library cannot hold, and where it is.
 struct JsonFlaw {

@@ -110,10 +110,10 @@ JsonDocument read_document(const Asset& asset) {
   const std::string file = asset.path.string();
   const std::span<const std::uint8_t> text = without_bom(bytes_of(asset.original_json));
   const std::size_t start = json_start(asset) + (asset.original_json.size() - text.size());
-  JsonDocument root;
-  if (std::optional<JsonDocument> kept = asset.resources->take_document(bytes_of(asset.original_json))) {
-    root = std::move(*kept);
-  } else if (const std::optional<JsonProblem> problem = read_json(text, root)) {
+  FileResources::Document read;
+  if (std::optional<FileResources::Document> kept = asset.resources->take_document(bytes_of(asset.original_json))) {
+    read = std::move(*kept);
+  } else if (const std::optional<JsonProblem> problem = read_json(text, read.root, &read.flaws)) {
     const ByteOffset at{start + problem->offset};
     switch (problem->kind) {
       case JsonProblem::Kind::InvalidUtf8:
@@ -130,19 +130,18 @@ JsonDocument read_document(const Asset& asset) {
         throw InputError(file, at, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     }
   }
+  JsonDocument& root = read.root;
   // JSON cannot hold NaN or Inf, but 1e999 reads as Inf, and tinygltf cannot hold a lone
-  // surrogate; it would refuse either without saying where. Rare, so the number as written is
-  // found by a second read.
-  if (const std::optional<JsonFlaw> flaw = first_flaw(root)) {
-    if (flaw->kind == JsonFlaw::Kind::NotUnicode)
-      throw InputError(file, flaw->pointer, "a string holds a lone surrogate (\\uD800-\\uDFFF): not Unicode text");
-    std::string token;
-    JsonDocument again;
-    read_json(text, again, &token);
-    throw InputError(file, flaw->pointer, "number " + token + " is out of range: not finite");
-  }
+  // surrogate; it would refuse either without saying where. The reader notes both, and the tree
+  // is searched for the pointer only then.
+  if (read.flaws.any())
+    if (const std::optional<JsonFlaw> flaw = first_flaw(root)) {
+      if (flaw->kind == JsonFlaw::Kind::NotUnicode)
+        throw InputError(file, flaw->pointer, "a string holds a lone surrogate (\\uD800-\\uDFFF): not Unicode text");
+      throw InputError(file, flaw->pointer, "number " + read.flaws.first_non_finite + " is out of range: not finite");
+    }
   if (!root.is_object()) throw InputError(file, "", "the top-level JSON value is not an object");
-  return root;
+  return std::move(root);
 }
 
 // A non-negative integer, however the reader stored it (int64, or uint64 above its range).
@@ -292,70 +291,56 @@ HiddenIndices hide_draco_indices(JsonDocument& root) {
   return hidden;
 }
 
-// tinygltf 2.7 takes only some media types as data URIs (png, jpeg, bmp, gif and the buffer ones)
-// and reads any other, such as a valid image/webp data URI, as a file name. Such images get a media
-// type it knows for the parse, and their own URI back afterwards: the bytes are the same either
-// way (keep_encoded keeps them undecoded), and the format only matters to a step that needs texels.
-std::vector<std::pair<size_t, std::string>> relabel_foreign_data_images(JsonDocument& root) {
-  std::vector<std::pair<size_t, std::string>> relabelled;
-  const auto images = root.find("images");
-  if (images == root.end()) return relabelled;
-  for (size_t i = 0; i < images->size(); ++i) {
-    const auto uri = (*images)[i].find("uri");
-    if (uri == (*images)[i].end() || !uri->is_string()) continue;
-    const std::string text = uri->get<std::string>();
-    if (!is_data_uri(text) || tinygltf::IsDataURI(text)) continue;
-    const size_t comma = text.find(',');
-    relabelled.emplace_back(i, text);
-    *uri = "data:application/octet-stream;base64," + text.substr(comma + 1);
+// A URI as tinygltf 2.7 reads it as meant, when it would misread it as written:
+// - a data URI in the URL-safe base64 alphabet (RFC 4648 section 5), which decode_base64 (what
+//   validators take) reads and tinygltf stops at: the standard alphabet decodes to the same bytes;
+// - an image data URI of a media type it does not take (it takes png, jpeg, bmp and gif; a valid
+//   image/webp one it reads as a file name): the bytes are kept undecoded either way
+//   (keep_encoded), so a type it takes stands in, and the format matters only to a step that
+//   needs texels;
+// - a buffer file name holding '+', which it URL-decodes as a form does (a space) where a URI
+//   keeps '+' as itself (RFC 3986 section 2.2): percent-encoded, both readings give '+'.
+// Image files are read by check_resources, not by tinygltf, so their names need no respelling.
+std::optional<std::string> spelling_for_tinygltf(const std::string& uri, bool image) {
+  std::string spelled = uri;
+  if (is_data_uri(uri)) {
+    const std::size_t comma = uri.find(',');
+    if (comma == std::string::npos) return std::nullopt;
+    for (std::size_t i = comma + 1; i < spelled.size(); ++i)
+      if (spelled[i] == '-' || spelled[i] == '_') spelled[i] = spelled[i] == '-' ? '+' : '/';
+    if (image && !tinygltf::IsDataURI(uri))
+      spelled = "data:application/octet-stream;base64," + spelled.substr(comma + 1);
+  } else if (!image) {
+    spelled.clear();
+    for (char c : uri) spelled += c == '+' ? std::string("%2B") : std::string(1, c);
   }
-  return relabelled;
+  if (spelled == uri) return std::nullopt;
+  return spelled;
 }
 
-// tinygltf 2.7 URL-decodes a buffer's file name as a form does, reading '+' as a space, where a URI
-// (RFC 3986 section 2.2) keeps '+' as itself: "Box+0.bin" would open "Box 0.bin". Such URIs are
-// given to it with '+' percent-encoded, which both readings decode to '+', and get their own
-// spelling back afterwards.
-std::vector<std::pair<size_t, std::string>> escape_plus_in_buffer_uris(JsonDocument& root) {
-  std::vector<std::pair<size_t, std::string>> escaped;
-  const auto buffers = root.find("buffers");
-  if (buffers == root.end()) return escaped;
-  for (size_t b = 0; b < buffers->size(); ++b) {
-    const auto uri = (*buffers)[b].find("uri");
-    if (uri == (*buffers)[b].end() || !uri->is_string()) continue;
-    const std::string text = uri->get<std::string>();
-    if (is_data_uri(text) || text.find('+') == std::string::npos) continue;
-    escaped.emplace_back(b, text);
-    std::string spelled;
-    for (char c : text) spelled += c == '+' ? std::string("%2B") : std::string(1, c);
-    *uri = spelled;
-  }
-  return escaped;
-}
+// The URIs of buffers and images respelled for the parse, each with its spelling as written, which
+// the loaded document gets back.
+struct RespelledUri {
+  bool image;
+  std::size_t index;
+  std::string as_written;
+};
 
-// tinygltf 2.7 decodes base64 in the standard alphabet only and stops at the first other character;
-// decode_base64 (what validators take) also reads the URL-safe one (RFC 4648 section 5). Such data
-// URIs are given to tinygltf in the standard alphabet, which decodes to the same bytes. Returns
-// whether any was.
-bool standardise_base64_alphabet(JsonDocument& root) {
-  bool changed = false;
-  for (const char* collection : {"buffers", "images"}) {
-    const auto entries = root.find(collection);
+std::vector<RespelledUri> respell_uris_for_tinygltf(JsonDocument& root) {
+  std::vector<RespelledUri> respelled;
+  for (const bool image : {false, true}) {
+    const auto entries = root.find(image ? "images" : "buffers");
     if (entries == root.end()) continue;
-    for (JsonDocument& entry : *entries) {
-      const auto uri = entry.find("uri");
-      if (uri == entry.end() || !uri->is_string() || !is_data_uri(uri->get_ref<const std::string&>())) continue;
-      std::string& text = uri->get_ref<std::string&>();
-      const std::size_t comma = text.find(',');
-      if (comma == std::string::npos) continue;
-      for (std::size_t i = comma + 1; i < text.size(); ++i)
-        if (text[i] == '-' || text[i] == '_') {
-          text[i] = text[i] == '-' ? '+' : '/';
-          changed = true;
-        }
+    for (std::size_t i = 0; i < entries->size(); ++i) {
+      const auto uri = (*entries)[i].find("uri");
+      if (uri == (*entries)[i].end() || !uri->is_string()) continue;
+      if (std::optional<std::string> spelled = spelling_for_tinygltf(uri->get_ref<const std::string&>(), image)) {
+        respelled.push_back({image, i, uri->get<std::string>()});
+        *uri = std::move(*spelled);
+      }
     }
   }
-  return changed;
+  return respelled;
 }
 
 // tinygltf's messages end in newlines and name absolute paths; ours name the file once, relative.
@@ -459,12 +444,9 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   JsonDocument root = read_document(asset);
   check_resources(asset, root, glb_has_bin, buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
-  const auto relabelled = relabel_foreign_data_images(root);  // first: it keeps the URIs as written
-  const auto plus_escaped = escape_plus_in_buffer_uris(root);
-  const bool standardised = standardise_base64_alphabet(root);
+  const std::vector<RespelledUri> respelled = respell_uris_for_tinygltf(root);
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
-  const bool rewritten =
-      !hidden.entries.empty() || standardised || !relabelled.empty() || !fallbacks.empty() || !plus_escaped.empty();
+  const bool rewritten = !hidden.entries.empty() || !respelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
   if (rewritten) {
     json_for_tinygltf = root.dump();
@@ -496,8 +478,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   }
   if (!ok) throw InputError(file, "", "cannot load glTF: " + tidy(err.empty() ? warn : err, base_dir));
   if (!warn.empty()) asset.warnings.push_back(tidy(warn, base_dir));
-  for (const auto& [image, uri] : relabelled) asset.model.images.at(image).uri = uri;
-  for (const auto& [buffer, uri] : plus_escaped) asset.model.buffers.at(buffer).uri = uri;
+  for (const RespelledUri& uri : respelled)
+    (uri.image ? asset.model.images.at(uri.index).uri : asset.model.buffers.at(uri.index).uri) = uri.as_written;
   for (size_t buffer : fallbacks) {
     asset.model.buffers.at(buffer).uri.clear();
     asset.model.buffers.at(buffer).data.clear();

@@ -40,15 +40,15 @@ std::pair<std::uint64_t, std::size_t> fingerprint(std::span<const std::uint8_t> 
 }
 }  // namespace
 
-void FileResources::keep_document(JsonDocument document, std::span<const std::uint8_t> text) {
+void FileResources::keep_document(Document document, std::span<const std::uint8_t> text) {
   const std::lock_guard lock(mutex_);
   document_ = std::move(document);
   document_text_ = fingerprint(text);
 }
 
-std::optional<JsonDocument> FileResources::take_document(std::span<const std::uint8_t> text) {
+std::optional<FileResources::Document> FileResources::take_document(std::span<const std::uint8_t> text) {
   const std::lock_guard lock(mutex_);
-  std::optional<JsonDocument> taken;
+  std::optional<Document> taken;
   if (document_ && document_text_ == fingerprint(text)) taken = std::move(document_);
   document_.reset();
   return taken;

@@ -54,13 +54,17 @@ class FileResources {
   // the loader's find the same entry). Counts into work_counters().meshes_decoded.
   DracoMesh draco_mesh(std::span<const std::uint8_t> compressed);
 
-  // The file's JSON tree (core/json.hpp), handed from the step that read it to the next one that
-  // needs it: the structure step keeps it, the loader takes it. It is kept with the XXH3 hash of
-  // the text it was read from (the GLB's JSON chunk or the whole file), and taken only for the
-  // same text, so a file that changed between the two reads is read again. Taking forgets it, so
-  // its memory goes with the one step that uses it.
-  void keep_document(JsonDocument document, std::span<const std::uint8_t> text);
-  std::optional<JsonDocument> take_document(std::span<const std::uint8_t> text);
+  // The file's JSON tree (core/json.hpp) with what its reader saw, handed from the step that read
+  // it to the next one that needs it: the structure step keeps it, the loader takes it. It is kept
+  // with the XXH3 hash of the text it was read from (the GLB's JSON chunk or the whole file), and
+  // taken only for the same text, so a file that changed between the two reads is read again.
+  // Taking forgets it, so its memory goes with the one step that uses it.
+  struct Document {
+    JsonDocument root;
+    JsonFlawsSeen flaws;
+  };
+  void keep_document(Document document, std::span<const std::uint8_t> text);
+  std::optional<Document> take_document(std::span<const std::uint8_t> text);
 
  private:
   fs::path folder_;
@@ -69,7 +73,7 @@ class FileResources {
   std::mutex mutex_;
   std::map<std::string, External> externals_;  // map: entries stay where they are
   std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;
-  std::optional<JsonDocument> document_;
+  std::optional<Document> document_;
   std::pair<std::uint64_t, std::size_t> document_text_{};  // XXH3-64 and size of its text
 };
 

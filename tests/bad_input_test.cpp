@@ -308,7 +308,10 @@ TEST(DataUri, UrlSafeUnpaddedBase64IsReadAsTheStructureStepReadsIt) {
   EXPECT_EQ(decode_base64("QUI="), (Bytes{'A', 'B'}));  // or written
   EXPECT_FALSE(decode_base64("QUI=Q"));                 // but only at the end
   EXPECT_FALSE(decode_base64("QUI=="));                 // completing the last quantum
-  EXPECT_EQ(load_asset(gltf).model.buffers.at(0).data, *bin);
+  const Asset asset = load_asset(gltf);
+  EXPECT_EQ(asset.model.buffers.at(0).data, *bin);
+  // and keeps its URI as written, so a save writes back the same text
+  EXPECT_EQ(asset.model.buffers.at(0).uri, "data:application/octet-stream;base64," + base64);
   ValidateOptions structure_only;
   structure_only.steps = {ValidationStep::Structure};
   const Report report = validate_file(gltf, "box.gltf", builtin_rules(), {}, structure_only);

@@ -3,17 +3,20 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "core/asset.hpp"
 #include "core/error.hpp"
+#include "rules/rule_set.hpp"
 #include "test_support.hpp"
+#include "validators/validate.hpp"
 
 namespace gltf_pbr {
 namespace {
 
-std::optional<JsonProblem> read(const std::string& text, JsonDocument& out) {
-  return read_json({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, out);
+std::optional<JsonProblem> read(const std::string& text, JsonDocument& out, JsonFlawsSeen* seen = nullptr) {
+  return read_json({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, out, seen);
 }
 
 // RFC 8259 section 4 leaves repeated names to the reader; this one keeps the first position and
@@ -72,6 +75,26 @@ TEST(JsonReader, InfinitiesAndLoneSurrogatesAreFlawsWithTheirPointer) {
   EXPECT_FALSE(first_flaw(document));
 }
 
+// The reader notes what first_flaw would find, so a clean document is never walked for it.
+TEST(JsonReader, TheReaderNotesEveryFlawItKeeps) {
+  JsonDocument document;
+  for (const char* text : {R"(["\uD800"])", R"(["\uDC00"])", R"(["\uD800\u0041"])", R"({"\uDBFF": 1})"}) {
+    JsonFlawsSeen seen;
+    ASSERT_FALSE(read(text, document, &seen)) << text;
+    EXPECT_TRUE(seen.lone_surrogate) << text;
+    EXPECT_TRUE(seen.any()) << text;
+    EXPECT_TRUE(first_flaw(document)) << text;
+  }
+  JsonFlawsSeen numbers;
+  ASSERT_FALSE(read(R"([1.5, -2e400, 1e999, 1e308])", document, &numbers));
+  EXPECT_EQ(numbers.first_non_finite, "-2e400");  // the first, as written
+  EXPECT_FALSE(numbers.lone_surrogate);
+  JsonFlawsSeen clean;
+  ASSERT_FALSE(read(R"({"a": ["\uD83D\uDE00", 1e308, -0.0, 18446744073709551615, "\u00e9"]})", document, &clean));
+  EXPECT_FALSE(clean.any());
+  EXPECT_FALSE(first_flaw(document));
+}
+
 // tinygltf would refuse the file without a pointer, or the loader's rewrite for it would throw.
 TEST(JsonReader, TheLoaderRefusesALoneSurrogateNamingItsPointer) {
   test::ScratchDir scratch;
@@ -91,6 +114,16 @@ TEST(JsonReader, TheLoaderRefusesALoneSurrogateNamingItsPointer) {
     EXPECT_EQ(error.pointer, "/materials/0/extras/note");
     EXPECT_NE(error.reason.find("lone surrogate"), std::string::npos) << error.reason;
   }
+  // validate reads the JSON once, in the structure step, and its loader still refuses the flaw
+  // that the structure step's reader noted.
+  const long reads_before = work_counters().json_texts_read;
+  const Report report = validate_file(gltf, "Box.gltf", builtin_rules(), {}, ValidateOptions{});
+  EXPECT_EQ(work_counters().json_texts_read - reads_before, 1);
+  const auto refusal = std::find_if(report.messages.begin(), report.messages.end(), [](const Issue& issue) {
+    return issue.message.find("lone surrogate") != std::string::npos;
+  });
+  ASSERT_NE(refusal, report.messages.end());
+  EXPECT_EQ(refusal->pointer, "/materials/0/extras/note");
 }
 
 }  // namespace

@@ -109,7 +109,7 @@ bool parse_json(std::span<const std::uint8_t> text, Context& context) {
     text = text.subspan(3);
   }
   // The reference decodes UTF-8 strictly before it parses (RFC 8259 8.1: JSON text is UTF-8).
-  if (const std::optional<JsonProblem> problem = read_json(text, context.root)) {
+  if (const std::optional<JsonProblem> problem = read_json(text, context.root, &context.json_flaws)) {
     const char* what = problem->kind == JsonProblem::Kind::InvalidUtf8           ? "Invalid UTF-8 byte"
                        : problem->kind == JsonProblem::Kind::UnexpectedCharacter ? "Unexpected character"
                        : problem->kind == JsonProblem::Kind::UnexpectedEnd       ? "Unexpected end of input"

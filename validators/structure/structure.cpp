@@ -51,7 +51,7 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
     stream_end();
   }
   // The loader of a later step reads the same tree instead of parsing the JSON again.
-  if (options.resources) options.resources->keep_document(std::move(context.root), json_text);
+  if (options.resources) options.resources->keep_document({std::move(context.root), std::move(context.json_flaws)}, json_text);
   return context.issues.found_error();
 }
 

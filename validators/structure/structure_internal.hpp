@@ -283,6 +283,7 @@ struct Context {
   // The GLB stream ended inside a chunk's header or data: its resources cannot be trusted.
   bool glb_ended_inside_chunk = false;
   Json root;
+  JsonFlawsSeen json_flaws;  // what the reader saw; kept with the tree for the loader
   Document doc;
   nlohmann::ordered_json resources = nlohmann::ordered_json::array();  // info.resources, in order
   bool declared(std::string_view extension) const;
