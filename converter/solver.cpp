@@ -1,6 +1,7 @@
 #include "converter/solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <glm/common.hpp>
@@ -55,50 +56,63 @@ float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
 
 // (u + eps)^(-2/3) / 3, from a table with linear interpolation on [0, 2] (continuous, and six pow
-// calls a texel were a third of the solve time), exact beyond.
-float cube_root_slope(float u) {
-  constexpr int kSize = 4096;
-  constexpr float kRange = 2.0f;
-  static const std::vector<float> table = [] {
-    std::vector<float> v(kSize + 1);
-    for (int i = 0; i <= kSize; ++i)
+// calls a texel were a third of the solve time), exact beyond. The lanes look up eight at once
+// in the table they fetch once.
+constexpr int kSlopeTableSize = 4096;
+constexpr float kSlopeTableRange = 2.0f;
+using SlopeTable = std::array<float, kSlopeTableSize + 1>;
+const SlopeTable& cube_root_slope_table() {
+  static const SlopeTable table = [] {
+    SlopeTable v;
+    for (int i = 0; i <= kSlopeTableSize; ++i)
       v[static_cast<size_t>(i)] =
-          std::pow(kRange * static_cast<float>(i) / kSize + kWeightEpsilon, -2.0f / 3.0f) / 3.0f;
+          std::pow(kSlopeTableRange * static_cast<float>(i) / kSlopeTableSize + kWeightEpsilon, -2.0f / 3.0f) / 3.0f;
     return v;
   }();
+  return table;
+}
+inline float cube_root_slope(float u, const SlopeTable& table) {
   u = std::max(u, 0.0f);
-  if (!(u < kRange)) return std::pow(u + kWeightEpsilon, -2.0f / 3.0f) / 3.0f;
-  const float x = u * (kSize / kRange);
+  if (!(u < kSlopeTableRange)) return std::pow(u + kWeightEpsilon, -2.0f / 3.0f) / 3.0f;
+  const float x = u * (kSlopeTableSize / kSlopeTableRange);
   const size_t i = static_cast<size_t>(x);
   const float f = x - static_cast<float>(i);
   return table[i] + f * (table[i + 1] - table[i]);
 }
 
+// M, row by row: linear sRGB to XYZ (IEC 61966-2-1, D65), each row divided by the white point.
+constexpr float kToXyzOverWhite[3][3] = {{0.4124f / 0.95047f, 0.3576f / 0.95047f, 0.1805f / 0.95047f},
+                                         {0.2126f, 0.7152f, 0.0722f},
+                                         {0.0193f / 1.08883f, 0.1192f / 1.08883f, 0.9505f / 1.08883f}};
+constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};  // a symmetric 3×3's six
+
 // Q = JᵀJ for the target t: |J r|^2 = rᵀ Q r, the squared ΔE of a linear-RGB error r near t.
 glm::mat3 lab_metric(glm::vec3 t) {
-  // glm matrices are column-major; these are written row by row and transposed.
-  static const glm::mat3 kToXyzOverWhite = glm::transpose(glm::mat3(  //
-      0.4124f / 0.95047f, 0.3576f / 0.95047f, 0.1805f / 0.95047f,     //
-      0.2126f, 0.7152f, 0.0722f,                                      //
-      0.0193f / 1.08883f, 0.1192f / 1.08883f, 0.9505f / 1.08883f));
-  static const glm::mat3 kLabRows = glm::transpose(glm::mat3(0.0f, 116.0f, 0.0f,     //
-                                                             500.0f, -500.0f, 0.0f,  //
-                                                             0.0f, 200.0f, -200.0f));
-  const glm::vec3 xyz = kToXyzOverWhite * t;
-  glm::mat3 slope(0.0f);
-  for (int c = 0; c < 3; ++c) slope[c][c] = cube_root_slope(xyz[c]);
-  glm::mat3 jacobian = kLabRows * slope * kToXyzOverWhite;
-  // (u + eps)^(1/3) = 3 (u + eps) · slope(u): the cube roots come from the slopes already looked up.
-  glm::vec3 f;
-  for (int c = 0; c < 3; ++c) f[c] = 3.0f * (xyz[c] + kWeightEpsilon) * slope[c][c];
-  const float a = 500.0f * (f.x - f.y), b = 200.0f * (f.y - f.z);
-  const float chroma = std::sqrt(a * a + b * b);
-  const float compression = 1.0f / (1.0f + kChromaCompression * chroma);
-  for (int column = 0; column < 3; ++column) jacobian[column][1] *= compression, jacobian[column][2] *= compression;
-  return glm::transpose(jacobian) * jacobian;
+  const SlopeTable& table = cube_root_slope_table();
+  float slope[3], f[3];
+  for (int c = 0; c < 3; ++c) {
+    const float xyz = kToXyzOverWhite[c][0] * t.x + kToXyzOverWhite[c][1] * t.y + kToXyzOverWhite[c][2] * t.z;
+    slope[c] = cube_root_slope(xyz, table);
+    // (u + eps)^(1/3) = 3 (u + eps) · slope(u): the cube roots come from the slopes already looked up.
+    f[c] = 3.0f * (xyz + kWeightEpsilon) * slope[c];
+  }
+  const float a = 500.0f * (f[0] - f[1]), b = 200.0f * (f[1] - f[2]);
+  const float compression = 1.0f / (1.0f + kChromaCompression * std::sqrt(a * a + b * b));
+  float j[3][3];  // rows L* = 116 fy, a* = 500 (fx - fy), b* = 200 (fy - fz); columns linear R, G, B
+  for (int column = 0; column < 3; ++column) {
+    const float x = slope[0] * kToXyzOverWhite[0][column], y = slope[1] * kToXyzOverWhite[1][column],
+                z = slope[2] * kToXyzOverWhite[2][column];
+    j[0][column] = 116.0f * y;
+    j[1][column] = 500.0f * (x - y) * compression;
+    j[2][column] = 200.0f * (y - z) * compression;
+  }
+  glm::mat3 q;
+  for (int e = 0; e < 6; ++e) {
+    const int r = kRow[e], c = kColumn[e];
+    q[c][r] = q[r][c] = j[0][r] * j[0][c] + j[1][r] * j[1][c] + j[2][r] * j[2][c];
+  }
+  return q;
 }
-
-float quadratic_form(const glm::mat3& q, glm::vec3 r) { return glm::dot(r, q * r); }
 
 // The split-sum terms (A, B) of the appearance model's rings (solver.hpp) at a roughness: a table
 // over roughness in kRoughnessSteps steps, linear between, each row integrated on first use (a
@@ -176,52 +190,66 @@ int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
   return 2 * kAppearanceRings;
 }
 
-// What one solve minimises, fixed for all m: the terms with their metrics, the normal equations
-// as polynomials in m (H(m) = h[0] + m h[1] + m^2 h[2], likewise g), and the prior.
+// The objective E(m, b) = sum_t |a_t(m) b + c_t(m) (1, 1, 1) - T_t|^2 in the metric Q_t of T_t,
+// expanded in b and m: bᵀ H(m) b - 2 g(m)ᵀ b + K(m), with
+//   H(m) = sum a² Q,   g(m) = sum a Q (T - c 1),   K(m) = sum (T - c 1)ᵀ Q (T - c 1),
+// each a polynomial of degree 2 in m (a and c are affine in m). Evaluating E this way costs the
+// same for two terms as for eight. Where the fit is close, E is a small difference of numbers
+// near |T|²_Q (10^3 ΔE² for a mid grey): float would leave noise of 10^-4 on it, enough to turn a
+// golden-section step along a flat minimum, so the polynomials are summed and evaluated in
+// double from the float terms and metrics; base_at solves H(m) b = g(m) rounded to float.
+struct Polynomials {
+  double h[3][6];  // symmetric: xx, yy, zz, xy, xz, yz
+  double g[3][3];
+  double k[3];
+};
+// Adds one term to the polynomials, in double (lane_solver::accumulate is its mirror).
+void accumulate(Polynomials& p, const Term& term, const glm::mat3& q) {
+  double qd[3][3], t[3], pull[3], grey[3];
+  for (int i = 0; i < 3; ++i) {
+    t[i] = term.target[i];
+    for (int j = 0; j < 3; ++j) qd[i][j] = q[j][i];
+  }
+  double tqt = 0.0, one_qt = 0.0, one_q_one = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    pull[i] = qd[i][0] * t[0] + qd[i][1] * t[1] + qd[i][2] * t[2];
+    grey[i] = qd[i][0] + qd[i][1] + qd[i][2];
+    tqt += t[i] * pull[i], one_qt += pull[i], one_q_one += grey[i];
+  }
+  const double a0 = term.a0, a1 = term.a1, c0 = term.c0, c1 = term.c1;
+  for (int e = 0; e < 6; ++e) {
+    const double qe = qd[kRow[e]][kColumn[e]];
+    p.h[0][e] += a0 * a0 * qe, p.h[1][e] += 2.0 * a0 * a1 * qe, p.h[2][e] += a1 * a1 * qe;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const double rest = pull[i] - c0 * grey[i];  // Q (T - c0 1)
+    p.g[0][i] += a0 * rest, p.g[1][i] += a1 * rest - a0 * c1 * grey[i], p.g[2][i] -= a1 * c1 * grey[i];
+  }
+  p.k[0] += tqt - 2.0 * c0 * one_qt + c0 * c0 * one_q_one;
+  p.k[1] += 2.0 * c1 * (c0 * one_q_one - one_qt);
+  p.k[2] += c1 * c1 * one_q_one;
+}
+
+// What one solve minimises, fixed for all m: the polynomials and the prior.
 struct Objective {
-  int terms = 0;
-  Term term[kMaxTerms];
-  glm::mat3 metric[kMaxTerms];                 // weight J^T J of each term's target
-  glm::vec3 pull[kMaxTerms], grey[kMaxTerms];  // metric T and metric (1, 1, 1)
-  glm::mat3 h[3];
-  glm::vec3 g[3];
+  Polynomials exact;
   float prior_m, prior_weight;
 };
 
-// `previous`, when given, is another input's objective whose metrics are reused where a target
-// is the same colour: the same numbers, and a texture with a specular factor (most of them) has
-// one F0 for every texel.
-Objective objective_for(const SpecGloss& legacy, ErrorModel model, const Objective* previous = nullptr) {
-  Objective o;
-  o.terms = terms_of(legacy, model, o.term);
-  for (int i = 0; i < 3; ++i) o.h[i] = glm::mat3(0.0f), o.g[i] = glm::vec3(0.0f);
-  for (int t = 0; t < o.terms; ++t) {
-    const Term& term = o.term[t];
-    const bool same = previous && previous->terms == o.terms && previous->term[t].target == term.target &&
-                      previous->term[t].weight == term.weight;
-    if (same) {
-      o.metric[t] = previous->metric[t], o.pull[t] = previous->pull[t], o.grey[t] = previous->grey[t];
-    } else {
-      o.metric[t] = term.weight * lab_metric(term.target);
-      o.pull[t] = o.metric[t] * term.target, o.grey[t] = o.metric[t] * glm::vec3(1.0f);
-    }
-    const glm::mat3& q = o.metric[t];
-    const glm::vec3 pull = o.pull[t], grey_pull = o.grey[t];
-    // sum (a0 + m a1)^2 Q and sum (a0 + m a1) Q (T - (c0 + m c1) 1), expanded in m. The
-    // normal-incidence terms have a0 = 0 or c = 0: what they leave out costs nothing.
-    if (term.a0 != 0.0f) {
-      o.h[0] += (term.a0 * term.a0) * q, o.h[1] += (2.0f * term.a0 * term.a1) * q;
-      o.g[0] += term.a0 * (pull - term.c0 * grey_pull);
-    }
-    o.h[2] += (term.a1 * term.a1) * q;
-    o.g[1] += term.a1 * (pull - term.c0 * grey_pull);
-    if (term.c1 != 0.0f) o.g[1] -= (term.a0 * term.c1) * grey_pull, o.g[2] -= (term.a1 * term.c1) * grey_pull;
-  }
+// The prior on metalness of one legacy material (solver.hpp): where it points, how strongly.
+std::pair<float, float> metalness_prior(const SpecGloss& legacy) {
   const float mean_f0 = (legacy.specular.x + legacy.specular.y + legacy.specular.z) / 3.0f;
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
-  o.prior_m = metal_likeness(mean_f0);
-  o.prior_weight = kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
-                                              (1.0f - smoothstep01(max3(r.diffuse) / kBrightDiffuse));
+  return {metal_likeness(mean_f0), kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
+                                                              (1.0f - smoothstep01(max3(r.diffuse) / kBrightDiffuse))};
+}
+
+Objective objective_for(const SpecGloss& legacy, ErrorModel model) {
+  Term terms[kMaxTerms];
+  const int count = terms_of(legacy, model, terms);
+  Objective o{};
+  for (int t = 0; t < count; ++t) accumulate(o.exact, terms[t], terms[t].weight * lab_metric(terms[t].target));
+  std::tie(o.prior_m, o.prior_weight) = metalness_prior(legacy);
   return o;
 }
 
@@ -258,30 +286,45 @@ glm::vec3 nonnegative_minimiser(const glm::mat3& h, glm::vec3 g) {
   return glm::max(b, glm::vec3(0.0f));
 }
 
+// H(m) and g(m) (Polynomials), evaluated in double.
+struct AtMetalness {
+  double m, h[6], g[3];
+};
+AtMetalness at_metalness(float m, const Objective& o) {
+  const Polynomials& p = o.exact;
+  AtMetalness at{m, {}, {}};
+  const double m2 = at.m * at.m;
+  for (int e = 0; e < 6; ++e) at.h[e] = p.h[0][e] + at.m * p.h[1][e] + m2 * p.h[2][e];
+  for (int i = 0; i < 3; ++i) at.g[i] = p.g[0][i] + at.m * p.g[1][i] + m2 * p.g[2][i];
+  return at;
+}
+
 // The base for metalness m: the best non-negative base for the terms at m, whose normal
-// equations are H(m) b = g(m), then brought into [0, 1] by scaling the whole colour when a channel
-// exceeds 1 (a saturated diffuse of 1.0 needs 1/0.96; gold's red F0 is 1.022). Clipping that
-// channel alone would shift the hue; the scale is 1 at the gamut edge, so the result stays
-// continuous. Each metric is positive definite (J is a product of invertible matrices) and the
-// terms' scales a(m) never all vanish on [0, 1], so H is invertible: no epsilon is needed.
-glm::vec3 base_at(float m, const Objective& o) {
-  const glm::mat3 h = o.h[0] + m * o.h[1] + (m * m) * o.h[2];
-  const glm::vec3 g = o.g[0] + m * o.g[1] + (m * m) * o.g[2];
-  const glm::vec3 base = nonnegative_minimiser(h, g);
+// equations are H(m) b = g(m) (in float), then brought into [0, 1] by scaling the whole colour
+// when a channel exceeds 1 (a saturated diffuse of 1.0 needs 1/0.96; gold's red F0 is 1.022).
+// Clipping that channel alone would shift the hue; the scale is 1 at the gamut edge, so the
+// result stays continuous. Each metric is positive definite (J is a product of invertible
+// matrices) and the terms' scales a(m) never all vanish on [0, 1], so H is invertible: no
+// epsilon is needed.
+glm::vec3 base_for(const AtMetalness& at) {
+  glm::mat3 h;
+  for (int e = 0; e < 6; ++e) h[kColumn[e]][kRow[e]] = h[kRow[e]][kColumn[e]] = static_cast<float>(at.h[e]);
+  const glm::vec3 base = nonnegative_minimiser(h, glm::vec3(at.g[0], at.g[1], at.g[2]));
   const float largest = max3(base);
   return largest > 1.0f ? base / largest : base;
 }
+glm::vec3 base_at(float m, const Objective& o) { return base_for(at_metalness(m, o)); }
 
-// The objective at m, for the base that m is given: each term's residual in its metric.
+// The objective at m, for the base that m is given (Polynomials).
 float error_at(float m, const Objective& o) {
-  const glm::vec3 b = base_at(m, o);
-  float error = o.prior_weight * (m - o.prior_m) * (m - o.prior_m);
-  for (int t = 0; t < o.terms; ++t) {
-    const Term& term = o.term[t];
-    const glm::vec3 residual = (term.a0 + m * term.a1) * b + glm::vec3(term.c0 + m * term.c1) - term.target;
-    error += quadratic_form(o.metric[t], residual);
-  }
-  return error;
+  const AtMetalness at = at_metalness(m, o);
+  const glm::vec3 base = base_for(at);
+  const double b[3] = {base.x, base.y, base.z}, *h = at.h, *g = at.g, *k = o.exact.k;
+  const double quadratic = h[0] * b[0] * b[0] + h[1] * b[1] * b[1] + h[2] * b[2] * b[2] +
+                           2.0 * (h[3] * b[0] * b[1] + h[4] * b[0] * b[2] + h[5] * b[1] * b[2]);
+  const double prior = at.m - static_cast<double>(o.prior_m);
+  return static_cast<float>(quadratic - 2.0 * (g[0] * b[0] + g[1] * b[1] + g[2] * b[2]) + k[0] + at.m * k[1] +
+                            at.m * at.m * k[2] + static_cast<double>(o.prior_weight) * prior * prior);
 }
 
 struct Minimum {
@@ -392,21 +435,21 @@ struct Vec {
   Floats c[3];
 };
 
-// What solve() builds per input, as structure of arrays. Every lane has the same number of terms
-// (the error model is the batch's).
-struct Objectives {
-  int terms;
-  Floats a0[kMaxTerms], a1[kMaxTerms], c0[kMaxTerms], c1[kMaxTerms];
-  Vec target[kMaxTerms];
-  Symmetric metric[kMaxTerms], h[3];
-  Vec g[3];
-  Floats prior_m, prior_weight;
+// A symmetric 3×3 matrix per lane in double, and a vector: Polynomials in lanes.
+struct SymmetricD {
+  Doubles e[6];
+};
+struct VecD {
+  Doubles c[3];
 };
 
-GLTF_PBR_INLINE Floats quadratic_form(const Symmetric& q, const Vec& r) {
-  const Floats x = r.c[0], y = r.c[1], z = r.c[2];
-  return q.e[0] * x * x + q.e[1] * y * y + q.e[2] * z * z + 2.0f * (q.e[3] * x * y + q.e[4] * x * z + q.e[5] * y * z);
-}
+// What solve() builds per input, as structure of arrays (Objective).
+struct Objectives {
+  SymmetricD exact_h[3];
+  VecD exact_g[3];
+  Doubles exact_k[3];
+  Floats prior_m, prior_weight;
+};
 
 // nonnegative_minimiser() of the lanes in `todo`, whose unconstrained minimiser `b` has a negative
 // channel. For a positive definite H the constrained minimiser is the one point that meets the
@@ -456,13 +499,25 @@ GLTF_PBR_INLINE Vec nonnegative_minimiser(const Symmetric& h, const Vec& g, Vec 
   return b;
 }
 
-// base_at() of every lane.
-GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) {
-  const Floats m2 = m * m;
+// at_metalness() of every lane.
+struct AtMetalness {
+  Doubles m, h[6], g[3];
+};
+GLTF_PBR_INLINE AtMetalness at_metalness(Floats m, const Objectives& o) {
+  AtMetalness at;
+  at.m = to_doubles(m);
+  const Doubles m2 = at.m * at.m;
+  for (int e = 0; e < 6; ++e) at.h[e] = o.exact_h[0].e[e] + at.m * o.exact_h[1].e[e] + m2 * o.exact_h[2].e[e];
+  for (int i = 0; i < 3; ++i) at.g[i] = o.exact_g[0].c[i] + at.m * o.exact_g[1].c[i] + m2 * o.exact_g[2].c[i];
+  return at;
+}
+
+// base_for() of every lane.
+GLTF_PBR_INLINE Vec base_for(const AtMetalness& at) {
   Symmetric h;
-  for (int i = 0; i < 6; ++i) h.e[i] = o.h[0].e[i] + m * o.h[1].e[i] + m2 * o.h[2].e[i];
+  for (int e = 0; e < 6; ++e) h.e[e] = to_floats(at.h[e]);
   Vec g;
-  for (int i = 0; i < 3; ++i) g.c[i] = o.g[0].c[i] + m * o.g[1].c[i] + m2 * o.g[2].c[i];
+  for (int i = 0; i < 3; ++i) g.c[i] = to_floats(at.g[i]);
   // H⁻¹ g by cofactors (H is symmetric, so is its adjugate).
   const Floats xx = h.e[0], yy = h.e[1], zz = h.e[2], xy = h.e[3], xz = h.e[4], yz = h.e[5];
   const Floats c00 = yy * zz - yz * yz, c01 = xz * yz - xy * zz, c02 = xy * yz - xz * yy;
@@ -479,43 +534,125 @@ GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) {
   for (int i = 0; i < 3; ++i) b.c[i] *= scale;
   return b;
 }
+GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) { return base_for(at_metalness(m, o)); }
 
 // error_at() of every lane.
 GLTF_PBR_INLINE Floats error_at(Floats m, const Objectives& o) {
-  const Vec b = base_at(m, o);
-  const Floats prior = m - o.prior_m;
-  Floats error = o.prior_weight * prior * prior;
-  for (int t = 0; t < o.terms; ++t) {
-    const Floats a = o.a0[t] + m * o.a1[t], c = o.c0[t] + m * o.c1[t];
-    Vec residual;
-    for (int i = 0; i < 3; ++i) residual.c[i] = a * b.c[i] + c - o.target[t].c[i];
-    error += quadratic_form(o.metric[t], residual);
-  }
-  return error;
+  const AtMetalness at = at_metalness(m, o);
+  const Vec base = base_for(at);
+  Doubles b[3];
+  for (int i = 0; i < 3; ++i) b[i] = to_doubles(base.c[i]);
+  const Doubles *h = at.h, *g = at.g;
+  const Doubles quadratic = h[0] * b[0] * b[0] + h[1] * b[1] * b[1] + h[2] * b[2] * b[2] +
+                            2.0 * (h[3] * b[0] * b[1] + h[4] * b[0] * b[2] + h[5] * b[1] * b[2]);
+  const Doubles prior = at.m - to_doubles(o.prior_m);
+  return to_floats(quadratic - 2.0 * (g[0] * b[0] + g[1] * b[1] + g[2] * b[2]) + o.exact_k[0] + at.m * o.exact_k[1] +
+                   at.m * at.m * o.exact_k[2] + to_doubles(o.prior_weight) * prior * prior);
 }
 
-Objectives objectives_for(const SpecGloss* legacy, ErrorModel model) {
-  Objectives o;
-  Objective one;
-  constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
-  const auto put = [&](Symmetric& into, const glm::mat3& from, int l) {
-    for (int i = 0; i < 6; ++i) into.e[i][l] = from[kColumn[i]][kRow[i]];
-  };
+// lab_metric() of every lane, times `weight`: the same formula, with J written out row by row
+// (L* = 116 fy, a* = 500 (fx - fy), b* = 200 (fy - fz) of the slope-scaled rows of M).
+GLTF_PBR_INLINE Symmetric lab_metric(const Vec& t, float weight, const SlopeTable& table) {
+  Floats xyz[3], slope[3], f[3];
+  for (int c = 0; c < 3; ++c) {
+    xyz[c] = kToXyzOverWhite[c][0] * t.c[0] + kToXyzOverWhite[c][1] * t.c[1] + kToXyzOverWhite[c][2] * t.c[2];
+    for (int l = 0; l < kLanes; ++l) slope[c][l] = cube_root_slope(xyz[c][l], table);
+    f[c] = 3.0f * (xyz[c] + kWeightEpsilon) * slope[c];
+  }
+  const Floats a = 500.0f * (f[0] - f[1]), b = 200.0f * (f[1] - f[2]);
+  Floats compression;
+  for (int l = 0; l < kLanes; ++l)
+    compression[l] = 1.0f / (1.0f + kChromaCompression * std::sqrt(a[l] * a[l] + b[l] * b[l]));
+  Floats j[3][3];  // rows L*, a*, b*; columns linear R, G, B
+  for (int column = 0; column < 3; ++column) {
+    const Floats x = slope[0] * kToXyzOverWhite[0][column], y = slope[1] * kToXyzOverWhite[1][column],
+                 z = slope[2] * kToXyzOverWhite[2][column];
+    j[0][column] = 116.0f * y;
+    j[1][column] = 500.0f * (x - y) * compression;
+    j[2][column] = 200.0f * (y - z) * compression;
+  }
+  Symmetric q;
+  for (int e = 0; e < 6; ++e) {
+    const int r = kRow[e], c = kColumn[e];
+    q.e[e] = weight * (j[0][r] * j[0][c] + j[1][r] * j[1][c] + j[2][r] * j[2][c]);
+  }
+  return q;
+}
+
+// accumulate() of every lane, for a term a(m) = a0 + m a1, c(m) = c0 + m c1 against `target`.
+GLTF_PBR_INLINE void accumulate(Objectives& o, Floats a0f, Floats a1f, Floats c0f, Floats c1f, const Vec& target,
+                                const Symmetric& metric) {
+  static constexpr int kIndex[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+  Doubles q[6], t[3], pull[3], grey[3];
+  for (int e = 0; e < 6; ++e) q[e] = to_doubles(metric.e[e]);
+  for (int i = 0; i < 3; ++i) t[i] = to_doubles(target.c[i]);
+  Doubles tqt{}, one_qt{}, one_q_one{};
+  for (int i = 0; i < 3; ++i) {
+    pull[i] = q[kIndex[i][0]] * t[0] + q[kIndex[i][1]] * t[1] + q[kIndex[i][2]] * t[2];
+    grey[i] = q[kIndex[i][0]] + q[kIndex[i][1]] + q[kIndex[i][2]];
+    tqt += t[i] * pull[i], one_qt += pull[i], one_q_one += grey[i];
+  }
+  const Doubles a0 = to_doubles(a0f), a1 = to_doubles(a1f), c0 = to_doubles(c0f), c1 = to_doubles(c1f);
+  for (int e = 0; e < 6; ++e) {
+    o.exact_h[0].e[e] += a0 * a0 * q[e];
+    o.exact_h[1].e[e] += 2.0 * a0 * a1 * q[e];
+    o.exact_h[2].e[e] += a1 * a1 * q[e];
+  }
+  for (int i = 0; i < 3; ++i) {
+    const Doubles rest = pull[i] - c0 * grey[i];  // Q (T - c0 1)
+    o.exact_g[0].c[i] += a0 * rest;
+    o.exact_g[1].c[i] += a1 * rest - a0 * c1 * grey[i];
+    o.exact_g[2].c[i] -= a1 * c1 * grey[i];
+  }
+  o.exact_k[0] += tqt - 2.0 * c0 * one_qt + c0 * c0 * one_q_one;
+  o.exact_k[1] += 2.0 * c1 * (c0 * one_q_one - one_qt);
+  o.exact_k[2] += c1 * c1 * one_q_one;
+}
+
+// bounded() of every lane.
+GLTF_PBR_INLINE Vec bounded(Vec target) {
+  const Floats largest = max(target.c[0], max(target.c[1], target.c[2]));
+  const Floats scale = select(largest > kBrightestTarget, kBrightestTarget / largest, splat(1.0f));
+  for (int c = 0; c < 3; ++c) target.c[c] *= scale;
+  return target;
+}
+
+// objective_for() of eight inputs at once: the terms of terms_of(), their metrics and the
+// polynomials, in lanes (inlined into solve(), so its AVX2 clone builds them too).
+GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy, ErrorModel model) {
+  const SlopeTable& table = cube_root_slope_table();
+  Objectives o{};
+  Vec specular, c_a;  // F0, and the diffuse weight under reading A: diffuse (1 - max(specular)), >= 0
   for (int l = 0; l < kLanes; ++l) {
-    one = objective_for(legacy[l], model, l > 0 ? &one : nullptr);
-    o.terms = one.terms;
-    for (int t = 0; t < one.terms; ++t) {
-      const Term& term = one.term[t];
-      o.a0[t][l] = term.a0, o.a1[t][l] = term.a1, o.c0[t][l] = term.c0, o.c1[t][l] = term.c1;
-      for (int i = 0; i < 3; ++i) o.target[t].c[i][l] = term.target[i];
-      put(o.metric[t], one.metric[t], l);
+    const float diffuse_scale = std::max(0.0f, 1.0f - max3(legacy[l].specular));
+    for (int c = 0; c < 3; ++c)
+      specular.c[c][l] = legacy[l].specular[c], c_a.c[c][l] = legacy[l].diffuse[c] * diffuse_scale;
+    std::tie(o.prior_m[l], o.prior_weight[l]) = metalness_prior(legacy[l]);
+  }
+  if (model == ErrorModel::NormalIncidence) {
+    accumulate(o, splat(kDielectricDiffuse), splat(-kDielectricDiffuse), splat(0.0f), splat(0.0f), c_a,
+               lab_metric(c_a, 1.0f, table));
+    accumulate(o, splat(0.0f), splat(1.0f), splat(kDielectricF0), splat(-kDielectricF0), specular,
+               lab_metric(specular, 1.0f, table));
+  } else {
+    RingSplitSums split[kLanes];
+    for (int l = 0; l < kLanes; ++l) split[l] = ring_split_sums(roughness_of(legacy[l]));
+    constexpr float kWeight = 1.0f / kAppearanceRings;
+    for (int k = 0; k < kAppearanceRings; ++k) {
+      Floats a, b;  // the ring's split sum (A, B)
+      for (int l = 0; l < kLanes; ++l) a[l] = split[l].ring[k].x, b[l] = split[l].ring[k].y;
+      const Floats w = 1.0f - (kDielectricF0 * a + b);  // dielectric_transmission
+      const Floats lit = kAppearanceDiffuseLight * w;
+      const Floats c0 = kDielectricF0 * a + b, c1 = -kDielectricF0 * a;
+      Vec seen, mirrored;  // legacy_appearance's ring, and what the specular lobe alone mirrors
+      for (int c = 0; c < 3; ++c) {
+        mirrored.c[c] = specular.c[c] * a + b;
+        seen.c[c] = c_a.c[c] * (kAppearanceDiffuseLight * w / kDielectricDiffuse) + mirrored.c[c];
+      }
+      const Vec seen_target = bounded(seen), mirrored_target = bounded(mirrored);
+      accumulate(o, lit, a - lit, c0, c1, seen_target, lab_metric(seen_target, kWeight, table));
+      accumulate(o, splat(0.0f), a, c0, c1, mirrored_target, lab_metric(mirrored_target, kWeight, table));
     }
-    for (int k = 0; k < 3; ++k) {
-      put(o.h[k], one.h[k], l);
-      for (int i = 0; i < 3; ++i) o.g[k].c[i][l] = one.g[k][i];
-    }
-    o.prior_m[l] = one.prior_m;
-    o.prior_weight[l] = one.prior_weight;
   }
   return o;
 }

@@ -11,6 +11,7 @@ constexpr int kLanes = 8;
 using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
 using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 using Mask = Ints;  // a comparison's result: all bits set where it holds
+using Doubles = double __attribute__((vector_size(kLanes * sizeof(double))));  // the same lanes in double
 
 #define GLTF_PBR_INLINE [[gnu::always_inline]] inline
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
@@ -26,6 +27,8 @@ GLTF_PBR_INLINE Floats select(Mask mask, Floats yes, Floats no) {
 GLTF_PBR_INLINE Floats max(Floats a, Floats b) { return select(a > b, a, b); }
 GLTF_PBR_INLINE Floats min(Floats a, Floats b) { return select(a < b, a, b); }
 GLTF_PBR_INLINE Floats abs(Floats a) { return reinterpret_cast<Floats>(reinterpret_cast<Ints>(a) & 0x7FFFFFFF); }
+GLTF_PBR_INLINE Doubles to_doubles(Floats v) { return __builtin_convertvector(v, Doubles); }
+GLTF_PBR_INLINE Floats to_floats(Doubles v) { return __builtin_convertvector(v, Floats); }
 GLTF_PBR_INLINE bool any(Mask mask) {
   for (int l = 0; l < kLanes; ++l)
     if (mask[l]) return true;
