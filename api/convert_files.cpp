@@ -159,7 +159,8 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   DecodedImages decoded;  // under --preview, the conversion's pixels: the preview decodes none of them again
   if (!job.preview_dir.empty()) converter.keep_decoded = &decoded;
   const auto start = Clock::now();
-  Asset asset = load_asset(job.input, {options.allow_outside_uris, nullptr});  // its own errors first: they name the byte
+  Asset asset = load_asset(
+      job.input, {options.allow_outside_uris, nullptr, std::nullopt});  // its own errors first: they name the byte
   refuse_value_errors(job.input);
   const auto loaded = Clock::now();
   result.load_ms = ms_between(start, loaded);

@@ -22,7 +22,7 @@ DrawnPreview finish_preview(preview::PreviewResult result, const preview::Previe
 
 DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const preview::PreviewOptions& options,
                          bool allow_outside_uris, std::optional<LintProfile> lint) {
-  const Asset asset = load_asset(input, {allow_outside_uris, nullptr});
+  const Asset asset = load_asset(input, {allow_outside_uris, nullptr, std::nullopt});
   preview::PreviewOptions drawing = options;
   nlohmann::json issues = nullptr;
   if (lint)

@@ -26,6 +26,9 @@ struct LoadOptions {
   // The file's resources when another step of the same run already read some (validate's
   // structure step); its policy then governs, not allow_outside_uris. A new one when null.
   std::shared_ptr<FileResources> resources;
+  // The file's bytes when the caller has already read or mapped them (validate): the file is not
+  // read again. They must stay valid for the call.
+  std::optional<std::span<const std::uint8_t>> file_bytes;
 };
 
 // The decoded bytes of EXT_meshopt_compression bufferViews (core/meshopt.hpp), by view index,
@@ -67,6 +70,9 @@ struct Asset {
   // What it was loaded through (external files, decoded Draco meshes); null for an asset built in
   // memory, whose Draco meshes are then decoded on every request.
   std::shared_ptr<FileResources> resources;
+  // The file's bytes when the caller has already read or mapped them (validate): the file is not
+  // read again. They must stay valid for the call.
+  std::optional<std::span<const std::uint8_t>> file_bytes;
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references
@@ -123,6 +129,7 @@ struct WorkCounters {
   std::atomic<long> meshes_decoded{0};
   std::atomic<long> views_decoded{0};  // EXT_meshopt_compression bufferViews
   std::atomic<long> files_opened{0};   // external buffer and image files (FileResources)
+  std::atomic<long> documents_read{0};  // a .gltf or .glb file's own bytes, read or mapped
 };
 WorkCounters& work_counters();
 

@@ -51,7 +51,7 @@ struct GlbParts {
 
 // glTF 2.0 spec section 4.4 (GLB file format specification), strictly: a JSON chunk first, an
 // optional BIN chunk second, both inside the header's length.
-GlbParts split_glb(const std::string& file, const Bytes& bytes) {
+GlbParts split_glb(const std::string& file, std::span<const std::uint8_t> bytes) {
   auto fail = [&](size_t offset, const std::string& why) -> GlbParts {
     throw InputError(file, ByteOffset{offset}, why);
   };
@@ -419,24 +419,29 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   Asset asset;
   asset.path = path;
   const std::string file = path.string();
-  auto bytes = read_file(path);
-  if (!bytes) throw InputError(file, "", "cannot read the file: " + unreadable_reason(path));
-  asset.binary = bytes->size() >= 4 && std::memcmp(bytes->data(), "glTF", 4) == 0;
+  std::optional<Bytes> read;  // the file's bytes, when the caller has not read them
+  if (!options.file_bytes) {
+    ++work_counters().documents_read;
+    read = read_file(path);
+    if (!read) throw InputError(file, "", "cannot read the file: " + unreadable_reason(path));
+  }
+  const std::span<const std::uint8_t> bytes = options.file_bytes ? *options.file_bytes : *read;
+  asset.binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   std::string extension = path.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (!asset.binary && extension == ".glb")  // glTF 2.0 section 4.4.2: a GLB starts with its magic
     throw InputError(file, ByteOffset{0},
-                     bytes->size() < 12
-                         ? "not a GLB: " + std::to_string(bytes->size()) + " bytes, shorter than the 12-byte GLB header"
+                     bytes.size() < 12
+                         ? "not a GLB: " + std::to_string(bytes.size()) + " bytes, shorter than the 12-byte GLB header"
                          : "not a GLB: the file does not start with the magic 'glTF'");
 
   bool glb_has_bin = false;
   if (asset.binary) {
-    GlbParts chunks = split_glb(file, *bytes);
+    GlbParts chunks = split_glb(file, bytes);
     glb_has_bin = !chunks.bin.empty();
     asset.original_json = std::move(chunks.json);
   } else {
-    asset.original_json.assign(bytes->begin(), bytes->end());
+    asset.original_json.assign(bytes.begin(), bytes.end());
   }
   asset.resources = options.resources ? options.resources
                                       : std::make_shared<FileResources>(path.parent_path(), options.allow_outside_uris);
@@ -448,13 +453,12 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
   const bool rewritten = !hidden.entries.empty() || !respelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
+  Bytes rewritten_glb;
   if (rewritten) {
     json_for_tinygltf = root.dump();
-    if (asset.binary) {
-      const GlbParts chunks = split_glb(file, *bytes);
-      *bytes = glb_bytes(json_for_tinygltf, chunks.bin);
-    }
+    if (asset.binary) rewritten_glb = glb_bytes(json_for_tinygltf, split_glb(file, bytes).bin);
   }
+  const std::span<const std::uint8_t> glb = rewritten_glb.empty() ? bytes : rewritten_glb;
   const std::string& json_text = rewritten ? json_for_tinygltf : asset.original_json;
 
   LoaderContext context{fs::absolute(path).parent_path().lexically_normal(), buffer_files};
@@ -467,8 +471,8 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
   const std::string base_dir = context.folder.string();
   bool ok = false;
   try {
-    ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, bytes->data(),
-                                                    static_cast<unsigned>(bytes->size()), base_dir)
+    ok = asset.binary ? loader.LoadBinaryFromMemory(&asset.model, &err, &warn, glb.data(),
+                                                    static_cast<unsigned>(glb.size()), base_dir)
                       : loader.LoadASCIIFromString(&asset.model, &err, &warn, json_text.c_str(),
                                                    static_cast<unsigned>(json_text.size()), base_dir);
   } catch (const std::exception& error) {

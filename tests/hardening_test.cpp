@@ -376,7 +376,7 @@ TEST(SaveOutsideUris, RenamedImagesKeepTheirBytesInTheSavedAsset) {
   document["images"][0]["uri"] = "../tex/CesiumLogoFlat.png";
   document["images"][1] = {{"uri", "CesiumLogoFlat.png"}};
   test::write_text(gltf, document.dump());
-  Asset asset = load_asset(gltf, {/*allow_outside_uris=*/true, nullptr});
+  Asset asset = load_asset(gltf, {/*allow_outside_uris=*/true, nullptr, std::nullopt});
   save_asset(asset, scratch / "out" / "saved.gltf");
   const auto& images = asset.model.images;
   ASSERT_EQ(images.size(), 2u);

@@ -59,16 +59,18 @@ TEST(OneFrontEnd, ValidateOpensEachExternalFileOnceAndDecodesEachImageOnce) {
   EXPECT_FALSE(report.info.is_null());
 }
 
-// The structure step's JSON tree is the loader's: validate reads the text once whichever steps
-// run, and the document library's own parse is its only other one.
-TEST(OneFrontEnd, ValidateReadsTheJsonOnceWhicheverStepsRun) {
+// The structure step's JSON tree is the loader's: validate reads the file and its JSON text once
+// whichever steps run, and the document library's own parse is its only other one.
+TEST(OneFrontEnd, ValidateReadsTheFileAndItsJsonOnceWhicheverStepsRun) {
   for (const char* model : {"BoxTextured/specgloss/BoxTextured.gltf", "BoxTextured/metalrough-glb/BoxTextured.glb"}) {
     const fs::path file = assets_dir() / model;
     auto reads_by = [&](std::set<ValidationStep> steps) {
       ValidateOptions options;
       options.steps = std::move(steps);
       const long before = work_counters().json_texts_read, loaded = work_counters().assets_loaded;
+      const long documents = work_counters().documents_read;
       const Report report = validate_file(file, file.filename().string(), builtin_rules(), {}, options);
+      EXPECT_EQ(work_counters().documents_read - documents, 1) << model;
       for (const Issue& issue : report.messages) EXPECT_NE(issue.code, "PBR_CHECKS_NOT_RUN") << issue.message;
       const bool needs_document = !options.steps.contains(ValidationStep::Structure) || options.steps.size() > 1;
       EXPECT_EQ(work_counters().assets_loaded - loaded, needs_document ? 1 : 0) << model;

@@ -29,7 +29,8 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   Report report;
   report.uri = uri;
   report.max_listed_per_code = policy.max_listed_per_code;
-  const std::optional<MappedFile> mapped = MappedFile::open(file);
+  ++work_counters().documents_read;
+  const std::optional<MappedFile> mapped = MappedFile::open(file);  // every step reads these bytes
   if (!mapped) {
     report.add({"IO_ERROR", "Cannot read the file.", Severity::Error, "", {}, 1});
     return report;
@@ -64,7 +65,7 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   std::optional<Asset> asset;
   if (needs_document) {
     try {
-      asset = load_asset(file, LoadOptions{options.allow_outside_uris, resources});
+      asset = load_asset(file, LoadOptions{options.allow_outside_uris, resources, bytes});
     } catch (const InputError& error) {
       // The structure step owns saying why a document is unreadable, in the reference's codes (which
       // the config may silence). When it did not run, or found no error at all (the loader refuses
@@ -130,7 +131,8 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   static const std::set<std::string> kDroppedCodes{"ARRAY_TYPE_MISMATCH", "TYPE_MISMATCH", "INVALID_JSON",
                                                    "UNDEFINED_PROPERTY", "INVALID_INDEX"};
   static const std::set<std::string> kUnsignedProperties{"byteOffset", "byteLength", "byteStride", "count"};
-  const std::optional<MappedFile> mapped = MappedFile::open(file);
+  ++work_counters().documents_read;
+  const std::optional<MappedFile> mapped = MappedFile::open(file);  // every step reads these bytes
   if (!mapped) return std::nullopt;
   StructureOptions options;
   options.validate_resources = false;
