@@ -20,9 +20,10 @@ declare -A workloads=(
   [convert_engine]="convert $assets/2CylinderEngine/specgloss/2CylinderEngine.gltf -o $out/run/2CylinderEngine.gltf"
   [convert_avocado]="convert $assets/Avocado/specgloss/Avocado.gltf -o $out/run/Avocado.gltf"
   [convert_vc]="convert $assets/VC/specgloss/VC.gltf -o $out/run/VC.gltf"
+  [convert_avocado_appearance]="convert $assets/Avocado/specgloss/Avocado.gltf -o $out/run/Avocado.gltf --error-model appearance"
   [preview_avocado_512]="preview $assets/Avocado/specgloss/Avocado.gltf -o $out/run/p --size 512 --no-gallery"
 )
-order="validate_avocado validate_vc validate_engine_draco validate_assets_structure validate_suite_structure convert_engine convert_avocado convert_vc preview_avocado_512"
+order="validate_avocado validate_vc validate_engine_draco validate_assets_structure validate_suite_structure convert_engine convert_avocado convert_avocado_appearance convert_vc preview_avocado_512"
 median() { sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 echo "| workload | A s | B s | B / A | A MiB | B MiB |"
 echo "|---|---|---|---|---|---|"
