@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/common.hpp>
-#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <glm/vector_relational.hpp>
@@ -84,7 +83,10 @@ inline float cube_root_slope(float u, const SlopeTable& table) {
 constexpr float kToXyzOverWhite[3][3] = {{0.4124f / 0.95047f, 0.3576f / 0.95047f, 0.1805f / 0.95047f},
                                          {0.2126f, 0.7152f, 0.0722f},
                                          {0.0193f / 1.08883f, 0.1192f / 1.08883f, 0.9505f / 1.08883f}};
-constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};  // a symmetric 3×3's six
+// A symmetric 3×3 held as its six entries xx, yy, zz, xy, xz, yz: entry e is (kRow[e], kColumn[e]),
+// and (i, j) is entry kIndex[i][j].
+constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
+constexpr int kIndex[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
 
 // Q = JᵀJ for the target t: |J r|^2 = rᵀ Q r, the squared ΔE of a linear-RGB error r near t.
 glm::mat3 lab_metric(glm::vec3 t) {
@@ -161,7 +163,8 @@ glm::vec3 bounded(glm::vec3 target) {
   return largest > kBrightestTarget ? target * (kBrightestTarget / largest) : target;
 }
 
-// The terms of `model` for one legacy material: the same numbers solve() and the lanes use.
+// The terms of `model` for one legacy material (lane_solver::objectives_for builds the same
+// numbers, in the same operations, eight at a time).
 int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
   if (model == ErrorModel::NormalIncidence) {
@@ -419,7 +422,8 @@ float blended_metalness(std::span<const Minimum> minima) {
 
 // The batch solver: kLanes solves side by side in SIMD lanes (GCC/Clang vector extensions; each
 // lane is an independent solve, so a lane's answer never depends on its neighbours). Same
-// objective, grid, refinement and blending as solve(); the 3×3 systems are solved by cofactors
+// objective (built in the same operations, eight at a time), grid, refinement and blending as
+// solve(); the 3×3 systems are solved by cofactors
 // rather than glm::inverse, so results agree with solve() to float rounding, not bit for bit.
 // The rare lane whose unconstrained base has a negative channel takes the scalar active set.
 namespace lane_solver {
@@ -458,7 +462,6 @@ struct Objectives {
 // one, none) and keep the first that meets them; a lane that rounding leaves without one takes
 // the scalar active set.
 GLTF_PBR_INLINE Vec nonnegative_minimiser(const Symmetric& h, const Vec& g, Vec b, Mask todo) {
-  static constexpr int kIndex[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
   const auto at = [&](int i, int j) { return h.e[kIndex[i][j]]; };
   const auto take = [&](Mask ok, const Floats(&candidate)[3]) {
     const Mask now = todo & ok;
@@ -582,7 +585,6 @@ GLTF_PBR_INLINE Symmetric lab_metric(const Vec& t, float weight, const SlopeTabl
 // accumulate() of every lane, for a term a(m) = a0 + m a1, c(m) = c0 + m c1 against `target`.
 GLTF_PBR_INLINE void accumulate(Objectives& o, Floats a0f, Floats a1f, Floats c0f, Floats c1f, const Vec& target,
                                 const Symmetric& metric) {
-  static constexpr int kIndex[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
   Doubles q[6], t[3], pull[3], grey[3];
   for (int e = 0; e < 6; ++e) q[e] = to_doubles(metric.e[e]);
   for (int i = 0; i < 3; ++i) t[i] = to_doubles(target.c[i]);
@@ -622,12 +624,12 @@ GLTF_PBR_INLINE Vec bounded(Vec target) {
 GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy, ErrorModel model) {
   const SlopeTable& table = cube_root_slope_table();
   Objectives o{};
-  Vec specular, c_a;  // F0, and the diffuse weight under reading A: diffuse (1 - max(specular)), >= 0
+  Vec specular, c_a;  // F0, and the diffuse weight under reading A
   for (int l = 0; l < kLanes; ++l) {
-    const float diffuse_scale = std::max(0.0f, 1.0f - max3(legacy[l].specular));
-    for (int c = 0; c < 3; ++c)
-      specular.c[c][l] = legacy[l].specular[c], c_a.c[c][l] = legacy[l].diffuse[c] * diffuse_scale;
-    std::tie(o.prior_m[l], o.prior_weight[l]) = metalness_prior(legacy[l]);
+    const glm::vec3 diffuse = legacy_reflectance(legacy[l], LegacyReading::A).diffuse;
+    for (int c = 0; c < 3; ++c) specular.c[c][l] = legacy[l].specular[c], c_a.c[c][l] = diffuse[c];
+    const auto [prior_m, prior_weight] = metalness_prior(legacy[l]);
+    o.prior_m[l] = prior_m, o.prior_weight[l] = prior_weight;
   }
   if (model == ErrorModel::NormalIncidence) {
     accumulate(o, splat(kDielectricDiffuse), splat(-kDielectricDiffuse), splat(0.0f), splat(0.0f), c_a,
@@ -644,10 +646,10 @@ GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy, ErrorModel mo
       const Floats w = 1.0f - (kDielectricF0 * a + b);  // dielectric_transmission
       const Floats lit = kAppearanceDiffuseLight * w;
       const Floats c0 = kDielectricF0 * a + b, c1 = -kDielectricF0 * a;
-      Vec seen, mirrored;  // legacy_appearance's ring, and what the specular lobe alone mirrors
+      Vec seen, mirrored;  // legacy_appearance's ring (in its order of operations), and the specular lobe alone
       for (int c = 0; c < 3; ++c) {
+        seen.c[c] = c_a.c[c] * (kAppearanceDiffuseLight * w / kDielectricDiffuse) + specular.c[c] * a + b;
         mirrored.c[c] = specular.c[c] * a + b;
-        seen.c[c] = c_a.c[c] * (kAppearanceDiffuseLight * w / kDielectricDiffuse) + mirrored.c[c];
       }
       const Vec seen_target = bounded(seen), mirrored_target = bounded(mirrored);
       accumulate(o, lit, a - lit, c0, c1, seen_target, lab_metric(seen_target, kWeight, table));

@@ -70,9 +70,6 @@ struct Asset {
   // What it was loaded through (external files, decoded Draco meshes); null for an asset built in
   // memory, whose Draco meshes are then decoded on every request.
   std::shared_ptr<FileResources> resources;
-  // The file's bytes when the caller has already read or mapped them (validate): the file is not
-  // read again. They must stay valid for the call.
-  std::optional<std::span<const std::uint8_t>> file_bytes;
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references

@@ -11,7 +11,8 @@ constexpr int kLanes = 8;
 using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
 using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 using Mask = Ints;  // a comparison's result: all bits set where it holds
-using Doubles = double __attribute__((vector_size(kLanes * sizeof(double))));  // the same lanes in double
+// The same lanes in double (two AVX2 registers, four SSE ones), for sums that float would round away.
+using Doubles = double __attribute__((vector_size(kLanes * sizeof(double))));
 
 #define GLTF_PBR_INLINE [[gnu::always_inline]] inline
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)

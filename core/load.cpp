@@ -435,10 +435,10 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
                          ? "not a GLB: " + std::to_string(bytes.size()) + " bytes, shorter than the 12-byte GLB header"
                          : "not a GLB: the file does not start with the magic 'glTF'");
 
-  bool glb_has_bin = false;
+  std::span<const std::uint8_t> glb_bin;  // a GLB's BIN chunk, in `bytes`
   if (asset.binary) {
     GlbParts chunks = split_glb(file, bytes);
-    glb_has_bin = !chunks.bin.empty();
+    glb_bin = chunks.bin;
     asset.original_json = std::move(chunks.json);
   } else {
     asset.original_json.assign(bytes.begin(), bytes.end());
@@ -447,16 +447,16 @@ Asset load_asset(const fs::path& path, const LoadOptions& options) {
                                       : std::make_shared<FileResources>(path.parent_path(), options.allow_outside_uris);
   BufferFiles buffer_files;
   JsonDocument root = read_document(asset);
-  check_resources(asset, root, glb_has_bin, buffer_files);
+  check_resources(asset, root, !glb_bin.empty(), buffer_files);
   const HiddenIndices hidden = hide_draco_indices(root);
   const std::vector<RespelledUri> respelled = respell_uris_for_tinygltf(root);
-  const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, glb_has_bin);
+  const std::vector<size_t> fallbacks = hide_meshopt_fallbacks(root, !glb_bin.empty());
   const bool rewritten = !hidden.entries.empty() || !respelled.empty() || !fallbacks.empty();
   std::string json_for_tinygltf;
   Bytes rewritten_glb;
   if (rewritten) {
     json_for_tinygltf = root.dump();
-    if (asset.binary) rewritten_glb = glb_bytes(json_for_tinygltf, split_glb(file, bytes).bin);
+    if (asset.binary) rewritten_glb = glb_bytes(json_for_tinygltf, glb_bin);
   }
   const std::span<const std::uint8_t> glb = rewritten_glb.empty() ? bytes : rewritten_glb;
   const std::string& json_text = rewritten ? json_for_tinygltf : asset.original_json;

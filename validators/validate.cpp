@@ -29,12 +29,12 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   Report report;
   report.uri = uri;
   report.max_listed_per_code = policy.max_listed_per_code;
-  ++work_counters().documents_read;
   const std::optional<MappedFile> mapped = MappedFile::open(file);  // every step reads these bytes
   if (!mapped) {
     report.add({"IO_ERROR", "Cannot read the file.", Severity::Error, "", {}, 1});
     return report;
   }
+  ++work_counters().documents_read;
   const std::span<const std::uint8_t> bytes = mapped->bytes();
   // One set of resources for every step: each external file is opened once, each Draco mesh decoded
   // once (held for the mesh step when the structure step decodes it first).
@@ -131,8 +131,7 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   static const std::set<std::string> kDroppedCodes{"ARRAY_TYPE_MISMATCH", "TYPE_MISMATCH", "INVALID_JSON",
                                                    "UNDEFINED_PROPERTY", "INVALID_INDEX"};
   static const std::set<std::string> kUnsignedProperties{"byteOffset", "byteLength", "byteStride", "count"};
-  ++work_counters().documents_read;
-  const std::optional<MappedFile> mapped = MappedFile::open(file);  // every step reads these bytes
+  const std::optional<MappedFile> mapped = MappedFile::open(file);
   if (!mapped) return std::nullopt;
   StructureOptions options;
   options.validate_resources = false;

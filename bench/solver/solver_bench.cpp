@@ -15,17 +15,20 @@
 using namespace gltf_pbr;
 
 int main(int argc, char** argv) {
-  const int count = argc > 1 ? std::atoi(argv[1]) : 65536;
-  const int runs = argc > 2 ? std::atoi(argv[2]) : 9;
+  const int count = std::max(1, argc > 1 ? std::atoi(argv[1]) : 65536);
+  const int runs = std::max(1, argc > 2 ? std::atoi(argv[2]) : 9);
   // Texture-like inputs: diffuse anywhere in the cube, grey and tinted specular up to 1.1 (past
   // gold's), glossiness anywhere: the appearance model's terms depend on it.
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), specular(0.0f, 1.1f);
   std::vector<SpecGloss> materials;
   for (int i = 0; i < count; ++i) {
-    const glm::vec3 diffuse(unit(rng), unit(rng), unit(rng));
-    const glm::vec3 tinted(specular(rng), specular(rng), specular(rng));
-    materials.push_back({diffuse, i % 2 ? tinted : glm::vec3(specular(rng)), unit(rng)});
+    float draws[8];  // drawn in order: a constructor's arguments are evaluated in any order
+    for (int k = 0; k < 3; ++k) draws[k] = unit(rng);
+    for (int k = 3; k < 7; ++k) draws[k] = specular(rng);
+    draws[7] = unit(rng);
+    const glm::vec3 diffuse(draws[0], draws[1], draws[2]), tinted(draws[3], draws[4], draws[5]);
+    materials.push_back({diffuse, i % 2 ? tinted : glm::vec3(draws[6]), draws[7]});
   }
   std::vector<MetalRough> out(materials.size());
   std::printf("%d materials, %d runs each, one thread; median ns per solve\n", count, runs);

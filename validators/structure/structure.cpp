@@ -12,7 +12,8 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
                         const StructureOptions& options, Report& report) {
   using namespace structure;
   const std::shared_ptr<FileResources> resources =
-      options.resources ? options.resources : std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
+      options.resources ? options.resources
+                        : std::make_shared<FileResources>(file.parent_path(), options.allow_outside_uris);
   Context context(rules, report, options, *resources);
   // The reference picks its reader by file extension; content sniffing covers extension-less input.
   std::string extension = file.extension().string();
@@ -51,7 +52,8 @@ bool validate_structure(const std::filesystem::path& file, std::span<const std::
     stream_end();
   }
   // The loader of a later step reads the same tree instead of parsing the JSON again.
-  if (options.resources) options.resources->keep_document({std::move(context.root), std::move(context.json_flaws)}, json_text);
+  if (options.resources)
+    options.resources->keep_document({std::move(context.root), std::move(context.json_flaws)}, json_text);
   return context.issues.found_error();
 }
 
