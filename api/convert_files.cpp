@@ -11,8 +11,10 @@
 #include "api/files.hpp"
 #include "api/result_cache.hpp"
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "core/image.hpp"
 #include "core/parallel.hpp"
+#include "core/resources.hpp"
 #include "core/version.hpp"
 #include "rules/rule_set.hpp"
 #include "validators/validate.hpp"
@@ -20,14 +22,27 @@
 namespace gltf_pbr {
 namespace {
 
-// A value loading would drop or misread is refused, never written back as less than was read.
-void refuse_value_errors(const fs::path& input) {
+// Reads the file once and parses its JSON once: the structure step's scan for values that loading
+// would drop or misread keeps its tree for the loader. Such a value refuses the file, never
+// written back as less than was read; the loader's own errors come first (they name the byte).
+Asset load_refusing_value_errors(const fs::path& input, bool allow_outside_uris) {
   static const RuleSet rules = builtin_rules();
-  if (const std::optional<Issue> issue = first_value_error(input, rules)) {
-    const std::string reason = issue->code + ": " + issue->message + " (converting would lose or change this value)";
-    if (issue->offset) throw InputError(input.string(), ByteOffset{*issue->offset}, reason);
-    throw InputError(input.string(), issue->pointer, reason);
+  const auto resources = std::make_shared<FileResources>(input.parent_path(), allow_outside_uris, false);
+  const std::optional<MappedFile> mapped = MappedFile::open(input);  // when it cannot, the loader says why
+  std::optional<Issue> value_error;
+  if (mapped) {
+    ++work_counters().documents_read;
+    value_error = first_value_error(input, mapped->bytes(), rules, resources);
   }
+  Asset asset =
+      load_asset(input, {allow_outside_uris, resources, mapped ? std::optional(mapped->bytes()) : std::nullopt});
+  if (value_error) {
+    const std::string reason =
+        value_error->code + ": " + value_error->message + " (converting would lose or change this value)";
+    if (value_error->offset) throw InputError(input.string(), ByteOffset{*value_error->offset}, reason);
+    throw InputError(input.string(), value_error->pointer, reason);
+  }
+  return asset;
 }
 
 bool same_file(const fs::path& a, const fs::path& b) {
@@ -159,9 +174,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   DecodedImages decoded;  // under --preview, the conversion's pixels: the preview decodes none of them again
   if (!job.preview_dir.empty()) converter.keep_decoded = &decoded;
   const auto start = Clock::now();
-  Asset asset = load_asset(
-      job.input, {options.allow_outside_uris, nullptr, std::nullopt});  // its own errors first: they name the byte
-  refuse_value_errors(job.input);
+  Asset asset = load_refusing_value_errors(job.input, options.allow_outside_uris);
   const auto loaded = Clock::now();
   result.load_ms = ms_between(start, loaded);
   // The preview draws the legacy asset beside its conversion: keep the original only then.

@@ -85,6 +85,20 @@ TEST(OneFrontEnd, ValidateReadsTheFileAndItsJsonOnceWhicheverStepsRun) {
   }
 }
 
+// convert reads the file once and parses its JSON once with our reader: the scan for values that
+// loading would drop keeps its tree for the loader. A second parse or read would count here.
+TEST(OneFrontEnd, ConvertReadsTheFileAndItsJsonOnce) {
+  ScratchDir scratch;
+  for (const char* model : {"BoxTextured/specgloss/BoxTextured.gltf", "BoxTextured/metalrough-glb/BoxTextured.glb"}) {
+    const fs::path input = assets_dir() / model;
+    const long documents = work_counters().documents_read, texts = work_counters().json_texts_read;
+    const FileResult done = convert_or_throw({input, scratch / fs::path(model).parent_path() / input.filename()}, {});
+    EXPECT_NE(done.status, FileStatus::Failed) << model;
+    EXPECT_EQ(work_counters().documents_read - documents, 1) << model;
+    EXPECT_EQ(work_counters().json_texts_read - texts, 1) << model;
+  }
+}
+
 // preview --lint reads the textures the preview decoded: the material rules on both sides decode
 // none of them again (Avocado: the conversion reads two legacy maps and bakes two).
 TEST(OneFrontEnd, PreviewLintDecodesNoImageThePreviewAlreadyHolds) {

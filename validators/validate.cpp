@@ -120,7 +120,8 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
   return report;
 }
 
-std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules) {
+std::optional<Issue> first_value_error(const std::filesystem::path& file, std::span<const std::uint8_t> bytes,
+                                       const RuleSet& rules, std::shared_ptr<FileResources> resources) {
   // Only the errors whose value tinygltf does not keep as it was: a value of the wrong type is
   // read as absent, a negative offset, length, stride or count (read unsigned) as 0, and JSON or a
   // GLB container that does not parse whole is cut. A value outside its schema range that is kept
@@ -131,13 +132,12 @@ std::optional<Issue> first_value_error(const std::filesystem::path& file, const 
   static const std::set<std::string> kDroppedCodes{"ARRAY_TYPE_MISMATCH", "TYPE_MISMATCH", "INVALID_JSON",
                                                    "UNDEFINED_PROPERTY", "INVALID_INDEX"};
   static const std::set<std::string> kUnsignedProperties{"byteOffset", "byteLength", "byteStride", "count"};
-  const std::optional<MappedFile> mapped = MappedFile::open(file);
-  if (!mapped) return std::nullopt;
   StructureOptions options;
   options.validate_resources = false;
   options.decode_draco = false;
+  options.resources = std::move(resources);
   Report report;
-  validate_structure(file, mapped->bytes(), rules, options, report);
+  validate_structure(file, bytes, rules, options, report);
   for (const Issue& issue : report.messages) {
     if (issue.severity != Severity::Error) continue;
     const std::string property = issue.pointer.substr(issue.pointer.rfind('/') + 1);

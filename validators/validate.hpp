@@ -6,12 +6,16 @@
 // Each step does only the work its enabled rules need: images are decoded only for texel rules,
 // Draco meshes only for data and mesh checks.
 #pragma once
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 
 #include "core/report.hpp"
+#include "core/resources.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"  // ValidationStep
 #include "rules/rule_set.hpp"
 
@@ -41,7 +45,9 @@ Report validate_file(const std::filesystem::path& file, const std::string& uri, 
 // required property, JSON that does not end where it should, a broken GLB container. Writing on
 // from such a document would silently hold less than the input. Values kept as written (out of
 // range but read, such as gold's specular 1.022) are not refused.
-// std::nullopt when there is none (or the file cannot be read: the loader says so).
-std::optional<Issue> first_value_error(const std::filesystem::path& file, const RuleSet& rules);
+// std::nullopt when there is none. `bytes` are the file's; the structure step keeps its JSON tree
+// in `resources`, so the loader handed the same resources and bytes parses nothing again.
+std::optional<Issue> first_value_error(const std::filesystem::path& file, std::span<const std::uint8_t> bytes,
+                                       const RuleSet& rules, std::shared_ptr<FileResources> resources);
 
 }  // namespace gltf_pbr
