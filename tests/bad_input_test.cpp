@@ -28,33 +28,15 @@ using test::run_cli;
 using test::ScratchDir;
 using test::write_text;
 
-constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+using test::copy_model;
+using test::kSpecGloss;
+using test::model_folder;
+using test::write_bytes;
+
 const std::string kExtensionPointer = std::string("/materials/0/extensions/") + kSpecGloss;
-
-fs::path model_folder(const std::string& model, const std::string& variant = "specgloss") {
-  return assets_dir() / model / variant;
-}
-
-// Copies the files of a shared asset folder into `destination`, leaving out `except`.
-void copy_model(const std::string& model, const fs::path& destination, const std::string& except = "",
-                const std::string& variant = "specgloss") {
-  fs::create_directories(destination);
-  for (const auto& entry : fs::directory_iterator(model_folder(model, variant)))
-    if (entry.path().filename() != except) {
-      // The copy is the test's own working copy, writable like a user's (../shared is read-only).
-      fs::copy_file(entry.path(), destination / entry.path().filename());
-      fs::permissions(destination / entry.path().filename(), fs::perms::owner_write, fs::perm_options::add);
-    }
-}
 
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_text(path)); }
 void write_json(const fs::path& path, const nlohmann::json& document) { write_text(path, document.dump(1)); }
-
-void write_bytes(const fs::path& path, std::span<const std::uint8_t> bytes) {
-  AtomicWriteSet files;
-  files.stage(path, bytes);
-  files.commit();
-}
 
 // Runs `action`, which must throw InputError; returns it for further checks.
 InputError input_error(const std::function<void()>& action) {

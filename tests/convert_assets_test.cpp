@@ -17,7 +17,7 @@ namespace {
 using test::assets_dir;
 using test::ScratchDir;
 
-constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+using test::kSpecGloss;
 
 // Every spec-gloss input: the eleven models, the GLB and the Draco variants.
 std::vector<fs::path> spec_gloss_inputs() {

@@ -31,29 +31,13 @@
 namespace gltf_pbr {
 namespace {
 
+using test::copy_model;
 using test::quoted;
 using test::run_cli;
 using test::ScratchDir;
-
-fs::path specgloss(const std::string& model) { return test::assets_dir() / model / "specgloss"; }
-
-// A writable working copy of a shared model's spec-gloss folder.
-fs::path copy_model(const std::string& model, const fs::path& destination) {
-  fs::create_directories(destination);
-  for (const auto& entry : fs::directory_iterator(specgloss(model))) {
-    fs::copy_file(entry.path(), destination / entry.path().filename());
-    fs::permissions(destination / entry.path().filename(), fs::perms::owner_write, fs::perm_options::add);
-  }
-  return destination / (model + ".gltf");
-}
+using test::write_bytes;
 
 Bytes bytes_of(const std::string& text) { return Bytes(text.begin(), text.end()); }
-
-void write_bytes(const fs::path& path, const Bytes& bytes) {
-  AtomicWriteSet files;
-  files.stage(path, bytes);
-  files.commit();
-}
 
 // A PNG whose IHDR claims width x height, with a valid CRC and a few bytes of (wrong) data.
 Bytes png_claiming(std::uint32_t width, std::uint32_t height) {
@@ -100,11 +84,11 @@ TEST(ImageLimits, ConvertAndValidateRefuseAnImageBombNamingItsPointer) {
 }
 
 TEST(CorruptImages, ATruncatedJpegOrPngIsAnErrorNotGreyTexels) {
-  const Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  const Bytes jpeg = *read_file(test::model_folder("CesiumMan") / "CesiumMan.jpg");
   EXPECT_NO_THROW((void)decode_image(jpeg, "whole"));
   const Bytes cut_jpeg(jpeg.begin(), jpeg.begin() + static_cast<std::ptrdiff_t>(jpeg.size() / 2));
   EXPECT_THROW((void)decode_image(cut_jpeg, "cut jpeg"), std::runtime_error);
-  const Bytes png = *read_file(specgloss("BoxTextured") / "CesiumLogoFlat.png");
+  const Bytes png = *read_file(test::model_folder("BoxTextured") / "CesiumLogoFlat.png");
   const Bytes cut_png(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(png.size() / 2));
   EXPECT_THROW((void)decode_image(cut_png, "cut png"), std::runtime_error);
 }
@@ -112,7 +96,7 @@ TEST(CorruptImages, ATruncatedJpegOrPngIsAnErrorNotGreyTexels) {
 TEST(CorruptImages, AHarmlessJpegWarningStillDecodes) {
   // Bytes between the entropy-coded data and EOI: libjpeg warns "extraneous bytes before marker"
   // and decodes every texel; only warnings that mean lost data are errors.
-  Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  Bytes jpeg = *read_file(test::model_folder("CesiumMan") / "CesiumMan.jpg");
   ASSERT_EQ(jpeg[jpeg.size() - 2], 0xFF);
   ASSERT_EQ(jpeg[jpeg.size() - 1], 0xD9);
   jpeg.insert(jpeg.end() - 2, {0x00, 0x11, 0x22});
@@ -394,7 +378,7 @@ TEST(SaveOutsideUris, RenamedImagesKeepTheirBytesInTheSavedAsset) {
 TEST(CopyVerbatim, AGlbWithExternalFilesTakesThemAlong) {
   ScratchDir scratch;
   fs::create_directories(scratch / "in" / "tex");
-  const fs::path logo = specgloss("BoxTextured") / "CesiumLogoFlat.png";
+  const fs::path logo = test::model_folder("BoxTextured") / "CesiumLogoFlat.png";
   fs::copy_file(logo, scratch / "in" / "tex" / "logo.png");
   const std::string json = R"({"asset":{"version":"2.0"},"images":[{"uri":"tex/logo.png"}],"textures":[{"source":0}],)"
                            R"("materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})";
@@ -475,7 +459,7 @@ TEST(InPlace, KeepsTheInputsModeAndRefusesAReadOnlyFile) {
 TEST(LostOutputs, AReportThatCannotBeWrittenIsAnErrorWithItsReason) {
   ScratchDir scratch;
   test::write_text(scratch / "a-file", "x");
-  const fs::path box = specgloss("Box") / "Box.gltf";
+  const fs::path box = test::model_folder("Box") / "Box.gltf";
   for (const std::string& command :
        {"validate -f sarif -o " + quoted(scratch / "a-file" / "scan.sarif") + " " + quoted(box),
         "validate -f json -o " + quoted(scratch / "a-file" / "reports") + " " + quoted(box),
@@ -495,7 +479,8 @@ TEST(LostOutputs, AnOutputThatCannotBeWrittenNamesItAndTheReason) {
   ScratchDir scratch;
   test::write_text(scratch / "a-file", "x");
   const auto r = run_cli(
-      "convert " + quoted(specgloss("Box") / "Box.gltf") + " -o " + quoted(scratch / "a-file" / "Box.gltf"), scratch);
+      "convert " + quoted(test::model_folder("Box") / "Box.gltf") + " -o " + quoted(scratch / "a-file" / "Box.gltf"),
+      scratch);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("output " + (scratch / "a-file" / "Box.gltf").string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << r.err;
@@ -550,7 +535,7 @@ TEST(LostOutputs, AClosedPipeIsAWriteErrorNotASilentDeath) {
                    "' validate -f json \"$2\" > \"$1/pipe\" 2>/dev/null\n"
                    "echo $? > \"$1/status\"\n");
   std::system(("bash " + quoted(scratch / "run.sh") + " " + quoted(scratch.path()) + " " +
-               quoted(specgloss("Box") / "Box.gltf"))
+               quoted(test::model_folder("Box") / "Box.gltf"))
                   .c_str());
   const std::string status = test::read_text(scratch / "status");
   EXPECT_TRUE(status == "3\n" || status == "0\n") << "exit status " << status;
@@ -753,7 +738,7 @@ TEST(Messages, AShortDataUriBufferIsNamedByItsPointer) {
 }
 
 TEST(MeasuredFigures, TheExtensionRouteReportsTheErrorItMeasuredUnderBothReadings) {
-  Asset asset = load_asset(specgloss("BoxTextured") / "BoxTextured.gltf");
+  Asset asset = load_asset(test::model_folder("BoxTextured") / "BoxTextured.gltf");
   ConvertOptions options;
   options.target = Target::Specular;
   options.specular_tolerance = 0;  // every material takes the extension route
@@ -846,8 +831,8 @@ TEST(ConcurrentDecodes, ManyThreadsThroughOpenImageIoGetIdenticalTexels) {
 // OpenImageIO's PNG reader crashed now and then in decode_icc_profile under `convert -j 2`; PNG and
 // JPEG no longer go through it, and concurrent decodes must give the same texels every time.
 TEST(ConcurrentDecodes, ManyThreadsDecodingPngAndJpegGetIdenticalTexels) {
-  const Bytes png = *read_file(specgloss("BoxTextured") / "CesiumLogoFlat.png");
-  const Bytes jpeg = *read_file(specgloss("CesiumMan") / "CesiumMan.jpg");
+  const Bytes png = *read_file(test::model_folder("BoxTextured") / "CesiumLogoFlat.png");
+  const Bytes jpeg = *read_file(test::model_folder("CesiumMan") / "CesiumMan.jpg");
   const Pixels png_reference = decode_image(png, "png"), jpeg_reference = decode_image(jpeg, "jpeg");
   std::atomic<int> mismatches{0};
   std::vector<std::thread> threads;
@@ -916,7 +901,7 @@ TEST(DecodeOnce, AnImageReadUnderDifferentFactorsOrInBothSlotsIsDecodedOnce) {
 
 TEST(DecodeOnce, AnImageSeveralMaterialsReadIsDecodedOnce) {
   // VC: 20 images, read by many materials under different factors (so by different bakes).
-  Asset asset = load_asset(specgloss("VC") / "VC.gltf");
+  Asset asset = load_asset(test::model_folder("VC") / "VC.gltf");
   std::set<int> read;
   for (const auto& material : asset.model.materials) {
     const auto extension = material.extensions.find("KHR_materials_pbrSpecularGlossiness");
@@ -967,7 +952,7 @@ TEST(Messages, BothBatchCommandsShowProgressOnATerminalAndNotInAPipe) {
 
 TEST(Messages, BadJobCountsAndUnknownCommandsGiveShortClearMessages) {
   ScratchDir scratch;
-  const fs::path box = specgloss("Box") / "Box.gltf";
+  const fs::path box = test::model_folder("Box") / "Box.gltf";
   for (const char* command : {"convert -j 0 -o x ", "validate -j 0 "}) {
     const auto r = run_cli(std::string(command) + quoted(box), scratch);
     EXPECT_EQ(r.exit_code, 2);

@@ -23,11 +23,9 @@ std::vector<fs::path> corpus_inputs() {
 // Each command gets 120 s and 4 GiB: ulimit in the plain build, ASan's RSS limit under ASan (which
 // reserves terabytes of address space, so ulimit -v cannot apply there).
 test::CliResult run_bounded(const std::string& arguments, const test::ScratchDir& scratch) {
-#if defined(__SANITIZE_ADDRESS__)
-  const std::string limits = "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}hard_rss_limit_mb=4096\" timeout 120 ";
-#else
-  const std::string limits = "ulimit -v 4194304; timeout 120 ";
-#endif
+  const std::string limits = test::kBuiltWithAddressSanitizer
+                                 ? "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}hard_rss_limit_mb=4096\" timeout 120 "
+                                 : "ulimit -v 4194304; timeout 120 ";
   const fs::path out = scratch / "out.txt", err = scratch / "err.txt", script = scratch / "command.sh";
   test::write_text(script, limits + "'" GLTF_PBR_CLI "' " + arguments + "\n");
   const int status = std::system(("bash " + quoted(script) + " >" + quoted(out) + " 2>" + quoted(err)).c_str());

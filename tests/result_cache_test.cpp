@@ -13,7 +13,8 @@
 namespace gltf_pbr {
 namespace {
 
-void write_text(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
+// Rewrites the file itself (same inode), as an editor saving in place does.
+void write_in_place(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
 
 timespec status_changed(const fs::path& file) {
   struct stat status {};
@@ -27,8 +28,8 @@ bool same_time(const timespec& a, const timespec& b) { return a.tv_sec == b.tv_s
 struct KeyedInput {
   explicit KeyedInput(const fs::path& folder)
       : cache(folder / "cache"), input(folder / "in.gltf"), buffer(folder / "in.bin") {
-    write_text(buffer, "0123456789abcdef");
-    write_text(input, R"({"asset":{"version":"2.0"},"buffers":[{"uri":"in.bin","byteLength":16}]})");
+    write_in_place(buffer, "0123456789abcdef");
+    write_in_place(input, R"({"asset":{"version":"2.0"},"buffers":[{"uri":"in.bin","byteLength":16}]})");
     key = cache.key(input, "test settings", false).value();
   }
   ResultCache cache;
@@ -54,7 +55,7 @@ TEST(ResultCache, RefusesAResultWhoseSourceChangedUnderItsOldModificationTime) {
   struct stat status {};
   ASSERT_EQ(::stat(keyed.buffer.c_str(), &status), 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  write_text(keyed.buffer, "fedcba9876543210");  // same size; then the old mtime put back
+  write_in_place(keyed.buffer, "fedcba9876543210");  // same size; then the old mtime put back
   const timespec times[2] = {status.st_atim, status.st_mtim};
   ASSERT_EQ(::utimensat(AT_FDCWD, keyed.buffer.c_str(), times, 0), 0);
 

@@ -12,6 +12,16 @@
 
 namespace gltf_pbr::test {
 
+// Whether this test program is built with AddressSanitizer: GCC defines __SANITIZE_ADDRESS__,
+// clang answers __has_feature(address_sanitizer).
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kBuiltWithAddressSanitizer = true;
+#elif defined(__has_feature)
+inline constexpr bool kBuiltWithAddressSanitizer = __has_feature(address_sanitizer);
+#else
+inline constexpr bool kBuiltWithAddressSanitizer = false;
+#endif
+
 inline fs::path shared_dir() { return GLTF_PBR_SHARED_DIR; }
 inline fs::path assets_dir() { return shared_dir() / "assets"; }
 
@@ -49,6 +59,33 @@ inline void write_text(const fs::path& path, const std::string& text) {
   AtomicWriteSet files;
   files.stage(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
   files.commit();
+}
+
+inline void write_bytes(const fs::path& path, std::span<const std::uint8_t> bytes) {
+  AtomicWriteSet files;
+  files.stage(path, bytes);
+  files.commit();
+}
+
+inline constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+
+// A shared asset's folder: assets/<model>/<variant>.
+inline fs::path model_folder(const std::string& model, const std::string& variant = "specgloss") {
+  return assets_dir() / model / variant;
+}
+
+// Copies the files of a shared asset's folder into `destination`, leaving out `except`: the test's
+// own working copy, writable like a user's (../shared is read-only). Returns the copy of
+// <model>.gltf, the file of a spec-gloss folder.
+inline fs::path copy_model(const std::string& model, const fs::path& destination, const std::string& except = "",
+                           const std::string& variant = "specgloss") {
+  fs::create_directories(destination);
+  for (const auto& entry : fs::directory_iterator(model_folder(model, variant)))
+    if (entry.path().filename() != except) {
+      fs::copy_file(entry.path(), destination / entry.path().filename());
+      fs::permissions(destination / entry.path().filename(), fs::perms::owner_write, fs::perm_options::add);
+    }
+  return destination / (model + ".gltf");
 }
 
 inline std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }

@@ -26,7 +26,7 @@ using test::assets_dir;
 using test::files_under;
 using test::ScratchDir;
 
-constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
+using test::kSpecGloss;
 constexpr const char* kTextureTransform = "KHR_texture_transform";
 
 using Texel = std::array<std::uint8_t, 4>;
