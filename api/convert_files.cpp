@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <sstream>
 #include <system_error>
@@ -22,20 +23,40 @@
 namespace gltf_pbr {
 namespace {
 
-// Reads the file once and parses its JSON once: the structure step's scan for values that loading
-// would drop or misread keeps its tree for the loader. Such a value refuses the file, never
-// written back as less than was read; the loader's own errors come first (they name the byte).
-Asset load_refusing_value_errors(const fs::path& input, bool allow_outside_uris) {
-  static const RuleSet rules = builtin_rules();
-  const auto resources = std::make_shared<FileResources>(input.parent_path(), allow_outside_uris, false);
-  const std::optional<MappedFile> mapped = MappedFile::open(input);  // when it cannot, the loader says why
-  std::optional<Issue> value_error;
-  if (mapped) {
-    ++work_counters().documents_read;
-    value_error = first_value_error(input, mapped->bytes(), rules, resources);
+// The input file's bytes for the whole conversion: mapped, or read when it cannot be mapped;
+// neither when it cannot be read (the loader then says why).
+struct InputFile {
+  explicit InputFile(const fs::path& path) : mapped(MappedFile::open(path)) {
+    if (!mapped) read = read_file(path);
+    if (mapped || read) ++work_counters().documents_read;
   }
-  Asset asset =
-      load_asset(input, {allow_outside_uris, resources, mapped ? std::optional(mapped->bytes()) : std::nullopt});
+  std::optional<std::span<const std::uint8_t>> bytes() const {
+    if (mapped) return mapped->bytes();
+    if (read) return std::span<const std::uint8_t>(*read);
+    return std::nullopt;
+  }
+  std::optional<MappedFile> mapped;
+  std::optional<Bytes> read;
+};
+
+// Loads the file from its bytes, parsing its JSON once: the structure step's scan for values that
+// loading would drop or misread keeps its tree for the loader. Such a value refuses the file,
+// never written back as less than was read. The loader's own errors come first (they name the
+// byte), and so does anything that stops the scan itself (memory), rethrown after the load.
+Asset load_refusing_value_errors(const fs::path& input, const InputFile& file, bool allow_outside_uris) {
+  static const RuleSet rules = builtin_rules();
+  const auto resources = std::make_shared<FileResources>(input.parent_path(), allow_outside_uris);
+  std::optional<Issue> value_error;
+  std::exception_ptr scan_failure;
+  if (const auto bytes = file.bytes()) {
+    try {
+      value_error = first_value_error(input, *bytes, rules, resources);
+    } catch (...) {
+      scan_failure = std::current_exception();
+    }
+  }
+  Asset asset = load_asset(input, {allow_outside_uris, resources, file.bytes()});
+  if (scan_failure) std::rethrow_exception(scan_failure);
   if (value_error) {
     const std::string reason =
         value_error->code + ": " + value_error->message + " (converting would lose or change this value)";
@@ -174,7 +195,9 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   DecodedImages decoded;  // under --preview, the conversion's pixels: the preview decodes none of them again
   if (!job.preview_dir.empty()) converter.keep_decoded = &decoded;
   const auto start = Clock::now();
-  Asset asset = load_refusing_value_errors(job.input, options.allow_outside_uris);
+  const InputFile input(job.input);  // read once: loaded, and copied as it is when nothing changes
+  Asset asset = load_refusing_value_errors(job.input, input, options.allow_outside_uris);
+  if (input.mapped) input.mapped->release_pages();  // a copy made below maps them again from the page cache
   const auto loaded = Clock::now();
   result.load_ms = ms_between(start, loaded);
   // The preview draws the legacy asset beside its conversion: keep the original only then.
@@ -186,7 +209,7 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
   if (!result.report.changed() && in_place) {
     result.status = FileStatus::Copied;  // nothing to write: the input already is the result
   } else if (!result.report.changed() && same_format) {
-    result.written = copy_asset_verbatim(asset, job.output);
+    result.written = copy_asset_verbatim(asset, job.output, input.bytes());
     result.status = FileStatus::Copied;
   } else {
     result.written = save_asset(asset, job.output, /*replace_input=*/in_place);

@@ -28,7 +28,7 @@ float channel(const Pixels& pixels, size_t texel, int c, bool srgb) {
   return pixels.bits == 8 ? srgb8_to_linear(quantize(value)) : srgb_to_linear(value);
 }
 
-// The cache takes a key's slot from the low bits of its hash, so every bit of the key must reach
+// The cache takes a key's set from the low bits of its hash, so every bit of the key must reach
 // them: the finaliser of MurmurHash3 (fmix64). A multiply alone carries a bit only upwards, and
 // keys that differed in their glossiness byte alone (bits 48-55) all took one slot, so a
 // texture whose glossiness varies solved the same colours again and again (Avocado: 2.2 million
@@ -130,7 +130,7 @@ struct ByteTexels {
   static std::uint64_t hash(Key key) { return mix_bits(key); }
 };
 
-// A direct-mapped cache of solves: textures repeat their colour pairs a lot, and a hit skips the
+// A cache of solves, two ways a set: textures repeat their colour pairs a lot, and a hit skips the
 // solve without changing any result. Misses are gathered per band and solved together in SIMD
 // lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
 // result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
@@ -145,7 +145,7 @@ class SolveCache {
     std::uint8_t metalness;
     float delta_e[5];  // diffuse A, F0 A, diffuse B, F0 B, appearance A (its model only); valid when has_error
     bool filled = false, queued = false, has_error = false;
-    std::uint8_t recent_way = 0;   // in a set's first entry: the way found or filled last
+    std::uint8_t recent_way = 0;   // in a set's first entry: the way hit or claimed last
     std::int32_t error_job = -1;   // the waiting error job for this entry's contents, or -1
     std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
   };
@@ -175,9 +175,9 @@ class SolveCache {
   // solve_queued(). `legacy()` gives the material, asked for on a miss only. An input already
   // queued shares its ticket. A queued slot is never taken by another input before the solve:
   // one whose set holds two queued inputs is queued apart, so every ticket stays valid.
-  // Two ways a set: directly mapped, a band's queued inputs (a 2K texture's band has some 10^4
-  // distinct) took every fifth new input's slot, and Avocado's bake solved 2.1 times its distinct
-  // inputs.
+  // Two ways a set: with one slot per input, the slots that a band's queued inputs held turned
+  // later inputs away to solves of their own, and Avocado's bake solved 2.1 times its distinct
+  // inputs; two ways bring that to 1.5 (bench/RESULTS.md, "CI time and the bake cache").
   template <class Legacy>
   Lookup find_or_queue(const Key& key, std::uint64_t hash, Legacy&& legacy) {
     Entry* const set = &entries_[hash & (entries_.size() - 2)];  // an even slot and the next
@@ -323,7 +323,7 @@ class SolveCache {
   std::vector<size_t> ticket_of_slot_;
   std::uint32_t generation_ = 0;
   std::vector<SpecGloss> queue_;         // inputs to solve, by ticket
-  std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose slot was taken
+  std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose set held two queued
   std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
   std::vector<Entry*> ticket_entries_;
   Entry unqueued_;  // an answer known without a solve whose set is claimed: good until the next ask

@@ -23,11 +23,12 @@ namespace gltf_pbr {
 
 struct LoadOptions {
   bool allow_outside_uris = false;  // read absolute or "../" URIs (refused by default)
-  // The file's resources when another step of the same run already read some (validate's
-  // structure step); its policy then governs, not allow_outside_uris. A new one when null.
+  // The file's resources when another step of the same run already read some (the structure
+  // step of validate, or of convert's value scan); its policy then governs, not
+  // allow_outside_uris. A new one when null.
   std::shared_ptr<FileResources> resources;
-  // The file's bytes when the caller has already read or mapped them (validate): the file is not
-  // read again. They must stay valid for the call.
+  // The file's bytes when the caller has already read or mapped them (validate, convert): the file
+  // is not read again. They must stay valid for the call.
   std::optional<std::span<const std::uint8_t>> file_bytes;
 };
 
@@ -99,8 +100,11 @@ std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes);
 std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool replace_input = false);
 
 // Copies the input file and every external resource it references to `output` unchanged
-// (same format only). Used when a step changed nothing. Returns the files written, the main file last.
-std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output);
+// (same format only). Used when a step changed nothing. `file_bytes`: the input file's bytes when
+// the caller holds them (convert), so the file is not read again. Returns the files written, the
+// main file last.
+std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output,
+                                          std::optional<std::span<const std::uint8_t>> file_bytes = std::nullopt);
 
 // A GLB container (glTF 2.0 section 4.4) holding the JSON text and the BIN chunk.
 Bytes glb_bytes(const std::string& json_text, std::span<const std::uint8_t> bin);

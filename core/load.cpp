@@ -104,8 +104,8 @@ std::span<const std::uint8_t> bytes_of(const std::string& text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
 }
 
-// The document's JSON tree: the one the structure step read when it ran on this file (validate),
-// else read here, through the one reader (core/json.hpp).
+// The document's JSON tree: the one the structure step read when it ran on this file (validate,
+// convert's value scan), else read here, through the one reader (core/json.hpp).
 JsonDocument read_document(const Asset& asset) {
   const std::string file = asset.path.string();
   const std::span<const std::uint8_t> text = without_bom(bytes_of(asset.original_json));

@@ -1,9 +1,9 @@
 // The resources of one glTF file, as every step reads them: the external files its URIs name,
 // resolved through the one path policy (core/files.hpp resolve_uri) and mapped once however many
-// steps read them, its Draco meshes, decoded once, and its JSON tree, read once. `validate` hands
-// one to the structure step and to the loader, so the JSON is parsed once, an image file or a .bin
-// is opened once and a Draco mesh decoded once per file; an Asset keeps the one it was loaded
-// with, for the steps that run on it.
+// steps read them, its Draco meshes, decoded once, and its JSON tree, read once. `validate` (and
+// `convert`, for its value scan) hands one to the structure step and to the loader, so the JSON is
+// parsed once, an image file or a .bin is opened once and a Draco mesh decoded once per file; an
+// Asset keeps the one it was loaded with, for the steps that run on it.
 #pragma once
 #include <cstdint>
 #include <map>

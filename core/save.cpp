@@ -301,7 +301,8 @@ std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool repl
   return files.commit();
 }
 
-std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output) {
+std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& output,
+                                          std::optional<std::span<const std::uint8_t>> file_bytes) {
   if (fs::weakly_canonical(output) == fs::weakly_canonical(asset.path))
     throw std::runtime_error("refusing to overwrite the input " + output.string());
   AtomicWriteSet files;
@@ -332,6 +333,11 @@ std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& ou
     for (const auto& buffer : asset.model.buffers) copy(buffer.uri);
     for (const auto& image : asset.model.images) copy(image.uri);
   }
+  if (file_bytes) {
+    files.stage(output, *file_bytes);
+    return files.commit();
+  }
+  ++work_counters().documents_read;
   auto bytes = read_file(asset.path);
   if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file: " + unreadable_reason(asset.path));
   files.stage(output, *bytes);

@@ -15,11 +15,12 @@
 #include <string>
 
 #include "core/report.hpp"
-#include "core/resources.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"  // ValidationStep
 #include "rules/rule_set.hpp"
 
 namespace gltf_pbr {
+
+class FileResources;
 
 inline const std::set<ValidationStep>& all_validation_steps() {
   static const std::set<ValidationStep> steps{ValidationStep::Structure, ValidationStep::Materials,

@@ -17,8 +17,9 @@ struct StructureOptions {
   bool validate_resources = true;   // read external buffers and images, and check their data
   bool decode_draco = true;         // run the data checks inside KHR_draco_mesh_compression
   bool allow_outside_uris = false;  // core's resolve_uri policy, as for every command
-  // The file's resources, when later steps will read them too (validate hands the same ones to the
-  // loader); their policy then governs, not allow_outside_uris. The step makes its own when null.
+  // The file's resources, when later steps will read them too (validate and convert hand the same
+  // ones to the loader); their policy then governs, not allow_outside_uris. The step makes its own
+  // when null.
   std::shared_ptr<FileResources> resources;
 };
 
