@@ -333,14 +333,13 @@ std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& ou
     for (const auto& buffer : asset.model.buffers) copy(buffer.uri);
     for (const auto& image : asset.model.images) copy(image.uri);
   }
-  if (file_bytes) {
-    files.stage(output, *file_bytes);
-    return files.commit();
+  std::optional<Bytes> read;  // the file's bytes, when the caller has not read them
+  if (!file_bytes) {
+    ++work_counters().documents_read;
+    read = read_file(asset.path);
+    if (!read) throw InputError(asset.path.string(), "", "cannot read the file: " + unreadable_reason(asset.path));
   }
-  ++work_counters().documents_read;
-  auto bytes = read_file(asset.path);
-  if (!bytes) throw InputError(asset.path.string(), "", "cannot read the file: " + unreadable_reason(asset.path));
-  files.stage(output, *bytes);
+  files.stage(output, file_bytes ? *file_bytes : std::span<const std::uint8_t>(*read));
   return files.commit();
 }
 
