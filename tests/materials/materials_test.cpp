@@ -260,6 +260,67 @@ TEST(MaterialPlausibility, TextureCoverageCountsExactlyTheFailingTexelsAndPaints
     }
 }
 
+// Texels are judged once per distinct value within a material; the count, the worst texel and the
+// heat map must not depend on which texels repeat or where. 256x256 texels with 65,536 distinct
+// values (base colour alpha = y and occlusion = x, which no check reads) overflow the verdict
+// table and collide in it; the darkest texel occurs once, near the end.
+TEST(MaterialPlausibility, RepeatedAndCollidingTexelsAreCountedExactlyAndTheWorstIsFound) {
+  constexpr int kSize = 256;
+  auto grey = [](int x, int y) -> std::uint8_t {
+    if (x == 250 && y == 251) return 3;  // the worst
+    if ((x * 31 + y * 17) % 7 == 0) return 10;
+    if ((x * 13 + y * 29) % 11 == 0) return 252;
+    return 128;
+  };
+  AssetBuilder builder;
+  std::vector<std::uint8_t> base, metal_rough;
+  long dark = 0, bright = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const std::uint8_t v = grey(x, y);
+      base.insert(base.end(), {v, v, v, static_cast<std::uint8_t>(y)});
+      metal_rough.insert(metal_rough.end(), {static_cast<std::uint8_t>(x), 200, 0});
+      dark += v <= 10, bright += v == 252;
+    }
+  auto& material = builder.metal_rough(glm::vec4(1.0f), 0.0, 1.0);
+  material.pbrMetallicRoughness.baseColorTexture.index = builder.add_png(kSize, kSize, 4, base);
+  material.pbrMetallicRoughness.metallicRoughnessTexture.index = builder.add_png(kSize, kSize, 3, metal_rough);
+
+  ScratchDir scratch;
+  MaterialCheckOptions options;
+  options.textures = false;
+  options.heatmaps_dir = scratch / "heatmaps";
+  const Report report = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict), options);
+  auto coverage = [](long failing) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2f%% of 65536 texels (256x256)", 100.0 * static_cast<double>(failing) / 65536);
+    return std::string(text);
+  };
+  const auto too_dark = issues_with(report, "PBR_ALBEDO_TOO_DARK");
+  ASSERT_EQ(too_dark.size(), 1u) << describe(report.messages);
+  EXPECT_NE(too_dark[0].message.find(coverage(dark)), std::string::npos) << too_dark[0].message;
+  EXPECT_NE(too_dark[0].message.find("sRGB 3)"), std::string::npos) << too_dark[0].message;
+  const auto too_bright = issues_with(report, "PBR_ALBEDO_TOO_BRIGHT");
+  ASSERT_EQ(too_bright.size(), 1u) << describe(report.messages);
+  EXPECT_NE(too_bright[0].message.find(coverage(bright)), std::string::npos) << too_bright[0].message;
+
+  const fs::path heat_map = scratch / "heatmaps" / "built-in-memory-material0-texture0.png";
+  ASSERT_TRUE(fs::exists(heat_map)) << describe(report.messages);
+  const Pixels pixels = decode_image(*read_file(heat_map), heat_map.string());
+  ASSERT_EQ(pixels.width, kSize);
+  long painted_dark = 0, painted_bright = 0, misplaced = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const bool blue = pixels.at(x, y, 2) == 1.0f && pixels.at(x, y, 0) == 0.0f;
+      const bool red = pixels.at(x, y, 0) == 1.0f && pixels.at(x, y, 2) == 0.0f;
+      painted_dark += blue, painted_bright += red;
+      misplaced += blue != (grey(x, y) <= 10) || red != (grey(x, y) == 252);
+    }
+  EXPECT_EQ(painted_dark, dark);
+  EXPECT_EQ(painted_bright, bright);
+  EXPECT_EQ(misplaced, 0);
+}
+
 // Textures of different sizes are judged on the texels the converter bakes: the grid of the larger
 // width and height, each texture resampled to it the way the bake resamples it. A 4x1 diffuse whose
 // first column is black beside a 1x4 specular-glossiness map bakes at 4x4, so the black column is

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <set>
+#include <vector>
 
 #include "core/color.hpp"
 #include "core/error.hpp"
@@ -310,6 +312,62 @@ struct Finding {
   SurfaceSample worst;
 };
 
+// What the enabled checks say of one texel: which fail and how badly, and its heat-map grey.
+struct TexelVerdict {
+  std::uint16_t failing = 0;  // one bit a check
+  std::uint8_t grey = 0;
+  std::array<float, kPbrCheckCount> badness{};  // of the failing checks
+};
+
+// Verdicts by the texel's stored 8-bit values, direct-mapped. Within one material a verdict
+// depends on those values alone, and textures repeat them: a hit skips the colour decoding, the
+// surface evaluation and every check, and gives the same verdict (bench/RESULTS.md, "validate:
+// one verdict a distinct texel"). Bounded: at most 16384 entries (1.3 MB) a material.
+class TexelVerdictCache {
+ public:
+  // The RGBA bytes of each role's texel, 0 where the role has no texture. Within one material a
+  // role's channel count is fixed, so the packing is unambiguous.
+  using Key = std::array<std::uint32_t, kTextureRoleCount>;
+
+  explicit TexelVerdictCache(size_t texels) : entries_(std::bit_ceil(std::clamp<size_t>(texels, 1, 16384))) {}
+
+  // The verdict of `key`, from `judge()` when it is not cached.
+  template <class Judge>
+  const TexelVerdict& find(const Key& key, Judge&& judge) {
+    std::uint64_t hash = 0;
+    for (std::uint32_t k : key) hash = (hash ^ k) * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing (Knuth 6.4)
+    Entry& entry = entries_[(hash ^ (hash >> 32)) & (entries_.size() - 1)];
+    if (!entry.used || entry.key != key) entry.key = key, entry.verdict = judge(), entry.used = true;
+    return entry.verdict;
+  }
+
+  // Whether every texture of the material is 8-bit, so that its texels have keys (16-bit and
+  // float textures are judged texel by texel, uncached).
+  static bool packs(const std::array<const Pixels*, kTextureRoleCount>& pixels) {
+    return std::ranges::all_of(pixels, [](const Pixels* p) { return !p || (!p->bytes.empty() && p->channels <= 4); });
+  }
+  static Key key_at(const std::array<const Pixels*, kTextureRoleCount>& pixels, int x, int y) {  // when packs()
+    Key key{};
+    for (size_t role = 0; role < key.size(); ++role) {
+      const Pixels* p = pixels[role];
+      if (!p) continue;
+      const size_t channels = static_cast<size_t>(p->channels);
+      const std::uint8_t* texel =
+          &p->bytes[(static_cast<size_t>(y) * static_cast<size_t>(p->width) + static_cast<size_t>(x)) * channels];
+      for (size_t c = 0; c < channels; ++c) key[role] |= static_cast<std::uint32_t>(texel[c]) << (8 * c);
+    }
+    return key;
+  }
+
+ private:
+  struct Entry {
+    Key key{};
+    bool used = false;
+    TexelVerdict verdict;
+  };
+  std::vector<Entry> entries_;
+};
+
 // Heat-map colours (documented in materials.hpp): passing texels are a dimmed grey of the albedo
 // so the failures stand out; a texel that fails several ways shows the first of out of range,
 // too bright, too dark.
@@ -463,27 +521,47 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
     std::vector<std::uint16_t> masks(heat_maps ? total : 0);
     std::vector<std::uint8_t> greys(heat_maps ? total : 0);
     std::array<Finding, kPbrCheckCount> findings;
-    TexelInputs texels;
+    const auto sample_at = [&](int x, int y) {
+      TexelInputs texels;
+      for (int role = 0; role < kTextureRoleCount; ++role)
+        if (const Pixels* p = pixels[static_cast<size_t>(role)])
+          texels.raw[static_cast<size_t>(role)] = texel_rgba(*p, x, y);
+      return evaluate_surface(material, texels);
+    };
+    const auto judge = [&](int x, int y) {
+      const SurfaceSample sample = sample_at(x, y);
+      TexelVerdict verdict;
+      for (int check = 0; check < kPbrCheckCount; ++check) {
+        if (!enabled[static_cast<size_t>(check)]) continue;
+        float badness = 0.0f;
+        if (!fails(check, sample, legacy, limits, &badness)) continue;
+        verdict.failing = static_cast<std::uint16_t>(verdict.failing | (1u << check));
+        verdict.badness[static_cast<size_t>(check)] = badness;
+      }
+      if (heat_maps)
+        verdict.grey = static_cast<std::uint8_t>(std::lround(linear_to_srgb(luminance(sample.albedo)) * 127.0f));
+      return verdict;
+    };
+    const bool cached = TexelVerdictCache::packs(pixels);
+    TexelVerdictCache cache(cached ? total : 0);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
-        for (int role = 0; role < kTextureRoleCount; ++role)
-          if (const Pixels* p = pixels[static_cast<size_t>(role)])
-            texels.raw[static_cast<size_t>(role)] = texel_rgba(*p, x, y);
-        const SurfaceSample sample = evaluate_surface(material, texels);
-        std::uint16_t mask = 0;
+        TexelVerdict uncached;
+        const TexelVerdict& verdict =
+            cached ? cache.find(TexelVerdictCache::key_at(pixels, x, y), [&] { return judge(x, y); })
+                   : (uncached = judge(x, y));
         for (int check = 0; check < kPbrCheckCount; ++check) {
-          if (!enabled[static_cast<size_t>(check)]) continue;
-          float badness = 0.0f;
-          if (!fails(check, sample, legacy, limits, &badness)) continue;
+          if (!(verdict.failing >> check & 1u)) continue;
           Finding& finding = findings[static_cast<size_t>(check)];
           ++finding.failing;
-          mask = static_cast<std::uint16_t>(mask | (1u << check));
-          if (badness > finding.worst_badness) finding.worst_badness = badness, finding.worst = sample;
+          const float badness = verdict.badness[static_cast<size_t>(check)];
+          // The first texel of the worst badness, in scan order, as its sample.
+          if (badness > finding.worst_badness) finding.worst_badness = badness, finding.worst = sample_at(x, y);
         }
         if (heat_maps) {
           const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
-          masks[i] = mask;
-          greys[i] = static_cast<std::uint8_t>(std::lround(linear_to_srgb(luminance(sample.albedo)) * 127.0f));
+          masks[i] = verdict.failing;
+          greys[i] = verdict.grey;
         }
       }
 
