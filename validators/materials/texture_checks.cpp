@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
+#include <span>
 
 #include "core/image_header.hpp"
 #include "core/material_model.hpp"
@@ -76,16 +78,31 @@ void check_normal_map(const Pixels& p, const std::string& where, const RuleSet& 
 struct ChannelRange {
   std::array<float, 4> low{255, 255, 255, 255}, high{0, 0, 0, 0};
 };
+// Calls `f` with the image's stored values as a typed span (bytes, shorts or floats) and the
+// scale that maps one of them to [0, 1] the way Pixels::value does, so that a pass over every
+// value is one tight loop instead of a storage test a value.
+template <class F>
+auto with_stored_values(const Pixels& p, F&& f) {
+  if (!p.bytes.empty()) return f(std::span<const std::uint8_t>(p.bytes.data(), p.bytes.size()), 255.0f);
+  if (!p.shorts.empty()) return f(std::span<const std::uint16_t>(p.shorts), 65535.0f);
+  return f(std::span<const float>(p.floats), 1.0f);
+}
+
 ChannelRange channel_range(const Pixels& p) {
-  ChannelRange r;
-  const size_t channels = static_cast<size_t>(p.channels);
-  for (size_t i = 0; i < p.size(); ++i) {
-    const size_t c = i % channels;
-    const float v = p.value(i) * 255.0f;
-    r.low[c] = std::min(r.low[c], v);
-    r.high[c] = std::max(r.high[c], v);
-  }
-  return r;
+  return with_stored_values(p, [&](auto values, float scale) {
+    using Value = typename decltype(values)::value_type;
+    const size_t channels = static_cast<size_t>(p.channels);
+    ChannelRange r;
+    if (values.empty()) return r;
+    for (size_t c = 0; c < channels; ++c) {  // a channel a pass: its extremes stay in registers
+      Value low = std::numeric_limits<Value>::max(), high = std::numeric_limits<Value>::lowest();
+      for (size_t i = c; i < values.size(); i += channels)
+        low = std::min(low, values[i]), high = std::max(high, values[i]);
+      // The extremes of the stored values are those of the scaled ones: the scaling is monotonic.
+      r.low[c] = static_cast<float>(low) / scale * 255.0f, r.high[c] = static_cast<float>(high) / scale * 255.0f;
+    }
+    return r;
+  });
 }
 
 // The range as RGBA, as glTF samples the image: grey repeats into G and B, grey's alpha is A.
@@ -102,42 +119,52 @@ ChannelRange rgba_range(const Pixels& p) {
 // True when a 2x2 box-filtered half-size image, upsampled bilinearly back, reproduces all but
 // `max_outlier_percent` of the texels within `max_error_8bit` in every channel.
 bool half_size_reproduces(const Pixels& p, double max_error_8bit, double max_outlier_percent) {
-  const int hw = p.width / 2, hh = p.height / 2, channels = p.channels;
-  std::vector<float> half(static_cast<size_t>(hw) * static_cast<size_t>(hh) * static_cast<size_t>(channels));
-  auto half_at = [&](int x, int y, int c) -> float& {
-    return half[(static_cast<size_t>(y) * static_cast<size_t>(hw) + static_cast<size_t>(x)) *
-                    static_cast<size_t>(channels) +
-                static_cast<size_t>(c)];
-  };
-  for (int y = 0; y < hh; ++y)
-    for (int x = 0; x < hw; ++x)
-      for (int c = 0; c < channels; ++c)
-        half_at(x, y, c) = 0.25f * (p.at(2 * x, 2 * y, c) + p.at(2 * x + 1, 2 * y, c) + p.at(2 * x, 2 * y + 1, c) +
-                                    p.at(2 * x + 1, 2 * y + 1, c));
-  const std::uint64_t total = static_cast<std::uint64_t>(p.width) * static_cast<std::uint64_t>(p.height);
-  const auto allowed = static_cast<std::uint64_t>(max_outlier_percent / 100.0 * static_cast<double>(total));
-  std::uint64_t outliers = 0;
-  for (int y = 0; y < p.height; ++y) {
-    // Texel centres of the full image in half-image texel coordinates, clamped at the edges.
-    const float fy = std::clamp((static_cast<float>(y) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hh - 1));
-    const int y0 = static_cast<int>(fy), y1 = std::min(y0 + 1, hh - 1);
-    const float ty = fy - static_cast<float>(y0);
-    for (int x = 0; x < p.width; ++x) {
-      const float fx = std::clamp((static_cast<float>(x) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hw - 1));
-      const int x0 = static_cast<int>(fx), x1 = std::min(x0 + 1, hw - 1);
-      const float tx = fx - static_cast<float>(x0);
-      for (int c = 0; c < channels; ++c) {
-        const float top = half_at(x0, y0, c) + tx * (half_at(x1, y0, c) - half_at(x0, y0, c));
-        const float bottom = half_at(x0, y1, c) + tx * (half_at(x1, y1, c) - half_at(x0, y1, c));
-        const float value = top + ty * (bottom - top);
-        if (std::abs(value - p.at(x, y, c)) * 255.0f > max_error_8bit) {
-          if (++outliers > allowed) return false;
-          break;
+  return with_stored_values(p, [&](auto values, float scale) {
+    // Pixels::at, without its storage test.
+    const auto at = [&](int x, int y, int c) {
+      return static_cast<float>(
+                 values[(static_cast<size_t>(y) * static_cast<size_t>(p.width) + static_cast<size_t>(x)) *
+                            static_cast<size_t>(p.channels) +
+                        static_cast<size_t>(c)]) /
+             scale;
+    };
+    const int hw = p.width / 2, hh = p.height / 2, channels = p.channels;
+    std::vector<float> half(static_cast<size_t>(hw) * static_cast<size_t>(hh) * static_cast<size_t>(channels));
+    auto half_at = [&](int x, int y, int c) -> float& {
+      return half[(static_cast<size_t>(y) * static_cast<size_t>(hw) + static_cast<size_t>(x)) *
+                      static_cast<size_t>(channels) +
+                  static_cast<size_t>(c)];
+    };
+    for (int y = 0; y < hh; ++y)
+      for (int x = 0; x < hw; ++x)
+        for (int c = 0; c < channels; ++c)
+          half_at(x, y, c) = 0.25f * (at(2 * x, 2 * y, c) + at(2 * x + 1, 2 * y, c) + at(2 * x, 2 * y + 1, c) +
+                                      at(2 * x + 1, 2 * y + 1, c));
+    const std::uint64_t total = static_cast<std::uint64_t>(p.width) * static_cast<std::uint64_t>(p.height);
+    const auto allowed = static_cast<std::uint64_t>(max_outlier_percent / 100.0 * static_cast<double>(total));
+    std::uint64_t outliers = 0;
+    for (int y = 0; y < p.height; ++y) {
+      // Texel centres of the full image in half-image texel coordinates, clamped at the edges.
+      const float fy = std::clamp((static_cast<float>(y) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hh - 1));
+      const int y0 = static_cast<int>(fy), y1 = std::min(y0 + 1, hh - 1);
+      const float ty = fy - static_cast<float>(y0);
+      for (int x = 0; x < p.width; ++x) {
+        const float fx = std::clamp((static_cast<float>(x) + 0.5f) * 0.5f - 0.5f, 0.0f, static_cast<float>(hw - 1));
+        const int x0 = static_cast<int>(fx), x1 = std::min(x0 + 1, hw - 1);
+        const float tx = fx - static_cast<float>(x0);
+        for (int c = 0; c < channels; ++c) {
+          const float top = half_at(x0, y0, c) + tx * (half_at(x1, y0, c) - half_at(x0, y0, c));
+          const float bottom = half_at(x0, y1, c) + tx * (half_at(x1, y1, c) - half_at(x0, y1, c));
+          const float value = top + ty * (bottom - top);
+          if (std::abs(value - at(x, y, c)) * 255.0f > max_error_8bit) {
+            if (++outliers > allowed) return false;
+            break;
+          }
         }
       }
     }
-  }
-  return true;
+    return true;
+  });
 }
 
 }  // namespace
