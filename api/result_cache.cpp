@@ -92,10 +92,12 @@ bool unchanged_since_key(const ResultCache::Source& source) {
   return without_ctime(*now) == without_ctime(source.signature) && hash_file(source.file) == source.digest;
 }
 
-// The URIs an input names, from the index when an earlier run listed them, else from its JSON,
-// read again here: listed (and indexed) only when those bytes are the ones `input_hash` is of.
+// The URIs an input names, from the index when an earlier run listed them, else from its JSON:
+// `contents`, the bytes `input_hash` was taken of when the digest mapped them, or the file read
+// again here and listed (and indexed) only when those bytes are the ones `input_hash` is of.
 std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input,
-                                                const std::string& input_hash) {
+                                                const std::string& input_hash,
+                                                const std::optional<MappedFile>& contents) {
   if (const std::optional<Bytes> listed = read_file(index)) {
     try {
       return nlohmann::json::parse(listed->begin(), listed->end()).get<std::vector<std::string>>();
@@ -103,9 +105,14 @@ std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs:
       // a damaged index is listed again below and replaced
     }
   }
-  const std::optional<Bytes> bytes = read_file(input);
-  if (!bytes || hex(XXH3_128bits(bytes->data(), bytes->size())) != input_hash) return std::nullopt;  // changed
-  std::optional<std::vector<std::string>> uris = external_uris(*bytes);
+  std::optional<Bytes> read;
+  if (!contents) {
+    read = read_file(input);
+    if (read) ++work_counters().documents_read;
+    if (!read || hex(XXH3_128bits(read->data(), read->size())) != input_hash) return std::nullopt;  // changed
+  }
+  std::optional<std::vector<std::string>> uris =
+      external_uris(contents ? contents->bytes() : std::span<const std::uint8_t>(*read));
   if (uris) try {
       AtomicWriteSet file;
       file.stage(index, bytes_of(nlohmann::json(*uris).dump()));
@@ -149,7 +156,8 @@ fs::path ResultCache::temporary_folder() const {
   return name;
 }
 
-std::optional<std::string> ResultCache::digest(const fs::path& file, std::string* checked_signature) const {
+std::optional<std::string> ResultCache::digest(const fs::path& file, std::string* checked_signature,
+                                               std::optional<MappedFile>* contents) const {
   std::int64_t changed = 0;
   const std::optional<std::string> now = signature(file, &changed);
   if (!now) return std::nullopt;
@@ -166,7 +174,14 @@ std::optional<std::string> ResultCache::digest(const fs::path& file, std::string
       if (changed < recorded - 1'000'000'000) return text.substr(line + 1, space - line - 1);
     }
   }
-  std::optional<std::string> hash = hash_file(file);
+  std::optional<std::string> hash;
+  if (std::optional<MappedFile> mapped = contents ? MappedFile::open(file) : std::nullopt) {
+    hash = hex(XXH3_128bits(mapped->bytes().data(), mapped->bytes().size()));  // as hash_file's blocks add up
+    contents->emplace(std::move(*mapped));  // for the caller, who reads the file next
+  } else {
+    hash = hash_file(file);
+  }
+  if (contents) ++work_counters().documents_read;  // an input's own bytes (key()), mapped or hashed
   if (hash) remember(file, *hash);
   return hash;
 }
@@ -186,9 +201,11 @@ void ResultCache::remember(const fs::path& file, const std::string& hash) const 
 std::optional<std::string> ResultCache::key(const fs::path& input, std::string_view settings, bool allow_outside,
                                             const fs::path& output_folder) const {
   std::string input_signature;
-  const std::optional<std::string> input_hash = digest(input, &input_signature);
+  std::optional<MappedFile> input_bytes;  // mapped by the digest when it has no record of the file
+  const std::optional<std::string> input_hash = digest(input, &input_signature, &input_bytes);
   const std::optional<std::vector<std::string>> uris =
-      input_hash ? uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input, *input_hash) : std::nullopt;
+      input_hash ? uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input, *input_hash, input_bytes)
+                 : std::nullopt;
   if (!uris) {
     ++misses_;
     return std::nullopt;

@@ -25,6 +25,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/files.hpp"
+
 namespace gltf_pbr {
 
 class ResultCache {
@@ -70,7 +72,10 @@ class ResultCache {
   // command takes besides the file (an environment map). Read only when the file's device, inode,
   // size or times differ from those recorded with its last digest; std::nullopt when unreadable.
   // `checked_signature`, when given, gets the signature the digest was checked against.
-  std::optional<std::string> digest(const std::filesystem::path& file, std::string* checked_signature = nullptr) const;
+  // `contents`, when given, gets the file mapped if its bytes had to be read (for a caller that
+  // reads them next); it stays empty when the record answered.
+  std::optional<std::string> digest(const std::filesystem::path& file, std::string* checked_signature = nullptr,
+                                    std::optional<MappedFile>* contents = nullptr) const;
 
   // {"folder", "hits", "misses", "stored", "notStored"} for the run's report.
   nlohmann::json stats_json() const;

@@ -90,7 +90,7 @@ Asset load_asset(const fs::path& path, const LoadOptions& options = {});
 // The URIs of the external files a glTF or GLB file's buffers and images name (data URIs left
 // out), in document order, as written: what a result computed from the file also depends on.
 // Reads only the JSON; std::nullopt when the container or the JSON cannot be read that far.
-std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes);
+std::optional<std::vector<std::string>> external_uris(std::span<const std::uint8_t> file_bytes);
 
 // Writes the asset as .glb or .gltf (by extension of `output`), all files atomically.
 // Buffers and images keep their bytes; a .gltf's external resources are written beside it.

@@ -391,7 +391,7 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 
 }  // namespace
 
-std::optional<std::vector<std::string>> external_uris(const Bytes& file_bytes) {
+std::optional<std::vector<std::string>> external_uris(std::span<const std::uint8_t> file_bytes) {
   try {
     const bool binary = file_bytes.size() >= 4 && std::memcmp(file_bytes.data(), "glTF", 4) == 0;
     const std::string json_text = binary ? split_glb("", file_bytes).json : std::string();

@@ -37,6 +37,18 @@ struct KeyedInput {
   std::string key;
 };
 
+// A key of an input the cache has not seen hashes its bytes and lists the files it names: from one
+// read of the file (convert then reads it once more, on a miss).
+TEST(ResultCache, AKeyOfANewInputReadsItOnce) {
+  test::ScratchDir scratch;
+  const long documents = work_counters().documents_read;
+  KeyedInput keyed(scratch.path());
+  EXPECT_EQ(work_counters().documents_read - documents, 1);
+  // The key is of the buffer it names too: changing the buffer changes the key.
+  write_in_place(keyed.buffer, "fedcba9876543210");
+  EXPECT_NE(keyed.cache.key(keyed.input, "test settings", false), keyed.key);
+}
+
 TEST(ResultCache, KeepsAResultWhoseSourceOnlyGainedAHardLinkMeanwhile) {
   test::ScratchDir scratch;
   KeyedInput keyed(scratch.path());
