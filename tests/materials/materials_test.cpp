@@ -260,14 +260,15 @@ TEST(MaterialPlausibility, TextureCoverageCountsExactlyTheFailingTexelsAndPaints
     }
 }
 
-// Texels are judged once per distinct value within a material; the count, the worst texel and the
-// heat map must not depend on which texels repeat or where. 256x256 texels with 65,536 distinct
-// values (base colour alpha = y and occlusion = x, which no check reads) overflow the verdict
-// table and collide in it; the darkest texel occurs once, near the end.
+// Texels are judged once per distinct value within a material, in bands of rows on the pool; the
+// count, the worst texel and the heat map must not depend on which texels repeat, where, or which
+// band judged them. 1024x512 texels (two bands or more where the pool has two threads) with 65,536
+// distinct values (base colour alpha = y and occlusion = x, which no check reads) overflow the
+// verdict tables and collide in them; the darkest texel occurs once, in the first band.
 TEST(MaterialPlausibility, RepeatedAndCollidingTexelsAreCountedExactlyAndTheWorstIsFound) {
-  constexpr int kSize = 256;
+  constexpr int kWidth = 1024, kHeight = 512;
   auto grey = [](int x, int y) -> std::uint8_t {
-    if (x == 250 && y == 251) return 3;  // the worst
+    if (x == 1000 && y == 5) return 3;  // the worst
     if ((x * 31 + y * 17) % 7 == 0) return 10;
     if ((x * 13 + y * 29) % 11 == 0) return 252;
     return 128;
@@ -275,16 +276,16 @@ TEST(MaterialPlausibility, RepeatedAndCollidingTexelsAreCountedExactlyAndTheWors
   AssetBuilder builder;
   std::vector<std::uint8_t> base, metal_rough;
   long dark = 0, bright = 0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
       const std::uint8_t v = grey(x, y);
-      base.insert(base.end(), {v, v, v, static_cast<std::uint8_t>(y)});
-      metal_rough.insert(metal_rough.end(), {static_cast<std::uint8_t>(x), 200, 0});
+      base.insert(base.end(), {v, v, v, static_cast<std::uint8_t>(y & 255)});
+      metal_rough.insert(metal_rough.end(), {static_cast<std::uint8_t>(x & 255), 200, 0});
       dark += v <= 10, bright += v == 252;
     }
   auto& material = builder.metal_rough(glm::vec4(1.0f), 0.0, 1.0);
-  material.pbrMetallicRoughness.baseColorTexture.index = builder.add_png(kSize, kSize, 4, base);
-  material.pbrMetallicRoughness.metallicRoughnessTexture.index = builder.add_png(kSize, kSize, 3, metal_rough);
+  material.pbrMetallicRoughness.baseColorTexture.index = builder.add_png(kWidth, kHeight, 4, base);
+  material.pbrMetallicRoughness.metallicRoughnessTexture.index = builder.add_png(kWidth, kHeight, 3, metal_rough);
 
   ScratchDir scratch;
   MaterialCheckOptions options;
@@ -293,7 +294,8 @@ TEST(MaterialPlausibility, RepeatedAndCollidingTexelsAreCountedExactlyAndTheWors
   const Report report = validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict), options);
   auto coverage = [](long failing) {
     char text[64];
-    std::snprintf(text, sizeof text, "%.2f%% of 65536 texels (256x256)", 100.0 * static_cast<double>(failing) / 65536);
+    std::snprintf(text, sizeof text, "%.2f%% of 524288 texels (1024x512)",
+                  100.0 * static_cast<double>(failing) / 524288);
     return std::string(text);
   };
   const auto too_dark = issues_with(report, "PBR_ALBEDO_TOO_DARK");
@@ -307,10 +309,10 @@ TEST(MaterialPlausibility, RepeatedAndCollidingTexelsAreCountedExactlyAndTheWors
   const fs::path heat_map = scratch / "heatmaps" / "built-in-memory-material0-texture0.png";
   ASSERT_TRUE(fs::exists(heat_map)) << describe(report.messages);
   const Pixels pixels = decode_image(*read_file(heat_map), heat_map.string());
-  ASSERT_EQ(pixels.width, kSize);
+  ASSERT_EQ(pixels.width, kWidth);
   long painted_dark = 0, painted_bright = 0, misplaced = 0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
       const bool blue = pixels.at(x, y, 2) == 1.0f && pixels.at(x, y, 0) == 0.0f;
       const bool red = pixels.at(x, y, 0) == 1.0f && pixels.at(x, y, 2) == 0.0f;
       painted_dark += blue, painted_bright += red;

@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "core/material_model.hpp"
+#include "core/parallel.hpp"
 #include "rules/issue_sink.hpp"
 #include "validators/materials/f0_reference.hpp"
 #include "validators/materials/material_checks.hpp"
@@ -312,6 +313,9 @@ struct Finding {
   SurfaceSample worst;
 };
 
+// Texels judged a band at least: below it, a material's texels are judged on the calling thread.
+constexpr size_t kTexelsABand = 1 << 18;
+
 // What the enabled checks say of one texel: which fail and how badly, and its heat-map grey.
 struct TexelVerdict {
   std::uint16_t failing = 0;  // one bit a check
@@ -542,27 +546,45 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
         verdict.grey = static_cast<std::uint8_t>(std::lround(linear_to_srgb(luminance(sample.albedo)) * 127.0f));
       return verdict;
     };
+    // Rows in bands on the pool, each band with its own verdict table and findings, joined in scan
+    // order: the counts add up, and the worst texel is the first of the worst badness, as in one pass.
     const bool cached = TexelVerdictCache::packs(pixels);
-    TexelVerdictCache cache(cached ? total : 0);
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        TexelVerdict uncached;
-        const TexelVerdict& verdict =
-            cached ? cache.find(TexelVerdictCache::key_at(pixels, x, y), [&] { return judge(x, y); })
-                   : (uncached = judge(x, y));
-        for (int check = 0; check < kPbrCheckCount; ++check) {
-          if (!(verdict.failing >> check & 1u)) continue;
-          Finding& finding = findings[static_cast<size_t>(check)];
-          ++finding.failing;
-          const float badness = verdict.badness[static_cast<size_t>(check)];
-          // The first texel of the worst badness, in scan order, as its sample.
-          if (badness > finding.worst_badness) finding.worst_badness = badness, finding.worst = sample_at(x, y);
+    const int bands =
+        static_cast<int>(std::clamp<std::int64_t>(static_cast<std::int64_t>(total / kTexelsABand), 1,
+                                                  std::min<std::int64_t>(ThreadPool::shared().threads(), height)));
+    std::vector<std::array<Finding, kPbrCheckCount>> band_findings(static_cast<size_t>(bands));
+    ThreadPool::shared().run(bands, [&](std::int64_t band) {
+      const int first_row = static_cast<int>(height * band / bands),
+                end_row = static_cast<int>(height * (band + 1) / bands);
+      std::array<Finding, kPbrCheckCount>& found = band_findings[static_cast<size_t>(band)];
+      TexelVerdictCache cache(cached ? static_cast<size_t>(end_row - first_row) * static_cast<size_t>(width) : 0);
+      for (int y = first_row; y < end_row; ++y)
+        for (int x = 0; x < width; ++x) {
+          TexelVerdict uncached;
+          const TexelVerdict& verdict =
+              cached ? cache.find(TexelVerdictCache::key_at(pixels, x, y), [&] { return judge(x, y); })
+                     : (uncached = judge(x, y));
+          for (int check = 0; check < kPbrCheckCount; ++check) {
+            if (!(verdict.failing >> check & 1u)) continue;
+            Finding& finding = found[static_cast<size_t>(check)];
+            ++finding.failing;
+            const float badness = verdict.badness[static_cast<size_t>(check)];
+            // The first texel of the worst badness, in scan order, as its sample.
+            if (badness > finding.worst_badness) finding.worst_badness = badness, finding.worst = sample_at(x, y);
+          }
+          if (heat_maps) {
+            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+            masks[i] = verdict.failing;
+            greys[i] = verdict.grey;
+          }
         }
-        if (heat_maps) {
-          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
-          masks[i] = verdict.failing;
-          greys[i] = verdict.grey;
-        }
+    });
+    for (const std::array<Finding, kPbrCheckCount>& found : band_findings)
+      for (size_t check = 0; check < found.size(); ++check) {
+        Finding& finding = findings[check];
+        finding.failing += found[check].failing;
+        if (found[check].worst_badness > finding.worst_badness)
+          finding.worst_badness = found[check].worst_badness, finding.worst = found[check].worst;
       }
 
     std::uint16_t reported = 0;
