@@ -53,6 +53,17 @@ std::string Rule::format(const std::vector<MessageArg>& arguments, const std::ve
   std::string out;
   out.reserve(pattern.size() + 32);
   for (std::size_t i = 0; i < pattern.size();) {
+    // Every slot below starts with one of these characters: the text up to the next one is copied
+    // as one run (a slot test at every character was half of a million-issue run's time).
+    std::size_t special = i;
+    while (special < pattern.size() && pattern[special] != '(' && pattern[special] != '\'' && pattern[special] != '`' &&
+           pattern[special] != '%')
+      ++special;
+    if (special > i) {
+      out.append(pattern, i, special - i);
+      i = special;
+      continue;
+    }
     // The list slot "('`%a`', '`%b`', '`%c`')" stands for every allowed value.
     static constexpr std::string_view list_slot = "('`%a`', '`%b`', '`%c`')";
     if (pattern.compare(i, list_slot.size(), list_slot) == 0) {
