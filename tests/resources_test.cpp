@@ -102,6 +102,19 @@ TEST(OneFrontEnd, ConvertReadsTheFileAndItsJsonOnce) {
   }
 }
 
+// A .gltf copied unchanged to another folder takes its buffer and image along as the load mapped
+// them: each external file is opened once, and the copies hold the same bytes.
+TEST(OneFrontEnd, ACopiedGltfTakesItsResourcesFromTheLoadersMappings) {
+  ScratchDir scratch;
+  const fs::path input = assets_dir() / "BoxTextured/metalrough/BoxTextured.gltf";
+  const long opened = work_counters().files_opened;
+  const FileResult done = convert_or_throw({input, scratch / "copy" / "BoxTextured.gltf"}, {});
+  EXPECT_EQ(done.status, FileStatus::Copied);
+  EXPECT_EQ(work_counters().files_opened - opened, 2);  // BoxTextured0.bin, CesiumLogoFlat.png
+  for (const char* name : {"BoxTextured.gltf", "BoxTextured0.bin", "CesiumLogoFlat.png"})
+    EXPECT_EQ(read_file(scratch / "copy" / name), read_file(input.parent_path() / name)) << name;
+}
+
 // preview --lint reads the textures the preview decoded: the material rules on both sides decode
 // none of them again (Avocado: the conversion reads two legacy maps and bakes two).
 TEST(OneFrontEnd, PreviewLintDecodesNoImageThePreviewAlreadyHolds) {
