@@ -82,7 +82,8 @@ FileValidation validate_file(const fs::path& file, const ValidateFileOptions& op
   out.infos = report.count(Severity::Information);
   out.hints = report.count(Severity::Hint);
   out.truncated = report.truncated;
-  out.report_json = report_to_json(report).dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  out.report_json = report_json_text(report);
+  out.report_json.pop_back();  // the final newline: the library's JSON texts end at their last brace
   return out;
 }
 

@@ -216,18 +216,16 @@ int run(const ValidateArgs& args) {
   } else if (args.format == "json") {
     if (args.output.empty()) {
       // One report as the Khronos validator prints it; several with the summary around them.
-      nlohmann::ordered_json all;
       if (reports.size() == 1) {
-        all = report_to_json(reports.front());
+        write_stdout(report_json_text(reports.front()));
       } else {
-        all = summary;
+        nlohmann::ordered_json all = summary;
         all["reports"] = nlohmann::ordered_json::array();
         for (const Report& report : reports) all["reports"].push_back(report_to_json(report));
+        write_stdout(json_text(all));
       }
-      write_stdout(json_text(all));
     } else {
-      for (std::size_t i = 0; i < files.size(); ++i)
-        write_atomically(report_paths[i], json_text(report_to_json(reports[i])));
+      for (std::size_t i = 0; i < files.size(); ++i) write_atomically(report_paths[i], report_json_text(reports[i]));
       // Shards writing into one folder keep a summary each.
       write_atomically(fs::path(args.output) / (sharded ? "summary-shard" + std::to_string(shard.index) + ".json"
                                                         : std::string("summary.json")),

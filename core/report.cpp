@@ -115,20 +115,24 @@ void Report::add(Issue issue) {
   messages.push_back(std::move(issue));
 }
 
+namespace {
+nlohmann::ordered_json message_json(const Issue& issue) {
+  nlohmann::ordered_json message;
+  message["code"] = issue.code;
+  message["message"] = issue.message;
+  message["severity"] = static_cast<int>(issue.severity);
+  if (issue.offset)
+    message["offset"] = *issue.offset;
+  else
+    message["pointer"] = issue.pointer;
+  if (issue.count > 1) message["count"] = issue.count;
+  return message;
+}
+}  // namespace
+
 nlohmann::ordered_json report_to_json(const Report& report) {
   nlohmann::ordered_json messages = nlohmann::ordered_json::array();
-  for (const Issue& issue : report.messages) {
-    nlohmann::ordered_json message;
-    message["code"] = issue.code;
-    message["message"] = issue.message;
-    message["severity"] = static_cast<int>(issue.severity);
-    if (issue.offset)
-      message["offset"] = *issue.offset;
-    else
-      message["pointer"] = issue.pointer;
-    if (issue.count > 1) message["count"] = issue.count;
-    messages.push_back(std::move(message));
-  }
+  for (const Issue& issue : report.messages) messages.push_back(message_json(issue));
   nlohmann::ordered_json json;
   json["uri"] = report.uri;
   json["mimeType"] = report.mime_type;
@@ -141,6 +145,52 @@ nlohmann::ordered_json report_to_json(const Report& report) {
                     {"truncated", report.truncated}};
   if (!report.info.is_null()) json["info"] = report.info;
   return json;
+}
+
+std::string report_json_text(const Report& report) {
+  using Json = nlohmann::ordered_json;
+  constexpr int kIndent = 2;
+  // A value as dump(2) writes it where it stands `depth` levels down: its inner lines carry the
+  // depth's indentation (a dumped string holds no raw newline, so every newline starts a line).
+  const auto dumped = [](const Json& value, int depth) {
+    const std::string text = value.dump(kIndent, ' ', false, Json::error_handler_t::replace);
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+      out += c;
+      if (c == '\n') out.append(static_cast<size_t>(depth * kIndent), ' ');
+    }
+    return out;
+  };
+  std::string out = "{\n";
+  const auto member = [&](int depth, std::string_view key, const std::string& value, bool last) {
+    out.append(static_cast<size_t>(depth * kIndent), ' ').append("\"").append(key).append("\": ").append(value);
+    out += last ? "\n" : ",\n";
+  };
+  member(1, "uri", dumped(report.uri, 1), false);
+  member(1, "mimeType", dumped(report.mime_type, 1), false);
+  member(1, "validatorVersion", dumped(tool_name_and_version(), 1), false);
+  out += "  \"issues\": {\n";
+  member(2, "numErrors", std::to_string(report.count(Severity::Error)), false);
+  member(2, "numWarnings", std::to_string(report.count(Severity::Warning)), false);
+  member(2, "numInfos", std::to_string(report.count(Severity::Information)), false);
+  member(2, "numHints", std::to_string(report.count(Severity::Hint)), false);
+  if (report.messages.empty()) {
+    member(2, "messages", "[]", false);
+  } else {
+    out += "    \"messages\": [\n";
+    for (size_t i = 0; i < report.messages.size(); ++i) {
+      out.append(3 * kIndent, ' ').append(dumped(message_json(report.messages[i]), 3));
+      out += i + 1 < report.messages.size() ? ",\n" : "\n";
+    }
+    out += "    ],\n";
+  }
+  member(2, "truncated", report.truncated ? "true" : "false", true);
+  const bool has_info = !report.info.is_null();
+  out += has_info ? "  },\n" : "  }\n";
+  if (has_info) member(1, "info", dumped(report.info, 1), true);
+  out += "}\n";
+  return out;
 }
 
 Report report_from_json(const nlohmann::ordered_json& json) {

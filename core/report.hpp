@@ -82,6 +82,11 @@ void apply_policy(const IssuePolicy& policy, Report& report);
 // "count" only when it is above 1, so unfolded reports stay schema-identical to the reference.
 nlohmann::ordered_json report_to_json(const Report& report);
 
+// The text of report_to_json(report) as every command writes it (indented by 2, U+FFFD for bytes
+// that are not UTF-8, a final newline), written a message at a time: a report of a million
+// messages never stands as one JSON document in memory.
+std::string report_json_text(const Report& report);
+
 // The report that report_to_json wrote (material names aside, which it does not hold): what a
 // results cache keeps. Throws nlohmann::json::exception or std::invalid_argument for JSON it did
 // not write.

@@ -31,6 +31,35 @@ fs::path write_config(const test::ScratchDir& dir, const std::string& text) {
   return path;
 }
 
+// The report text written a message at a time is the text of the whole JSON document, whatever
+// the report holds: no messages, offsets, counts, bytes that are not UTF-8, control characters,
+// quotes, multi-line messages, and an info block nested several levels or none.
+TEST(ReportText, WrittenAMessageAtATimeEqualsTheDocumentsDump) {
+  auto document_text = [](const Report& report) {
+    return report_to_json(report).dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  };
+  Report empty;
+  EXPECT_EQ(report_json_text(empty), document_text(empty));
+
+  Report full;
+  full.uri = "dir/na\xffme \"quoted\".gltf";  // not UTF-8: written as U+FFFD either way
+  full.mime_type = "model/gltf+json";
+  full.add(issue("A", "/materials/0", Severity::Error, "line one\nline two\t\u0001 <b>&"));
+  full.add(issue("A", "/materials/0", Severity::Error, "line one\nline two\t\u0001 <b>&"));  // count 2
+  full.add(Issue{"B", "byte offset", Severity::Warning, "", std::uint64_t{12}, 1});
+  full.add(issue("C", "/nodes/3", Severity::Hint, "caf\xc3\xa9 \xe2\x80\x94 \xc3"));
+  full.truncated = true;
+  full.info = {{"version", "2.0"},
+               {"resources", {{{"pointer", "/buffers/0"}, {"image", {{"width", 4}}}}}},
+               {"empty", nlohmann::ordered_json::object()},
+               {"none", nlohmann::ordered_json::array()}};
+  EXPECT_EQ(report_json_text(full), document_text(full));
+
+  Report no_info = full;
+  no_info.info = nullptr;
+  EXPECT_EQ(report_json_text(no_info), document_text(no_info));
+}
+
 TEST(IssuePolicy, IdenticalRepeatsFoldIntoOneMessageWithACountWhereTheyFirstOccurred) {
   Report report;
   report.add(issue("A", "/materials/0"));
