@@ -66,6 +66,7 @@ void apply_policy(const IssuePolicy& policy, Report& report) {
   std::vector<Issue> kept;
   kept.reserve(report.messages.size());
   FoldIndex first_of;  // severity overrides can make issues identical that were not
+  first_of.reserve(report.messages.size());
   for (Issue& issue : report.messages) {
     if (!policy.only.empty() ? !policy.only.contains(issue.code) : policy.ignore.contains(issue.code)) continue;
     if (auto found = policy.severity_override.find(issue.code); found != policy.severity_override.end())
@@ -155,10 +156,12 @@ std::string report_json_text(const Report& report) {
   const auto dumped = [](const Json& value, int depth) {
     const std::string text = value.dump(kIndent, ' ', false, Json::error_handler_t::replace);
     std::string out;
-    out.reserve(text.size());
-    for (const char c : text) {
-      out += c;
-      if (c == '\n') out.append(static_cast<size_t>(depth * kIndent), ' ');
+    out.reserve(text.size() + 64);
+    for (size_t start = 0; start < text.size();) {
+      const size_t line_end = std::min(text.find('\n', start), text.size() - 1) + 1;
+      out.append(text, start, line_end - start);
+      if (out.back() == '\n') out.append(static_cast<size_t>(depth * kIndent), ' ');
+      start = line_end;
     }
     return out;
   };
