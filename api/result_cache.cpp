@@ -93,8 +93,9 @@ bool unchanged_since_key(const ResultCache::Source& source) {
 }
 
 // The URIs an input names, from the index when an earlier run listed them, else from its JSON:
-// `contents`, the bytes `input_hash` was taken of when the digest mapped them, or the file read
-// again here and listed (and indexed) only when those bytes are the ones `input_hash` is of.
+// `contents`, the mapping the digest hashed, or the file read again here. Listed (and indexed)
+// only when the bytes read are the ones `input_hash` is of: a mapping is no snapshot, so the
+// mapped bytes are hashed again after they are read.
 std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input,
                                                 const std::string& input_hash,
                                                 const std::optional<MappedFile>& contents) {
@@ -111,8 +112,9 @@ std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs:
     if (read) ++work_counters().documents_read;
     if (!read || hex(XXH3_128bits(read->data(), read->size())) != input_hash) return std::nullopt;  // changed
   }
-  std::optional<std::vector<std::string>> uris =
-      external_uris(contents ? contents->bytes() : std::span<const std::uint8_t>(*read));
+  const std::span<const std::uint8_t> bytes = contents ? contents->bytes() : std::span<const std::uint8_t>(*read);
+  std::optional<std::vector<std::string>> uris = external_uris(bytes);
+  if (contents && hex(XXH3_128bits(bytes.data(), bytes.size())) != input_hash) return std::nullopt;  // changed
   if (uris) try {
       AtomicWriteSet file;
       file.stage(index, bytes_of(nlohmann::json(*uris).dump()));
@@ -181,7 +183,7 @@ std::optional<std::string> ResultCache::digest(const fs::path& file, std::string
   } else {
     hash = hash_file(file);
   }
-  if (contents) ++work_counters().documents_read;  // an input's own bytes (key()), mapped or hashed
+  if (contents && hash) ++work_counters().documents_read;  // an input's own bytes (key()), mapped or hashed
   if (hash) remember(file, *hash);
   return hash;
 }

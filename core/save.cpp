@@ -322,14 +322,15 @@ std::vector<fs::path> copy_asset_verbatim(const Asset& asset, const fs::path& ou
       Asset copy = asset;
       return save_asset(copy, output);
     }
-    // Each file as the load mapped it (the asset's resources): the bytes that were checked, not
-    // read again; read here only when the load did not map it (an asset built without resources).
+    // Each file through the mapping the load made (the asset's resources) instead of a second
+    // read; read here only when there is none (an asset built without resources, a file that
+    // could not be mapped).
     auto copy = [&](const std::string& uri) {
       if (uri.empty() || is_data_uri(uri)) return;
       const std::string relative = percent_decode(uri);
       const FileResources::External* mapped = asset.resources ? &asset.resources->external(uri) : nullptr;
       if (mapped && mapped->file) return files.stage(folder / relative, mapped->file->bytes());
-      ++work_counters().files_opened;
+      if (!mapped) ++work_counters().files_opened;  // external() counted it otherwise
       const auto bytes = read_file(input_folder / relative);
       if (!bytes) throw InputError(asset.path.string(), "",
                                     "cannot read " + uri + " to copy it: " + unreadable_reason(input_folder / relative));

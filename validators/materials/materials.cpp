@@ -326,7 +326,7 @@ struct TexelVerdict {
 // Verdicts by the texel's stored 8-bit values, direct-mapped. Within one material a verdict
 // depends on those values alone, and textures repeat them: a hit skips the colour decoding, the
 // surface evaluation and every check, and gives the same verdict (bench/RESULTS.md, "validate:
-// one verdict a distinct texel"). Bounded: at most 16384 entries (1.3 MB) a material.
+// one verdict a distinct texel"). Bounded: at most 16384 entries (1.3 MB) a band of a material.
 class TexelVerdictCache {
  public:
   // The RGBA bytes of each role's texel, 0 where the role has no texture. Within one material a
@@ -339,7 +339,7 @@ class TexelVerdictCache {
   template <class Judge>
   const TexelVerdict& find(const Key& key, Judge&& judge) {
     std::uint64_t hash = 0;
-    for (std::uint32_t k : key) hash = (hash ^ k) * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing (Knuth 6.4)
+    for (std::uint32_t k : key) hash = (hash ^ k) * 0x9E3779B97F4A7C15ull;  // multiply by 2^64 / golden ratio
     Entry& entry = entries_[(hash ^ (hash >> 32)) & (entries_.size() - 1)];
     if (!entry.used || entry.key != key) entry.key = key, entry.verdict = judge(), entry.used = true;
     return entry.verdict;

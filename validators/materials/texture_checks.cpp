@@ -99,7 +99,10 @@ ChannelRange channel_range(const Pixels& p) {
       for (size_t i = c; i < values.size(); i += channels)
         low = std::min(low, values[i]), high = std::max(high, values[i]);
       // The extremes of the stored values are those of the scaled ones: the scaling is monotonic.
-      r.low[c] = static_cast<float>(low) / scale * 255.0f, r.high[c] = static_cast<float>(high) / scale * 255.0f;
+      // They join the initial [0, 255] as every value used to (a float image's values beyond it,
+      // and NaN, which no comparison takes).
+      r.low[c] = std::min(r.low[c], static_cast<float>(low) / scale * 255.0f);
+      r.high[c] = std::max(r.high[c], static_cast<float>(high) / scale * 255.0f);
     }
     return r;
   });
