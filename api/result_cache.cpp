@@ -94,8 +94,7 @@ bool unchanged_since_key(const ResultCache::Source& source) {
 
 // The URIs an input names, from the index when an earlier run listed them, else from its JSON:
 // `contents`, the mapping the digest hashed, or the file read again here. Listed (and indexed)
-// only when the bytes read are the ones `input_hash` is of: a mapping is no snapshot, so the
-// mapped bytes are hashed again after they are read.
+// only when the bytes still hash as `input_hash` after they are parsed (a mapping is no snapshot).
 std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs::path& input,
                                                 const std::string& input_hash,
                                                 const std::optional<MappedFile>& contents) {
@@ -109,12 +108,12 @@ std::optional<std::vector<std::string>> uris_of(const fs::path& index, const fs:
   std::optional<Bytes> read;
   if (!contents) {
     read = read_file(input);
-    if (read) ++work_counters().documents_read;
-    if (!read || hex(XXH3_128bits(read->data(), read->size())) != input_hash) return std::nullopt;  // changed
+    if (!read) return std::nullopt;
+    ++work_counters().documents_read;
   }
   const std::span<const std::uint8_t> bytes = contents ? contents->bytes() : std::span<const std::uint8_t>(*read);
   std::optional<std::vector<std::string>> uris = external_uris(bytes);
-  if (contents && hex(XXH3_128bits(bytes.data(), bytes.size())) != input_hash) return std::nullopt;  // changed
+  if (hex(XXH3_128bits(bytes.data(), bytes.size())) != input_hash) return std::nullopt;  // changed
   if (uris) try {
       AtomicWriteSet file;
       file.stage(index, bytes_of(nlohmann::json(*uris).dump()));
