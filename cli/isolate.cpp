@@ -56,9 +56,12 @@ constexpr char kParentVariable[] = "GLTF_PBR_ISOLATED_BY";
 void become_child_of_isolated_run() {
   const char* parent = std::getenv(kParentVariable);
   if (!parent) return;
-  // Killed when the run that started it ends, however it ends: a hung child never outlives it.
-  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (std::to_string(::getppid()) != parent) std::_Exit(128 + SIGKILL);  // it ended before prctl
+  // Ended when the run that started it ends, however it ends: a hung child never outlives it.
+  // SIGTERM, not SIGKILL: the child's signal thread (install_signal_cleanup) removes the
+  // temporaries of a write in progress before it exits, where a kill left them in the output
+  // folder of a run stopped with ^C.
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (std::to_string(::getppid()) != parent) std::_Exit(128 + SIGTERM);  // it ended before prctl
 }
 
 FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string>& options, const ChildLimits& limits,

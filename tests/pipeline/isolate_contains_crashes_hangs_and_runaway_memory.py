@@ -65,7 +65,7 @@ try:
         time.sleep(0.01)
     first.send_signal(signal.SIGINT)
     assert first.wait() != 0, "the first run finished before it could be stopped"
-    time.sleep(0.5)  # a child converting when the run stopped finishes its file
+    time.sleep(0.5)  # a child converting when the run stopped removes its temporaries and ends
     finished = len(list((cache / "v1" / "entries").glob("*/*")))
     assert 10 <= finished < 60, finished
     run = subprocess.run([cli, "convert", str(library), "-o", str(work / "resumed"), "-q", "-j", "2", "--isolate",
