@@ -1,7 +1,11 @@
-// Huge-page backed per-pixel buffers (see texel_buffer.hpp).
+// Huge-page backed per-pixel buffers, kept warm between uses (see texel_buffer.hpp).
 #include "core/texel_buffer.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <mutex>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -11,22 +15,141 @@ namespace gltf_pbr {
 
 namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
+
+std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+
+#if defined(__linux__) && defined(MREMAP_FIXED)
+
+// Memory that large buffers gave back, kept mapped for the next ones. A page a process touches
+// for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
+// freed memory back to the host (virtio-balloon free page reporting) the host's fault too:
+// measured here, 1.0 ms per MB for fresh huge pages against 0.11-0.14 for pages the process freed
+// a moment before, so a 1024^2 render's 50 MB of buffers paid ~50 ms in the first frame alone.
+// Buffers reuse the pages of the ones freed before them (decoded maps before the render's
+// G-buffers); a larger request gathers idle regions with mremap, which moves their page tables
+// (whole huge pages when both sides are 2 MiB-aligned, as every region here is) without copying.
+// Idle pages are advised MADV_FREE, so memory pressure reclaims them, and at most kIdleTexelLimit
+// bytes stay idle: the rest are unmapped as before.
+class WarmPages {
+ public:
+  static constexpr std::size_t kMaxIdleRegions = 64;
+
+  WarmPages() { idle_.reserve(kMaxIdleRegions); }
+
+  void* take(std::size_t bytes) {
+    std::lock_guard lock(mutex_);
+    // The smallest idle region that holds the request; what it has beyond stays idle.
+    auto fit = idle_.end();
+    for (auto r = idle_.begin(); r != idle_.end(); ++r)
+      if (r->bytes >= bytes && (fit == idle_.end() || r->bytes < fit->bytes)) fit = r;
+    if (fit != idle_.end()) {
+      char* base = fit->base;
+      release_from_idle(fit, bytes);
+      return base;
+    }
+    char* base = map_aligned(bytes);
+    if (!base) return nullptr;
+    // Fill the new range with idle pages, largest regions first; the rest is fresh.
+    std::sort(idle_.begin(), idle_.end(), [](const Region& a, const Region& b) { return a.bytes > b.bytes; });
+    std::size_t filled = 0;
+    while (filled < bytes && !idle_.empty()) {
+      const std::size_t moved = std::min(idle_.front().bytes, bytes - filled);
+      if (mremap(idle_.front().base, moved, moved, MREMAP_MAYMOVE | MREMAP_FIXED, base + filled) == MAP_FAILED) break;
+      release_from_idle(idle_.begin(), moved);
+      filled += moved;
+    }
+    return base;
+  }
+
+  std::size_t idle_bytes() {
+    std::lock_guard lock(mutex_);
+    return idle_bytes_;
+  }
+
+  void give(void* pointer, std::size_t bytes) noexcept {
+    char* base = static_cast<char*>(pointer);
+    std::lock_guard lock(mutex_);
+    if (bytes > kIdleTexelLimit || idle_.size() == idle_.capacity()) {
+      munmap(base, bytes);  // (a full list is not grown here: growing could throw)
+      return;
+    }
+    madvise(base, bytes, MADV_FREE);
+    idle_.push_back({base, bytes});
+    idle_bytes_ += bytes;
+    while (idle_bytes_ > kIdleTexelLimit) {  // from the front: the oldest, unless a gather sorted them
+      munmap(idle_.front().base, idle_.front().bytes);
+      idle_bytes_ -= idle_.front().bytes;
+      idle_.erase(idle_.begin());
+    }
+  }
+
+ private:
+  struct Region {
+    char* base;
+    std::size_t bytes;
+  };
+
+  // Takes the first `bytes` of an idle region; its remainder (2 MiB-aligned) stays idle.
+  void release_from_idle(std::vector<Region>::iterator region, std::size_t bytes) {
+    idle_bytes_ -= bytes;
+    if (region->bytes > bytes) {
+      region->base += bytes;
+      region->bytes -= bytes;
+    } else {
+      idle_.erase(region);
+    }
+  }
+
+  static char* map_aligned(std::size_t bytes) {
+    void* mapped = mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) return nullptr;
+    char* start = static_cast<char*>(mapped);
+    char* aligned =
+        reinterpret_cast<char*>((reinterpret_cast<std::uintptr_t>(start) + kHugePage - 1) & ~(kHugePage - 1));
+    if (aligned > start) munmap(start, static_cast<std::size_t>(aligned - start));
+    if (const std::size_t tail = static_cast<std::size_t>(start + bytes + kHugePage - (aligned + bytes)))
+      munmap(aligned + bytes, tail);
+    madvise(aligned, bytes, MADV_HUGEPAGE);  // advice only: without THP the pages stay 4 KiB
+    return aligned;
+  }
+
+  std::mutex mutex_;
+  std::vector<Region> idle_;
+  std::size_t idle_bytes_ = 0;
+};
+
+WarmPages& warm_pages() {
+  static WarmPages* pages = new WarmPages;  // never destroyed: buffers may be freed during exit
+  return *pages;
+}
+
+void* allocate_large(std::size_t bytes) { return warm_pages().take(rounded_to_huge_pages(bytes)); }
+void free_large(void* pointer, std::size_t bytes) noexcept { warm_pages().give(pointer, rounded_to_huge_pages(bytes)); }
+std::size_t idle_large_bytes() { return warm_pages().idle_bytes(); }
+
+#else
+
+void* allocate_large(std::size_t bytes) { return std::aligned_alloc(kHugePage, rounded_to_huge_pages(bytes)); }
+void free_large(void* pointer, std::size_t) noexcept { std::free(pointer); }
+std::size_t idle_large_bytes() { return 0; }
+
+#endif
 }  // namespace
 
 void* allocate_texels(std::size_t bytes) {
-  if (bytes < kHugePage) {
-    if (void* small = std::malloc(bytes == 0 ? 1 : bytes)) return small;
-    throw std::bad_alloc();
-  }
-  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  void* pointer = std::aligned_alloc(kHugePage, rounded);
+  void* pointer = bytes < kHugePage ? std::malloc(bytes == 0 ? 1 : bytes) : allocate_large(bytes);
   if (!pointer) throw std::bad_alloc();
-#if defined(MADV_HUGEPAGE)
-  madvise(pointer, rounded, MADV_HUGEPAGE);  // advice only: without THP the pages stay 4 KiB
-#endif
   return pointer;
 }
 
-void free_texels(void* pointer, std::size_t) noexcept { std::free(pointer); }
+void free_texels(void* pointer, std::size_t bytes) noexcept {
+  if (!pointer) return;
+  if (bytes < kHugePage)
+    std::free(pointer);
+  else
+    free_large(pointer, bytes);
+}
+
+std::size_t idle_texel_bytes() { return idle_large_bytes(); }
 
 }  // namespace gltf_pbr

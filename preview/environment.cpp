@@ -18,32 +18,6 @@ constexpr int kBaseWidth = 256, kBaseHeight = 128;
 constexpr int kSpecularLevels = 7;
 constexpr int kPrefilterSamples = 96;
 
-// atan2 to ~1e-5 rad (minimax polynomial on [0, 1]; Abramowitz & Stegun 4.4.49 style): a
-// thousandth of a texel of the 256-wide map, at a fraction of libm's cost per pixel.
-float fast_atan2(float y, float x) {
-  const float ax = std::abs(x), ay = std::abs(y);
-  const float largest = std::max(ax, ay);
-  if (!(largest > 0.0f)) return 0.0f;
-  const float a = std::min(ax, ay) / largest, s = a * a;
-  float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
-  if (ay > ax) r = 0.5f * kPi - r;
-  if (x < 0.0f) r = kPi - r;
-  return y < 0.0f ? -r : r;
-}
-
-// acos to 7e-5 rad (Abramowitz & Stegun 4.4.45).
-float fast_acos(float x) {
-  const float ax = std::min(std::abs(x), 1.0f);
-  const float r = std::sqrt(1.0f - ax) * (((-0.0187293f * ax + 0.0742610f) * ax - 0.2121144f) * ax + 1.5707288f);
-  return x < 0.0f ? kPi - r : r;
-}
-
-glm::vec2 uv_of(glm::vec3 d) {
-  const float u = 0.5f + fast_atan2(d.x, -d.z) / (2.0f * kPi);
-  const float v = fast_acos(d.y) / kPi;
-  return {u, v};
-}
-
 // Area-averaging resample to width x height (box filter over each target texel's footprint).
 EquirectMap resample(const EquirectMap& source, int width, int height) {
   EquirectMap out{width, height, std::vector<glm::vec3>(static_cast<size_t>(width) * static_cast<size_t>(height))};
@@ -129,19 +103,6 @@ EquirectMap prefilter(const std::vector<EquirectMap>& pyramid, float roughness, 
   return out;
 }
 
-std::array<float, 9> sh_basis(glm::vec3 d) {
-  // Real SH up to l = 2 (Ramamoorthi & Hanrahan 2001, eq. 3 constants).
-  return {0.282095f,
-          0.488603f * d.y,
-          0.488603f * d.z,
-          0.488603f * d.x,
-          1.092548f * d.x * d.y,
-          1.092548f * d.y * d.z,
-          0.315392f * (3.0f * d.z * d.z - 1.0f),
-          1.092548f * d.x * d.z,
-          0.546274f * (d.x * d.x - d.y * d.y)};
-}
-
 glm::vec3 procedural_sky(glm::vec3 d, glm::vec3 sun_direction) {
   const glm::vec3 zenith(0.16f, 0.30f, 0.62f), horizon(0.80f, 0.82f, 0.88f), ground(0.20f, 0.18f, 0.16f);
   glm::vec3 sky;
@@ -175,43 +136,9 @@ glm::vec3 direction_of(float u, float v) {
   return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
 }
 
-glm::vec2 equirect_uv(glm::vec3 direction) { return uv_of(direction); }
-
-glm::vec3 EquirectMap::sample(glm::vec3 d) const { return sample_uv(uv_of(d)); }
-
-glm::vec3 EquirectMap::sample_uv(glm::vec2 uv) const {
-  const float fx = uv.x * static_cast<float>(width) - 0.5f, fy = uv.y * static_cast<float>(height) - 0.5f;
-  const float x0f = floor_fast(fx), y0f = floor_fast(fy);
-  const float tx = fx - x0f, ty = fy - y0f;
-  const int x0 = std::clamp(static_cast<int>(x0f), -1, width - 1), y0 = static_cast<int>(y0f);
-  auto wrap_x = [&](int x) { return x < 0 ? x + width : (x >= width ? x - width : x); };
-  auto clamp_y = [&](int y) { return std::clamp(y, 0, height - 1); };
-  const glm::vec3 a = glm::mix(at(wrap_x(x0), clamp_y(y0)), at(wrap_x(x0 + 1), clamp_y(y0)), tx);
-  const glm::vec3 b = glm::mix(at(wrap_x(x0), clamp_y(y0 + 1)), at(wrap_x(x0 + 1), clamp_y(y0 + 1)), tx);
-  return glm::mix(a, b, ty);
-}
-
 glm::vec3 Environment::prefiltered_radiance(glm::vec3 direction, float roughness) const {
-  return prefiltered_radiance_uv(uv_of(direction), roughness);
+  return prefiltered_radiance_uv(equirect_uv(direction), roughness);
 }
-
-glm::vec3 Environment::prefiltered_radiance_uv(glm::vec2 uv, float roughness) const {
-  const float level = std::clamp(roughness, 0.0f, 1.0f) * static_cast<float>(specular_levels.size() - 1);
-  const int l0 = static_cast<int>(level);
-  const int l1 = std::min(l0 + 1, static_cast<int>(specular_levels.size()) - 1);
-  const float t = level - static_cast<float>(l0);
-  const glm::vec3 a = specular_levels[static_cast<size_t>(l0)].sample_uv(uv);
-  return t > 0.0f ? glm::mix(a, specular_levels[static_cast<size_t>(l1)].sample_uv(uv), t) : a;
-}
-
-glm::vec3 Environment::irradiance(glm::vec3 n) const {
-  const auto basis = sh_basis(n);
-  glm::vec3 e(0.0f);
-  for (size_t i = 0; i < 9; ++i) e += irradiance_sh[i] * basis[i];
-  return glm::max(e, glm::vec3(0.0f));  // order-2 SH rings below zero behind bright lights
-}
-
-glm::vec3 Environment::background(glm::vec3 direction) const { return specular_levels[1].sample(direction); }
 
 Environment build_environment(const EquirectMap& radiance) {
   Environment env;

@@ -6,12 +6,14 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <glm/common.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
 
 #include "core/split_sum.hpp"  // dfg_lookup, which the lighting reads beside the maps
+#include "preview/fast_math.hpp"
 
 namespace gltf_pbr::preview {
 
@@ -29,7 +31,6 @@ struct EquirectMap {
   }
 };
 glm::vec3 direction_of(float u, float v);  // inverse of the mapping above
-glm::vec2 equirect_uv(glm::vec3 direction);
 
 struct Environment {
   std::vector<EquirectMap> specular_levels;   // level k prefiltered for roughness k / (levels - 1)
@@ -41,6 +42,58 @@ struct Environment {
   glm::vec3 irradiance(glm::vec3 normal) const;
   glm::vec3 background(glm::vec3 direction) const;  // slightly blurred, behind the model
 };
+
+// The per-pixel look-ups, inline: the lighting pass makes several a pixel.
+inline glm::vec2 equirect_uv(glm::vec3 d) {
+  const float u = 0.5f + fast_atan2(d.x, -d.z) / (2.0f * kPi);
+  const float v = fast_acos(d.y) / kPi;
+  return {u, v};
+}
+
+inline std::array<float, 9> sh_basis(glm::vec3 d) {
+  // Real SH up to l = 2 (Ramamoorthi & Hanrahan 2001, eq. 3 constants).
+  return {0.282095f,
+          0.488603f * d.y,
+          0.488603f * d.z,
+          0.488603f * d.x,
+          1.092548f * d.x * d.y,
+          1.092548f * d.y * d.z,
+          0.315392f * (3.0f * d.z * d.z - 1.0f),
+          1.092548f * d.x * d.z,
+          0.546274f * (d.x * d.x - d.y * d.y)};
+}
+
+inline glm::vec3 EquirectMap::sample(glm::vec3 d) const { return sample_uv(equirect_uv(d)); }
+
+inline glm::vec3 EquirectMap::sample_uv(glm::vec2 uv) const {
+  const float fx = uv.x * static_cast<float>(width) - 0.5f, fy = uv.y * static_cast<float>(height) - 0.5f;
+  const float x0f = floor_fast(fx), y0f = floor_fast(fy);
+  const float tx = fx - x0f, ty = fy - y0f;
+  const int x0 = std::clamp(static_cast<int>(x0f), -1, width - 1), y0 = static_cast<int>(y0f);
+  auto wrap_x = [&](int x) { return x < 0 ? x + width : (x >= width ? x - width : x); };
+  auto clamp_y = [&](int y) { return std::clamp(y, 0, height - 1); };
+  const glm::vec3 a = glm::mix(at(wrap_x(x0), clamp_y(y0)), at(wrap_x(x0 + 1), clamp_y(y0)), tx);
+  const glm::vec3 b = glm::mix(at(wrap_x(x0), clamp_y(y0 + 1)), at(wrap_x(x0 + 1), clamp_y(y0 + 1)), tx);
+  return glm::mix(a, b, ty);
+}
+
+inline glm::vec3 Environment::prefiltered_radiance_uv(glm::vec2 uv, float roughness) const {
+  const float level = std::clamp(roughness, 0.0f, 1.0f) * static_cast<float>(specular_levels.size() - 1);
+  const int l0 = static_cast<int>(level);
+  const int l1 = std::min(l0 + 1, static_cast<int>(specular_levels.size()) - 1);
+  const float t = level - static_cast<float>(l0);
+  const glm::vec3 a = specular_levels[static_cast<size_t>(l0)].sample_uv(uv);
+  return t > 0.0f ? glm::mix(a, specular_levels[static_cast<size_t>(l1)].sample_uv(uv), t) : a;
+}
+
+inline glm::vec3 Environment::irradiance(glm::vec3 n) const {
+  const auto basis = sh_basis(n);
+  glm::vec3 e(0.0f);
+  for (size_t i = 0; i < 9; ++i) e += irradiance_sh[i] * basis[i];
+  return glm::max(e, glm::vec3(0.0f));  // order-2 SH rings below zero behind bright lights
+}
+
+inline glm::vec3 Environment::background(glm::vec3 direction) const { return specular_levels[1].sample(direction); }
 
 // Builds the prefiltered levels and SH from radiance (any size; resampled to 256 x 128).
 Environment build_environment(const EquirectMap& radiance);

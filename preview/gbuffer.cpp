@@ -26,27 +26,25 @@ std::uint8_t unorm8(float v) {
 }
 std::uint8_t srgb8(float linear) { return encode_srgb8(linear); }
 
-struct SrgbEncode {
-  std::vector<std::uint8_t> code;
-  // unorm8(linear_to_srgb(x)) steps from k - 1 to k where linear_to_srgb(x) = (k - 0.5) / 255, that
-  // is at x = srgb_to_linear((k - 0.5) / 255) (IEC 61966-2-1 is monotonic): 255 transfer-function
-  // calls build the table instead of 65536, which a one-image run would pay in its G-buffer time.
-  SrgbEncode() : code(65536, 255) {
-    size_t i = 0;
-    for (int k = 1; k < 256; ++k) {
-      const float step = srgb_to_linear((static_cast<float>(k) - 0.5f) / 255.0f) * 65535.0f;
-      for (; i < code.size() && static_cast<float>(i) < step; ++i) code[i] = static_cast<std::uint8_t>(k - 1);
-    }
-  }
-};
-
 }  // namespace
 
-std::uint8_t encode_srgb8(float linear) {
-  static const SrgbEncode table;
-  const float clamped = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;  // NaN -> 0
-  return table.code[static_cast<size_t>(clamped * 65535.0f + 0.5f)];
-}
+// unorm8(linear_to_srgb(x)) steps from k - 1 to k where linear_to_srgb(x) = (k - 0.5) / 255, that
+// is at x = srgb_to_linear((k - 0.5) / 255) (IEC 61966-2-1 is monotonic): 255 transfer-function
+// calls build the tables instead of 65536, which a one-image run would pay in its G-buffer time.
+const SrgbEncodeTables kSrgbEncode = [] {
+  SrgbEncodeTables tables{};
+  std::uint32_t step = 0;
+  for (std::uint32_t k = 1; k < 256; ++k) {
+    const float first = srgb_to_linear((static_cast<float>(k) - 0.5f) / 255.0f) * 65535.0f;
+    for (; step < 65536 && static_cast<float>(step) < first; ++step)
+      if (step % 16 == 0) tables.bucket_code[step / 16] = static_cast<std::uint8_t>(k - 1);
+    tables.first_step[k] = step;
+  }
+  for (; step < 65536; ++step)
+    if (step % 16 == 0) tables.bucket_code[step / 16] = 255;
+  tables.first_step[256] = 65536;
+  return tables;
+}();
 
 float decode_srgb8(std::uint8_t encoded) { return srgb8_to_linear(encoded); }
 

@@ -2,6 +2,7 @@
 // model needs 4 channels for its material (albedo + metalness); the legacy "before" model needs 7
 // (diffuse + specular colour + gloss). Channels the scene does not use get no buffer.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -19,8 +20,23 @@ std::uint32_t pack_octahedral_12_12(glm::vec3 unit);
 glm::vec3 unpack_octahedral_12_12(std::uint32_t bits);
 
 // 8-bit sRGB (IEC 61966-2-1) through tables: the transfer function's pow costs more than the
-// rest of a G-buffer texel. Encoding looks up 65536 linear steps (under 0.1 level of error).
-std::uint8_t encode_srgb8(float linear);
+// rest of a G-buffer texel. Encoding quantises the linear value to 65536 steps (under 0.1 level
+// of error) and finds the code whose interval holds it: the code at the start of its 16-step
+// bucket, plus one where the bucket holds the next code's first step. Codes are at least 19.9
+// steps apart (the transfer's steepest part, slope 12.92), so a bucket holds at most one; the
+// two tables (5 KB) stay in the L1 cache where one byte a step (64 KB) did not, and the
+// function inlines into the G-buffer and lighting loops that call it for every pixel.
+struct SrgbEncodeTables {
+  std::array<std::uint8_t, 4096> bucket_code;  // the code of step 16 b
+  std::array<std::uint32_t, 257> first_step;   // first_step[k]: the first step encoded as k (256: none)
+};
+extern const SrgbEncodeTables kSrgbEncode;
+inline std::uint8_t encode_srgb8(float linear) {
+  const float clamped = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;  // NaN -> 0
+  const auto step = static_cast<std::uint32_t>(clamped * 65535.0f + 0.5f);
+  const std::uint32_t code = kSrgbEncode.bucket_code[step >> 4];
+  return static_cast<std::uint8_t>(code + (step >= kSrgbEncode.first_step[code + 1] ? 1u : 0u));
+}
 float decode_srgb8(std::uint8_t encoded);
 
 // RGB9E5 shared-exponent HDR colour (OpenGL EXT_texture_shared_exponent): emissive > 1 fits in 4 bytes.

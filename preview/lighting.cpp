@@ -1,6 +1,7 @@
 // Sun + split-sum image-based lighting of a G-buffer (see lighting.hpp).
 #include "preview/lighting.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -9,6 +10,34 @@
 namespace gltf_pbr::preview {
 
 namespace {
+
+// The tone maps, inlined into the lighting loop (the exported functions below wrap them).
+[[gnu::always_inline]] inline glm::vec3 pbr_neutral(glm::vec3 color) {
+  constexpr float kStartCompression = 0.8f - 0.04f, kDesaturation = 0.15f;
+  const float x = std::min(color.x, std::min(color.y, color.z));
+  const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+  color -= offset;
+  const float peak = std::max(color.x, std::max(color.y, color.z));
+  if (peak < kStartCompression) return color;
+  constexpr float d = 1.0f - kStartCompression;
+  const float new_peak = 1.0f - d * d / (peak + d - kStartCompression);
+  color *= new_peak / peak;
+  const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
+  return glm::mix(color, glm::vec3(new_peak), g);
+}
+
+[[gnu::always_inline]] inline glm::vec3 aces(glm::vec3 x) {
+  return glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
+[[gnu::always_inline]] inline void tone_map_pixel(glm::vec3 radiance, const LightingOptions& options,
+                                                  std::uint8_t* rgb) {
+  glm::vec3 c = glm::max(radiance * options.exposure, glm::vec3(0.0f));
+  c = options.tone_map == ToneMap::KhronosPbrNeutral ? pbr_neutral(c)
+      : options.tone_map == ToneMap::Aces            ? aces(c)
+                                                     : glm::clamp(c, 0.0f, 1.0f);
+  for (int k = 0; k < 3; ++k) rgb[k] = encode_srgb8(c[k]);
+}
 
 // What both sides share at a pixel: the (bent) normal, the view vector, the reflected direction's
 // map coordinates and the diffuse irradiance. Computed once, used by "before" and "after".
@@ -101,12 +130,14 @@ LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camer
         const PixelGeometry geometry = prepare(after.normal, -ray, env);
         after_radiance = shade_texel(after, Side::After, geometry, env, options);
         before_radiance = shade_texel(before, Side::Before, geometry, env, options);
-      } else {
+        tone_map_pixel(before_radiance, options, &out.before[i * 3]);
+        tone_map_pixel(after_radiance, options, &out.after[i * 3]);
+      } else {  // the same sky behind both sides: mapped once
         before_radiance = after_radiance = env.background(ray);
+        tone_map_pixel(after_radiance, options, &out.after[i * 3]);
+        std::copy_n(&out.after[i * 3], 3, &out.before[i * 3]);
       }
       out.covered[i] = after.covered ? 1 : 0;
-      tone_map_srgb8(before_radiance, options, &out.before[i * 3]);
-      tone_map_srgb8(after_radiance, options, &out.after[i * 3]);
       if (keep_radiance) {
         out.before_hdr.radiance[i] = before_radiance;
         out.after_hdr.radiance[i] = after_radiance;
@@ -117,30 +148,12 @@ LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camer
   return out;
 }
 
-glm::vec3 khronos_pbr_neutral(glm::vec3 color) {
-  constexpr float kStartCompression = 0.8f - 0.04f, kDesaturation = 0.15f;
-  const float x = std::min(color.x, std::min(color.y, color.z));
-  const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
-  color -= offset;
-  const float peak = std::max(color.x, std::max(color.y, color.z));
-  if (peak < kStartCompression) return color;
-  constexpr float d = 1.0f - kStartCompression;
-  const float new_peak = 1.0f - d * d / (peak + d - kStartCompression);
-  color *= new_peak / peak;
-  const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
-  return glm::mix(color, glm::vec3(new_peak), g);
-}
+glm::vec3 khronos_pbr_neutral(glm::vec3 color) { return pbr_neutral(color); }
 
-glm::vec3 aces_fitted(glm::vec3 x) {
-  return glm::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
-}
+glm::vec3 aces_fitted(glm::vec3 x) { return aces(x); }
 
 void tone_map_srgb8(glm::vec3 radiance, const LightingOptions& options, std::uint8_t* rgb) {
-  glm::vec3 c = glm::max(radiance * options.exposure, glm::vec3(0.0f));
-  c = options.tone_map == ToneMap::KhronosPbrNeutral ? khronos_pbr_neutral(c)
-      : options.tone_map == ToneMap::Aces            ? aces_fitted(c)
-                                                     : glm::clamp(c, 0.0f, 1.0f);
-  for (int k = 0; k < 3; ++k) rgb[k] = encode_srgb8(c[k]);
+  tone_map_pixel(radiance, options, rgb);
 }
 
 std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions& options) {
@@ -148,7 +161,7 @@ std::vector<std::uint8_t> to_srgb8(const HdrImage& image, const LightingOptions&
   parallel_dynamic(image.height, [&](std::int64_t y) {
     for (int x = 0; x < image.width; ++x) {
       const size_t i = static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x);
-      tone_map_srgb8(image.radiance[i], options, &out[i * 3]);
+      tone_map_pixel(image.radiance[i], options, &out[i * 3]);
     }
   });
   return out;

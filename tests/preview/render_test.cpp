@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "converter/legacy_material.hpp"
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
+#include "core/color.hpp"
 #include "preview/preview.hpp"
 
 namespace gltf_pbr::preview {
@@ -270,6 +272,22 @@ TEST(Render, LightingTonemapsInItsOwnPassAsToSrgb8DoesAndKeepsRadianceOnlyWhenAs
   EXPECT_EQ(lean.after, kept.after);
   EXPECT_EQ(lean.before, kept.before);
   EXPECT_EQ(lean.covered, kept.covered);
+}
+
+TEST(Render, Srgb8EncodingGivesEveryStepTheCodeWhoseIntervalHoldsIt) {
+  // The definition, directly: a linear value quantised to step i of 65535 encodes as the number of
+  // codes k whose interval starts at or below it, (k - 0.5) / 255 in sRGB (IEC 61966-2-1).
+  std::vector<float> first_step;
+  for (int k = 1; k < 256; ++k) first_step.push_back(srgb_to_linear((k - 0.5f) / 255.0f) * 65535.0f);
+  for (int i = 0; i < 65536; ++i) {
+    const auto expected = std::count_if(first_step.begin(), first_step.end(),
+                                        [&](float first) { return static_cast<float>(i) >= first; });
+    ASSERT_EQ(encode_srgb8(static_cast<float>(i) / 65535.0f), expected) << "step " << i;
+  }
+  EXPECT_EQ(encode_srgb8(-1.0f), 0);
+  EXPECT_EQ(encode_srgb8(std::nanf("")), 0);
+  EXPECT_EQ(encode_srgb8(2.0f), 255);
+  EXPECT_EQ(encode_srgb8(std::numeric_limits<float>::infinity()), 255);
 }
 
 TEST(Render, DracoMeshDrawsLikeItsUncompressedOriginal) {
