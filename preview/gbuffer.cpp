@@ -2,10 +2,12 @@
 #include "preview/gbuffer.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <map>
 #include <new>
 
 #if defined(__linux__)
@@ -146,6 +148,38 @@ GBufferTexel read_side(const GBuffer& g, size_t i, bool after, bool unpack_norma
   return t;
 }
 
+// Texture footprint by ray differentials (Igehy 1999, "Tracing Ray Differentials"): the rays
+// through the next pixel in x and in y, intersected with the triangle's plane (Moller & Trumbore
+// 1997), give the change of barycentrics and so of each UV set. Zero where they are not finite,
+// and for an orthographic camera (the sphere grid, which has no textures).
+UvDerivatives uv_derivatives(const Scene& scene, const Triangle& triangle, const Camera& camera,
+                             const RayGenerator& rays, int x, int y) {
+  UvDerivatives derivatives;
+  const Vertex& v0 = scene.vertices[triangle.vertex[0]];
+  const Vertex& v1 = scene.vertices[triangle.vertex[1]];
+  const Vertex& v2 = scene.vertices[triangle.vertex[2]];
+  const glm::vec3 e1 = v1.position - v0.position, e2 = v2.position - v0.position;
+  const glm::vec3 origin = camera.orthographic ? glm::vec3(0.0f) : glm::vec3(camera.eye - glm::dvec3(v0.position));
+  auto barycentric_of_ray = [&](float px, float py) {
+    const glm::vec3 d = rays.unnormalised(px, py);  // the scale of d cancels out
+    const glm::vec3 pvec = glm::cross(d, e2);
+    const float inverse_det = 1.0f / glm::dot(e1, pvec);
+    const glm::vec3 qvec = glm::cross(origin, e1);
+    return glm::vec2(glm::dot(origin, pvec), glm::dot(d, qvec)) * inverse_det;
+  };
+  const float cx = static_cast<float>(x) + 0.5f, cy = static_cast<float>(y) + 0.5f;
+  const glm::vec2 centre = barycentric_of_ray(cx, cy);
+  const glm::vec2 step_x = barycentric_of_ray(cx + 1.0f, cy) - centre;
+  const glm::vec2 step_y = barycentric_of_ray(cx, cy + 1.0f) - centre;
+  if (std::isfinite(step_x.x + step_x.y + step_y.x + step_y.y) && !camera.orthographic)
+    for (int set = 0; set < 2; ++set) {
+      const glm::vec2 du1 = v1.uv[set] - v0.uv[set], du2 = v2.uv[set] - v0.uv[set];
+      derivatives.dx[set] = du1 * step_x.x + du2 * step_x.y;
+      derivatives.dy[set] = du1 * step_y.x + du2 * step_y.y;
+    }
+  return derivatives;
+}
+
 }  // namespace
 
 GBufferTexel read_after(const GBuffer& g, size_t i) { return read_side(g, i, true, true); }
@@ -190,35 +224,8 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
       const PreviewMaterial& m = scene.materials[static_cast<size_t>(triangle.material)];
       const MaterialSamplingPlan& plan = plans[static_cast<size_t>(triangle.material)];
       const SurfacePoint p = interpolate(scene, triangle_index, glm::vec3(1.0f - s.b1 - s.b2, s.b1, s.b2));
-      // Texture footprint by ray differentials (Igehy 1999, "Tracing Ray Differentials"): the
-      // rays through the next pixel in x and in y, intersected with the triangle's plane
-      // (Moller & Trumbore 1997), give the change of barycentrics and so of each UV set.
-      UvDerivatives derivatives;
-      if (plan.textured) {
-        const Vertex& v0 = scene.vertices[triangle.vertex[0]];
-        const Vertex& v1 = scene.vertices[triangle.vertex[1]];
-        const Vertex& v2 = scene.vertices[triangle.vertex[2]];
-        const glm::vec3 e1 = v1.position - v0.position, e2 = v2.position - v0.position;
-        const glm::vec3 origin =
-            camera.orthographic ? glm::vec3(0.0f) : glm::vec3(camera.eye - glm::dvec3(v0.position));
-        auto barycentric_of_ray = [&](float px, float py) {
-          const glm::vec3 d = rays.unnormalised(px, py);  // the scale of d cancels out
-          const glm::vec3 pvec = glm::cross(d, e2);
-          const float inverse_det = 1.0f / glm::dot(e1, pvec);
-          const glm::vec3 qvec = glm::cross(origin, e1);
-          return glm::vec2(glm::dot(origin, pvec), glm::dot(d, qvec)) * inverse_det;
-        };
-        const float cx = static_cast<float>(x) + 0.5f, cy = static_cast<float>(y) + 0.5f;
-        const glm::vec2 centre = barycentric_of_ray(cx, cy);
-        const glm::vec2 step_x = barycentric_of_ray(cx + 1.0f, cy) - centre;
-        const glm::vec2 step_y = barycentric_of_ray(cx, cy + 1.0f) - centre;
-        if (std::isfinite(step_x.x + step_x.y + step_y.x + step_y.y) && !camera.orthographic)
-          for (int set = 0; set < 2; ++set) {
-            const glm::vec2 du1 = v1.uv[set] - v0.uv[set], du2 = v2.uv[set] - v0.uv[set];
-            derivatives.dx[set] = du1 * step_x.x + du2 * step_x.y;
-            derivatives.dy[set] = du1 * step_y.x + du2 * step_y.y;
-          }
-      }
+      const UvDerivatives derivatives =
+          plan.textured ? uv_derivatives(scene, triangle, camera, rays, x, static_cast<int>(y)) : UvDerivatives{};
       PixelSampler sample(plan, p.uv, &derivatives);
       // Shading normal (glTF 2.0 section 3.7.2.1: flat normals without NORMAL; back faces of
       // double-sided materials reverse their normals, section 3.9.5).
@@ -297,6 +304,49 @@ GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, c
       }
     }
   });
+  return out;
+}
+
+std::vector<int> finest_sampled_levels(const Scene& scene, const VisibilityBuffer& visibility, const Camera& camera) {
+  std::map<const Texture*, size_t> index_of;
+  for (size_t i = 0; i < scene.textures.size(); ++i) index_of[scene.textures[i].get()] = i;
+  // Per material and footprint group, the textures its slots read (fill_gbuffers' groups).
+  std::vector<MaterialSamplingPlan> plans;
+  std::vector<std::vector<std::vector<size_t>>> group_textures;
+  for (const PreviewMaterial& material : scene.materials) {
+    plans.push_back(plan_sampling(material));
+    auto& groups = group_textures.emplace_back(static_cast<size_t>(plans.back().group_count));
+    for (int s = 0; s < MaterialSamplingPlan::kSlots; ++s)
+      if (const int g = plans.back().group[static_cast<size_t>(s)]; g >= 0)
+        groups[static_cast<size_t>(g)].push_back(index_of.at(slot_of(material, static_cast<MaterialSlot>(s)).texture));
+  }
+  const RayGenerator rays(camera, visibility.width, visibility.height);
+  std::vector<std::atomic<int>> finest(scene.textures.size());
+  for (auto& level : finest) level = kUnsampled;
+  parallel_dynamic(visibility.height, [&](std::int64_t y) {
+    std::vector<int> row(scene.textures.size(), kUnsampled);
+    for (int x = 0; x < visibility.width; ++x) {
+      const VisibilitySample& s =
+          visibility.samples[static_cast<size_t>(y) * static_cast<size_t>(visibility.width) + static_cast<size_t>(x)];
+      if (s.empty()) continue;
+      const Triangle& triangle = scene.triangles[s.index()];
+      const auto material = static_cast<size_t>(triangle.material);
+      if (!plans[material].textured) continue;
+      const UvDerivatives derivatives = uv_derivatives(scene, triangle, camera, rays, x, static_cast<int>(y));
+      const SurfacePoint p = interpolate(scene, s.index(), glm::vec3(1.0f - s.b1 - s.b2, s.b1, s.b2));
+      for (int g = 0; g < plans[material].group_count; ++g) {
+        const TextureSlot& source = *plans[material].group_source[static_cast<size_t>(g)];
+        const int level = static_cast<int>(slot_lookup(source, p.uv, &derivatives).lod);  // footprint_of's first
+        for (size_t texture : group_textures[material][static_cast<size_t>(g)])
+          row[texture] = std::min(row[texture], level);
+      }
+    }
+    for (size_t t = 0; t < row.size(); ++t)
+      for (int seen = finest[t]; row[t] < seen && !finest[t].compare_exchange_weak(seen, row[t]);) {
+      }
+  });
+  std::vector<int> out;
+  for (const auto& level : finest) out.push_back(level);
   return out;
 }
 

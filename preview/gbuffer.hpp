@@ -106,6 +106,11 @@ struct GBuffers {
 // texture sets and transforms, occlusion and emission.
 GBuffers fill_gbuffers(const Scene& scene, const VisibilityBuffer& visibility, const Camera& camera);
 
+// For each texture of scene.textures, the finest mip level fill_gbuffers samples at any pixel of
+// `visibility` (the footprints it computes, for every slot of each pixel's material), or
+// kUnsampled: what load_textures needs to keep (TextureLoading::SampledLevelsLater).
+std::vector<int> finest_sampled_levels(const Scene& scene, const VisibilityBuffer& visibility, const Camera& camera);
+
 // Unpacked texel of either side, as lighting reads it.
 struct GBufferTexel {
   bool covered = false;

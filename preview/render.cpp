@@ -96,9 +96,10 @@ PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) 
 PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options,
                           DecodedImages* decoded) {
   auto start = Clock::now();
-  const Scene scene = build_scene(asset, converted, decoded);
-  if (decoded) decoded->clear();  // the scene holds its own texels: the pixels' memory goes before the render
-  const double scene_ms = ms_since(start);
+  // Textures wait for the raster, which tells the levels the pixels sample (alpha-tested ones aside).
+  Scene scene = build_scene(asset, converted, decoded, TextureLoading::SampledLevelsLater);
+  if (decoded) decoded->clear();  // the scene holds what it still needs of the conversion's pixels
+  double scene_ms = ms_since(start);
 
   start = Clock::now();
   std::optional<Environment> loaded;
@@ -126,6 +127,9 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
   {  // the visibility buffer lives only until the G-buffers are filled
     const VisibilityBuffer visibility = rasterize(scene, camera, options.width, options.height, &raster_stats);
     raster_ms = ms_since(start);
+    start = Clock::now();
+    if (scene.unloaded) load_textures(scene, finest_sampled_levels(scene, visibility, camera));
+    scene_ms += ms_since(start);
     start = Clock::now();
     gbuffers = fill_gbuffers(scene, visibility, camera);
   }

@@ -2,6 +2,7 @@
 // node tree with its stored pose (pose.hpp), the materials and textures (scene_materials.hpp).
 #include "preview/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -224,10 +225,21 @@ void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, co
 
 }  // namespace
 
-Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded) {
+Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded, TextureLoading loading) {
   Scene scene;
-  TextureLoader loader(scene, decoded);
-  read_materials(original, converted, scene, loader);
+  auto loader = std::make_shared<TextureLoader>(decoded);
+  read_materials(original, converted, scene, *loader);
+  loader->prepare(scene);
+  std::vector<int> first_levels(scene.textures.size(), 0);
+  if (loading == TextureLoading::SampledLevelsLater) {
+    std::fill(first_levels.begin(), first_levels.end(), TextureLoader::kNotYet);
+    for (const PreviewMaterial& m : scene.materials)  // the rasterizer's alpha test samples level 0
+      if (m.alpha_mode != AlphaMode::Opaque && m.base_color_texture)
+        for (size_t i = 0; i < scene.textures.size(); ++i)
+          if (scene.textures[i].get() == m.base_color_texture.texture) first_levels[i] = 0;
+  }
+  loader->load(scene, first_levels);
+  if (loader->has_unloaded()) scene.unloaded = std::move(loader);
   const auto& model = original.model;
   std::vector<int> roots;
   if (!model.scenes.empty()) {
@@ -244,10 +256,15 @@ Scene build_scene(const Asset& original, const Asset& converted, const DecodedIm
   }
   const std::vector<glm::dmat4> node_world = node_world_matrices(model);
   for (int root : roots) visit_node(original, root, glm::dmat4(1.0), node_world, scene, 0);
-  loader.finish();
   scene.stats.triangles = static_cast<long long>(scene.triangles.size());
   scene.stats.vertices = static_cast<long long>(scene.vertices.size());
   return scene;
+}
+
+void load_textures(Scene& scene, std::span<const int> first_levels) {
+  if (!scene.unloaded) return;
+  scene.unloaded->load(scene, first_levels);
+  scene.unloaded.reset();
 }
 
 SurfacePoint interpolate(const Scene& scene, std::uint32_t triangle, glm::vec3 b) {

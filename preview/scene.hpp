@@ -9,6 +9,7 @@
 #include <glm/vec4.hpp>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@
 #include "core/image.hpp"  // DecodedImages, TexelBytes
 
 namespace gltf_pbr::preview {
+
+class TextureLoader;  // scene_materials.hpp
 
 // Decoded texels, 8 bits per channel, always RGBA (glTF images are at most 8 bits in practice;
 // 16-bit PNGs are quantised, which a preview can afford), with a box-filtered mip chain:
@@ -25,12 +28,22 @@ struct TextureLevel {
   int width = 0, height = 0;
   TexelBytes rgba;
 };
+// A preview keeps only the levels its pixels sample (first_level and down, see
+// finest_sampled_levels in gbuffer.hpp): the levels above have their sizes and no texels.
 struct Texture {
   int width = 0, height = 0;
-  TexelBytes rgba;
-  std::vector<TextureLevel> mips;  // level 1, 2, ... down to 1 x 1 (level 0 is rgba)
-  void build_mips();
+  TexelBytes rgba;                 // level 0; empty when first_level > 0
+  std::vector<TextureLevel> mips;  // level 1, 2, ... down to 1 x 1
+  int first_level = 0;
+  void build_mips();  // from rgba
+  // Levels first_level and down from `source` (8-bit RGBA as rgba8_of reads it); the levels
+  // above are computed only as steps to the next, and not kept.
+  void build_levels(const Pixels& source, int first_level);
+  void size_levels(int level0_width, int level0_height);  // every level's size, no texels
 };
+// 8-bit RGBA of any decoded image: grey expanded to RGB, a missing alpha opaque, wider samples
+// rounded; 8-bit RGBA bytes as they are.
+TexelBytes rgba8_of(const Pixels& pixels);
 
 // A material's reference to a texture (glTF 2.0 section 5.19 textureInfo, KHR_texture_transform).
 struct TextureSlot {
@@ -141,13 +154,24 @@ struct Scene {
   std::vector<SceneCamera> cameras;
   Bounds bounds;
   SceneStats stats;
+  std::shared_ptr<TextureLoader> unloaded;  // TextureLoading::SampledLevelsLater: until load_textures
 };
+
+// When the textures' texels are made: at once, every level; or after the render has rasterized
+// the scene and knows which levels its pixels sample (load_textures). The base colour textures
+// of masked and blended materials are made at once either way: the rasterizer tests their alpha.
+enum class TextureLoading { AllLevelsNow, SampledLevelsLater };
 
 // `original` supplies geometry, shared material inputs and the "before" side; `converted` (the
 // same asset after converter::convert, same material indices) supplies the "after" side.
 // Images held in `decoded` (the conversion's, when it kept them) are not decoded again.
 // Throws InputError for broken accessors and failing Draco data.
-Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded = nullptr);
+Scene build_scene(const Asset& original, const Asset& converted, const DecodedImages* decoded = nullptr,
+                  TextureLoading loading = TextureLoading::AllLevelsNow);
+// Makes the textures build_scene left for later, each from first_levels[i] down (i: its index
+// in scene.textures; kUnsampled: no pixel samples it, so no texels at all).
+inline constexpr int kUnsampled = 1 << 30;
+void load_textures(Scene& scene, std::span<const int> first_levels);
 
 }  // namespace gltf_pbr::preview
 

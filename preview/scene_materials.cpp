@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "converter/legacy_material.hpp"
+#include "core/image_header.hpp"
 #include "core/json_pointer.hpp"
 #include "core/parallel.hpp"
 
@@ -16,29 +17,6 @@ constexpr int kNearest = 9728;  // glTF 2.0 section 5.26 magFilter NEAREST
 
 glm::vec4 vec4_or(const std::vector<double>& v, glm::vec4 fallback) {
   return v.size() == 4 ? glm::vec4(v[0], v[1], v[2], v[3]) : fallback;
-}
-
-// 8-bit RGBA, grey expanded to RGB and a missing alpha opaque; 8-bit pixels are copied as they are.
-TexelBytes rgba8_of(const Pixels& pixels) {
-  const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
-  const size_t ch = static_cast<size_t>(pixels.channels);
-  TexelBytes rgba(count * 4);
-  auto channel = [&](size_t in) -> std::uint8_t {
-    if (!pixels.bytes.empty()) return pixels.bytes[in];
-    return static_cast<std::uint8_t>(std::clamp(pixels.value(in), 0.0f, 1.0f) * 255.0f + 0.5f);
-  };
-  for (size_t p = 0; p < count; ++p) {
-    const size_t in = p * ch;
-    std::uint8_t* out = rgba.data() + p * 4;
-    if (ch <= 2) {
-      out[0] = out[1] = out[2] = channel(in);
-      out[3] = ch == 2 ? channel(in + 1) : 255;
-    } else {
-      out[0] = channel(in), out[1] = channel(in + 1), out[2] = channel(in + 2);
-      out[3] = ch >= 4 ? channel(in + 3) : 255;
-    }
-  }
-  return rgba;
 }
 
 }  // namespace
@@ -79,42 +57,76 @@ void TextureLoader::request(const Asset& asset, int texture_index, int tex_coord
   const auto bytes = encoded_image_bytes(asset, texture.source);
   const ImageContentKey key = image_content_key(bytes);
   auto [it, inserted] = job_of_key_.try_emplace(key, jobs_.size());
-  if (inserted) jobs_.push_back({bytes, key, asset.path.string() + pointer("images", texture.source)});
+  if (inserted) jobs_.push_back({bytes, key, asset.path.string() + pointer("images", texture.source), nullptr});
   pending_.push_back({&slot, it->second});
 }
 
-void TextureLoader::finish() {
-  std::vector<std::unique_ptr<Texture>> decoded(jobs_.size());
-  std::vector<std::string> errors(jobs_.size());
-  std::atomic<int> handed_over = 0;
-  parallel_for(0, static_cast<std::int64_t>(jobs_.size()), [&](std::int64_t i) {
-    const auto& job = jobs_[static_cast<size_t>(i)];
+void TextureLoader::prepare(Scene& scene) {
+  scene.textures.clear();
+  for (Job& job : jobs_) {
+    auto texture = std::make_unique<Texture>();
+    job.converted = decoded_ ? decoded_->find(job.key) : nullptr;
+    if (job.converted) {
+      texture->size_levels(job.converted->width, job.converted->height);
+    } else {
+      try {  // a header that cannot be read sizes the texture 0 x 0: its level 0 is kept
+        const ImageHeader header = read_image_header(job.bytes);
+        texture->size_levels(header.width, header.height);
+      } catch (const std::exception&) {
+      }
+    }
+    scene.textures.push_back(std::move(texture));
+  }
+  for (auto& [slot, job] : pending_) slot->texture = scene.textures[job].get();
+}
+
+bool TextureLoader::has_unloaded() const {
+  return std::any_of(jobs_.begin(), jobs_.end(), [](const Job& job) { return !job.loaded; });
+}
+
+void TextureLoader::clear_slots_of(size_t job) {
+  for (auto& [slot, of] : pending_)
+    if (of == job) slot->texture = nullptr;
+}
+
+void TextureLoader::load(Scene& scene, std::span<const int> first_levels) {
+  std::vector<std::pair<size_t, int>> now;  // (job, first level)
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    const int first = i < first_levels.size() ? first_levels[i] : 0;
+    if (jobs_[i].loaded || first == kNotYet) continue;
+    jobs_[i].loaded = true;
+    if (first >= kUnsampled) {
+      clear_slots_of(i);
+      jobs_[i].converted.reset();
+    } else {
+      now.emplace_back(i, first);
+    }
+  }
+  std::vector<std::string> errors(now.size());
+  std::atomic<int> handed_over = 0, decoded = 0;
+  parallel_for(0, static_cast<std::int64_t>(now.size()), [&](std::int64_t n) {
+    const auto [i, first] = now[static_cast<size_t>(n)];
+    Job& job = jobs_[i];
+    Texture& texture = *scene.textures[i];
     try {
-      std::shared_ptr<const Pixels> pixels = decoded_ ? decoded_->find(job.key) : nullptr;
+      std::shared_ptr<const Pixels> pixels = std::move(job.converted);
       const bool from_conversion = pixels != nullptr;
       if (!from_conversion) pixels = std::make_shared<const Pixels>(decode_image(job.bytes, job.name));
-      auto texture = std::make_unique<Texture>();
-      texture->width = pixels->width;
-      texture->height = pixels->height;
-      texture->rgba = rgba8_of(*pixels);
-      texture->build_mips();
-      decoded[static_cast<size_t>(i)] = std::move(texture);
-      handed_over += from_conversion;  // counted once the texture stands, so a failure counts nowhere
+      // Levels chosen on the header's size hold for these pixels only if they have that size.
+      const bool sized_as_read = pixels->width == texture.width && pixels->height == texture.height;
+      texture.build_levels(*pixels, sized_as_read ? first : 0);
+      ++(from_conversion ? handed_over : decoded);  // counted once the texture stands
     } catch (const std::exception& e) {
-      errors[static_cast<size_t>(i)] = e.what();
+      errors[static_cast<size_t>(n)] = e.what();
     }
   });
-  for (const auto& error : errors)
-    if (!error.empty()) scene_.stats.warnings.push_back(error + " (drawn without this texture)");
-  std::vector<const Texture*> by_job(jobs_.size(), nullptr);
-  for (size_t i = 0; i < decoded.size(); ++i)
-    if (decoded[i]) {
-      by_job[i] = decoded[i].get();
-      scene_.textures.push_back(std::move(decoded[i]));
+  for (size_t n = 0; n < now.size(); ++n)
+    if (!errors[n].empty()) {
+      scene.stats.warnings.push_back(errors[n] + " (drawn without this texture)");
+      clear_slots_of(now[n].first);
     }
-  for (auto& [slot, job] : pending_) slot->texture = by_job[job];
-  scene_.stats.textures_from_conversion = handed_over;
-  scene_.stats.textures_decoded = static_cast<int>(scene_.textures.size()) - handed_over;
+  scene.stats.textures_from_conversion += handed_over;
+  scene.stats.textures_decoded += decoded;
 }
 
 void read_materials(const Asset& original, const Asset& converted, Scene& scene, TextureLoader& loader) {

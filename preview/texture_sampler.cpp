@@ -2,6 +2,7 @@
 #include "preview/texture_sampler.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/color.hpp"
@@ -59,8 +60,8 @@ void level_taps(const TextureSlot& slot, int width, int height, glm::vec2 wrappe
 
 bool same_footprint(const TextureSlot& a, const TextureSlot& b) {
   return a.tex_coord == b.tex_coord && a.texture->width == b.texture->width && a.texture->height == b.texture->height &&
-         a.texture->mips.size() == b.texture->mips.size() && a.wrap_s == b.wrap_s && a.wrap_t == b.wrap_t &&
-         a.nearest == b.nearest && a.has_transform == b.has_transform &&
+         a.texture->mips.size() == b.texture->mips.size() && a.texture->first_level == b.texture->first_level &&
+         a.wrap_s == b.wrap_s && a.wrap_t == b.wrap_t && a.nearest == b.nearest && a.has_transform == b.has_transform &&
          (!a.has_transform || (a.row_u == b.row_u && a.row_v == b.row_v));
 }
 
@@ -125,8 +126,9 @@ Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], cons
   const glm::vec2 uv = lookup.uv;
   const float lod = lookup.lod;
   const glm::vec2 wrapped(wrap_coordinate(uv.x, slot.wrap_s), wrap_coordinate(uv.y, slot.wrap_t));
-  const int l0 = static_cast<int>(lod);
-  const float t = lod - static_cast<float>(l0);
+  // Below first_level only if a footprint disagreed with finest_sampled_levels': its level, then.
+  const int l0 = std::max(static_cast<int>(lod), texture.first_level);
+  const float t = lod - static_cast<float>(static_cast<int>(lod));
   const bool blend = t > 0.0f && l0 < static_cast<int>(texture.mips.size());
   Footprint f;
   f.level_count = blend ? 2 : 1;
@@ -142,28 +144,106 @@ Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], cons
 
 // ---- The scalar reference: one texture sample at a time (scene.hpp `sample`).
 
+namespace {
+
+// One level from the one above: a 2 x 2 box (an odd last row or column repeats), rounded to
+// nearest. `texel(x, y)` gives the RGBA8 bytes of the level above.
+template <typename TexelOf>
+TextureLevel half_level(int w, int h, const TexelOf& texel) {
+  TextureLevel level{std::max(1, w / 2), std::max(1, h / 2), {}};
+  level.rgba.resize(static_cast<size_t>(level.width) * static_cast<size_t>(level.height) * 4);
+  std::uint8_t* out = level.rgba.data();
+  for (int y = 0; y < level.height; ++y) {
+    const int y0 = std::min(2 * y, h - 1), y1 = std::min(2 * y + 1, h - 1);
+    for (int x = 0; x < level.width; ++x, out += 4) {
+      const int x0 = std::min(2 * x, w - 1), x1 = std::min(2 * x + 1, w - 1);
+      const auto a = texel(x0, y0), b = texel(x1, y0), c = texel(x0, y1), d = texel(x1, y1);
+      for (int k = 0; k < 4; ++k) out[k] = static_cast<std::uint8_t>((a[k] + b[k] + c[k] + d[k] + 2) / 4);
+    }
+  }
+  return level;
+}
+
+// RGBA8 texel `p` of any decoded image (rgba8_of's conversion, one texel).
+std::array<std::uint8_t, 4> rgba8_texel(const Pixels& pixels, size_t p) {
+  const size_t ch = static_cast<size_t>(pixels.channels), in = p * ch;
+  auto channel = [&](size_t i) -> std::uint8_t {
+    if (!pixels.bytes.empty()) return pixels.bytes[i];
+    return static_cast<std::uint8_t>(std::clamp(pixels.value(i), 0.0f, 1.0f) * 255.0f + 0.5f);
+  };
+  if (ch <= 2) {
+    const std::uint8_t grey = channel(in);
+    return {grey, grey, grey, ch == 2 ? channel(in + 1) : std::uint8_t{255}};
+  }
+  return {channel(in), channel(in + 1), channel(in + 2), ch >= 4 ? channel(in + 3) : std::uint8_t{255}};
+}
+
+}  // namespace
+
+TexelBytes rgba8_of(const Pixels& pixels) {
+  const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
+  TexelBytes rgba(count * 4);
+  if (pixels.channels == 4 && !pixels.bytes.empty()) {
+    std::copy(pixels.bytes.begin(), pixels.bytes.end(), rgba.begin());
+    return rgba;
+  }
+  for (size_t p = 0; p < count; ++p) {
+    const auto texel = rgba8_texel(pixels, p);
+    std::copy(texel.begin(), texel.end(), rgba.data() + p * 4);
+  }
+  return rgba;
+}
+
+void Texture::size_levels(int level0_width, int level0_height) {
+  width = level0_width, height = level0_height;
+  rgba.clear();
+  mips.clear();
+  for (int w = width, h = height; w > 1 || h > 1;) {
+    w = std::max(1, w / 2), h = std::max(1, h / 2);
+    mips.push_back({w, h, {}});
+  }
+}
+
 void Texture::build_mips() {
+  first_level = 0;
   mips.clear();
   int w = width, h = height;
   const TexelBytes* source = &rgba;
   while (w > 1 || h > 1) {
-    TextureLevel level{std::max(1, w / 2), std::max(1, h / 2), {}};
-    level.rgba.resize(static_cast<size_t>(level.width) * static_cast<size_t>(level.height) * 4);
-    std::uint8_t* out = level.rgba.data();
-    for (int y = 0; y < level.height; ++y) {  // a 2 x 2 box; an odd last row or column repeats
-      const size_t row0 = static_cast<size_t>(std::min(2 * y, h - 1)) * static_cast<size_t>(w);
-      const size_t row1 = static_cast<size_t>(std::min(2 * y + 1, h - 1)) * static_cast<size_t>(w);
-      for (int x = 0; x < level.width; ++x, out += 4) {
-        const size_t x0 = static_cast<size_t>(std::min(2 * x, w - 1)),
-                     x1 = static_cast<size_t>(std::min(2 * x + 1, w - 1));
-        const std::uint8_t *a = &(*source)[(row0 + x0) * 4], *b = &(*source)[(row0 + x1) * 4];
-        const std::uint8_t *c = &(*source)[(row1 + x0) * 4], *d = &(*source)[(row1 + x1) * 4];
-        for (int k = 0; k < 4; ++k) out[k] = static_cast<std::uint8_t>((a[k] + b[k] + c[k] + d[k] + 2) / 4);
-      }
-    }
-    mips.push_back(std::move(level));
+    const std::uint8_t* above = source->data();
+    const size_t stride = static_cast<size_t>(w);
+    mips.push_back(half_level(w, h, [&](int x, int y) {
+      const std::uint8_t* t = above + (static_cast<size_t>(y) * stride + static_cast<size_t>(x)) * 4;
+      return std::array<std::uint8_t, 4>{t[0], t[1], t[2], t[3]};
+    }));
     w = mips.back().width, h = mips.back().height;
     source = &mips.back().rgba;
+  }
+}
+
+void Texture::build_levels(const Pixels& source, int first) {
+  size_levels(source.width, source.height);
+  first_level = std::clamp(first, 0, static_cast<int>(mips.size()));
+  if (first_level == 0) {
+    rgba = rgba8_of(source);
+    build_mips();
+    return;
+  }
+  // Level 1 straight from the decoded pixels (the same bytes as from rgba8_of's level 0), then
+  // each level from the one before; those above first_level are dropped once used.
+  const size_t stride = static_cast<size_t>(width);
+  mips[0] = half_level(width, height, [&](int x, int y) {
+    return rgba8_texel(source, static_cast<size_t>(y) * stride + static_cast<size_t>(x));
+  });
+  for (size_t level = 1; level < mips.size(); ++level) {
+    const TextureLevel& above = mips[level - 1];
+    const std::uint8_t* texels = above.rgba.data();
+    const size_t above_stride = static_cast<size_t>(above.width);
+    mips[level] = half_level(above.width, above.height, [&](int x, int y) {
+      const std::uint8_t* t = texels + (static_cast<size_t>(y) * above_stride + static_cast<size_t>(x)) * 4;
+      return std::array<std::uint8_t, 4>{t[0], t[1], t[2], t[3]};
+    });
+    if (static_cast<int>(level) < first_level) TexelBytes().swap(mips[level - 1].rgba);  // level `level` is not kept
   }
 }
 
@@ -233,8 +313,8 @@ glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDe
     const TextureLevel& m = texture.mips[static_cast<size_t>(l - 1)];
     return sample_level(slot, m.rgba.data(), m.width, m.height, uv);
   };
-  const int l0 = static_cast<int>(lod);
-  const float t = lod - static_cast<float>(l0);
+  const int l0 = std::max(static_cast<int>(lod), texture.first_level);  // (as footprint_of)
+  const float t = lod - static_cast<float>(static_cast<int>(lod));
   const glm::vec4 a = level(l0);
   return t > 0.0f && l0 < static_cast<int>(texture.mips.size()) ? glm::mix(a, level(l0 + 1), t) : a;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "converter/legacy_material.hpp"
 #include "converter/solver.hpp"
@@ -338,6 +339,96 @@ TEST(Render, ThePreviewDecodesNoImageItsConversionHeldAndDrawsTheSame) {
   const PreviewResult avocado = render_preview(load_asset(assets_dir() / "Avocado/specgloss/Avocado.gltf"), small(64));
   EXPECT_EQ(avocado.scene.textures_from_conversion, 4);
   EXPECT_EQ(avocado.scene.textures_decoded, 1);
+}
+
+// Every texel of both G-buffers equal (depth aside: the same raster gives it).
+void expect_same_gbuffers(const GBuffers& a, const GBuffers& b, const std::string& label) {
+  ASSERT_EQ(a.after.normal.size(), b.after.normal.size()) << label;
+  for (size_t i = 0; i < a.after.normal.size(); ++i) {
+    ASSERT_EQ(a.after.normal[i].bits, b.after.normal[i].bits) << label << " pixel " << i;
+    ASSERT_EQ(a.before.normal[i].bits, b.before.normal[i].bits) << label << " pixel " << i;
+    ASSERT_EQ(std::memcmp(&a.after.albedo[i], &b.after.albedo[i], sizeof(AlbedoMetalness)), 0) << label << i;
+    ASSERT_EQ(std::memcmp(&a.before.diffspec[i], &b.before.diffspec[i], sizeof(DiffuseSpecular)), 0) << label << i;
+  }
+}
+
+// Decode nothing a step does not use: a render keeps of each texture only the mip levels its
+// pixels sample (and decodes no image none of them samples), and draws exactly what every level draws.
+TEST(Render, TexturesKeepOnlyTheLevelsTheirPixelsSampleAndDrawTheSame) {
+  for (const char* file : {"Avocado/specgloss/Avocado.gltf", "VC/specgloss/VC.gltf"}) {
+    const Asset asset = load_asset(assets_dir() / file);
+    Asset converted = asset;
+    (void)convert(converted, PreviewOptions{}.convert);
+    const Scene every_level = build_scene(asset, converted);
+    Scene sampled = build_scene(asset, converted, nullptr, TextureLoading::SampledLevelsLater);
+    ASSERT_TRUE(sampled.unloaded) << file;
+    ASSERT_EQ(sampled.textures.size(), every_level.textures.size()) << file;
+    for (const auto& texture : sampled.textures) EXPECT_TRUE(texture->rgba.empty()) << file;  // no masked materials
+    const Camera camera = frame_camera(every_level.bounds, 35, 20, 40, 1.0);
+    const VisibilityBuffer visibility = rasterize(sampled, camera, 128, 128);
+    const std::vector<int> first_levels = finest_sampled_levels(sampled, visibility, camera);
+    load_textures(sampled, first_levels);
+    EXPECT_FALSE(sampled.unloaded);
+
+    size_t kept = 0, every = 0, coarser = 0, unsampled = 0;
+    for (size_t i = 0; i < sampled.textures.size(); ++i) {
+      const Texture& t = *sampled.textures[i];
+      if (first_levels[i] == kUnsampled) {
+        ++unsampled;
+        EXPECT_TRUE(t.rgba.empty() &&
+                    std::all_of(t.mips.begin(), t.mips.end(), [](const TextureLevel& l) { return l.rgba.empty(); }));
+        continue;
+      }
+      EXPECT_EQ(t.first_level, std::min<int>(first_levels[i], static_cast<int>(t.mips.size()))) << file;
+      coarser += t.first_level > 0;
+      EXPECT_EQ(t.rgba.empty(), t.first_level > 0);
+      for (size_t level = 1; level <= t.mips.size(); ++level)
+        EXPECT_EQ(t.mips[level - 1].rgba.empty(), static_cast<int>(level) < t.first_level)
+            << file << " level " << level;
+      kept += t.rgba.size();
+      for (const auto& level : t.mips) kept += level.rgba.size();
+    }
+    for (const auto& t : every_level.textures) {
+      every += t->rgba.size();
+      for (const auto& level : t->mips) every += level.rgba.size();
+    }
+    EXPECT_GT(coarser, 0u) << file;
+    EXPECT_LT(kept * 4, every) << file;  // 128 pixels across: most of each chain is left out
+    if (std::string(file).find("VC") != std::string::npos) {
+      EXPECT_GT(unsampled, 0u);  // parts out of view
+    }
+
+    expect_same_gbuffers(fill_gbuffers(every_level, rasterize(every_level, camera, 128, 128), camera),
+                         fill_gbuffers(sampled, visibility, camera), file);
+  }
+}
+
+// The rasterizer tests the alpha of masked materials at level 0, so their base colour is made at
+// once; what the raster and the resolve then draw equals what they draw with every level.
+TEST(Render, AMaskedMaterialsBaseColourIsMadeBeforeTheRaster) {
+  Asset asset = load_asset(assets_dir() / "BoxTextured/specgloss/BoxTextured.gltf");
+  for (auto& material : asset.model.materials) material.alphaMode = "MASK";
+  Asset converted = asset;
+  (void)convert(converted, PreviewOptions{}.convert);
+  const Scene every_level = build_scene(asset, converted);
+  Scene sampled = build_scene(asset, converted, nullptr, TextureLoading::SampledLevelsLater);
+  const Texture* base = sampled.materials[0].base_color_texture.texture;
+  ASSERT_NE(base, nullptr);
+  EXPECT_FALSE(base->rgba.empty());
+  EXPECT_EQ(base->first_level, 0);
+  ASSERT_TRUE(sampled.unloaded);  // the legacy side's textures wait
+  const Camera camera = frame_camera(every_level.bounds, 35, 20, 40, 1.0);
+  const VisibilityBuffer visibility = rasterize(sampled, camera, 96, 96);
+  load_textures(sampled, finest_sampled_levels(sampled, visibility, camera));
+  const VisibilityBuffer every_visibility = rasterize(every_level, camera, 96, 96);
+  long covered = 0;
+  for (size_t i = 0; i < visibility.samples.size(); ++i) {
+    ASSERT_EQ(visibility.samples[i].empty(), every_visibility.samples[i].empty()) << "pixel " << i;
+    covered += !visibility.samples[i].empty();
+  }
+  EXPECT_GT(covered, 96 * 96 / 20);
+  expect_same_gbuffers(fill_gbuffers(every_level, every_visibility, camera), fill_gbuffers(sampled, visibility, camera),
+                       "masked BoxTextured");
 }
 
 TEST(Render, EverySharedAssetDrawsFiniteAndFramed) {
