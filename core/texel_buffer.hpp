@@ -14,12 +14,24 @@ namespace gltf_pbr {
 // Memory of per-pixel buffers: from 2 MiB up, 2 MiB-aligned and advised as transparent huge
 // pages (Linux madvise MADV_HUGEPAGE), so a fresh 1024^2 buffer takes a few page faults instead
 // of thousands (first touch of 30 MB: 12 ms in 4 KiB pages, 7 ms in huge pages, measured here).
-// A freed large buffer's pages stay mapped for the next ones, up to kIdleTexelLimit bytes
-// (texel_buffer.cpp says why); `bytes` must be the size the buffer was allocated with.
+// While a TexelPageReuse lives, a freed large buffer's pages stay mapped for the next ones, up
+// to kIdleTexelLimit bytes (texel_buffer.cpp says why). `bytes` must be the allocated size.
 void* allocate_texels(std::size_t bytes);
 void free_texels(void* pointer, std::size_t bytes) noexcept;
 inline constexpr std::size_t kIdleTexelLimit = std::size_t{256} << 20;
 std::size_t idle_texel_bytes();  // freed pages kept for reuse now (0 where none are kept)
+
+// Where buffers follow buffers of like size (a preview: the render's G-buffers after the
+// conversion's maps), the pages of the freed ones serve the next. Elsewhere (a conversion alone)
+// keeping them would only raise the peak memory, so they are unmapped as they are freed, and
+// when the last reuse scope of the process ends, the idle ones go too.
+class TexelPageReuse {
+ public:
+  TexelPageReuse();
+  ~TexelPageReuse();
+  TexelPageReuse(const TexelPageReuse&) = delete;
+  TexelPageReuse& operator=(const TexelPageReuse&) = delete;
+};
 
 // An allocator whose resize() default-initialises: trivial texels stay unwritten until the pass
 // that fills them, so each thread first-touches its own rows of a fresh buffer in parallel, and

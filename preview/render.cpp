@@ -7,6 +7,7 @@
 #include "core/color.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/texel_buffer.hpp"
 #include "preview/flip.hpp"
 #include "preview/preview.hpp"
 
@@ -79,6 +80,7 @@ PreviewResult light_and_compare(GBuffers gbuffers, const Camera& camera, const E
 }
 
 PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) {
+  const TexelPageReuse reuse;  // the render's buffers take the pages of the conversion's maps
   const auto start = Clock::now();
   Asset converted = asset;
   DecodedImages decoded;  // the conversion's pixels, which the scene then does not decode again
@@ -95,6 +97,7 @@ PreviewResult render_preview(const Asset& asset, const PreviewOptions& options) 
 
 PreviewResult render_pair(const Asset& asset, const Asset& converted, const PreviewOptions& options,
                           DecodedImages* decoded) {
+  const TexelPageReuse reuse;  // the G-buffers take the pages of the pixels, the visibility buffer's
   auto start = Clock::now();
   // Textures wait for the raster, which tells the levels the pixels sample (alpha-tested ones aside).
   Scene scene = build_scene(asset, converted, decoded, TextureLoading::SampledLevelsLater);

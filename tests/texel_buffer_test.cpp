@@ -17,6 +17,7 @@ constexpr std::size_t kMiB = std::size_t{1} << 20;
 TexelBuffer<std::uint8_t> take_idle_pages() { return TexelBuffer<std::uint8_t>(idle_texel_bytes() + 2 * kMiB); }
 
 TEST(TexelBuffer, AFreedLargeBufferIsTheNextOfItsSize) {
+  const TexelPageReuse reuse;
   const auto held = take_idle_pages();
   ASSERT_EQ(idle_texel_bytes(), 0u);
   const std::uint8_t* first = nullptr;
@@ -31,6 +32,7 @@ TEST(TexelBuffer, AFreedLargeBufferIsTheNextOfItsSize) {
 }
 
 TEST(TexelBuffer, ALargerBufferTakesTheIdlePagesOfSmallerOnes) {
+  const TexelPageReuse reuse;
   const auto held = take_idle_pages();
   {
     TexelBuffer<std::uint8_t> a(4 * kMiB), b(4 * kMiB);
@@ -49,6 +51,7 @@ TEST(TexelBuffer, ALargerBufferTakesTheIdlePagesOfSmallerOnes) {
 }
 
 TEST(TexelBuffer, NoMoreThanTheLimitStaysIdle) {
+  const TexelPageReuse reuse;
   {
     std::vector<TexelBuffer<std::uint8_t>> many;
     for (int i = 0; i < 40; ++i) many.emplace_back(10 * kMiB);  // 400 MiB freed at once below
@@ -59,6 +62,21 @@ TEST(TexelBuffer, NoMoreThanTheLimitStaysIdle) {
   EXPECT_LE(idle_texel_bytes(), kIdleTexelLimit);
   { TexelBuffer<std::uint8_t> small(kMiB); }  // malloc's, not kept here
   EXPECT_LE(idle_texel_bytes(), kIdleTexelLimit);
+}
+
+TEST(TexelBuffer, PagesAreKeptOnlyWhileAReuseScopeLives) {
+  { TexelBuffer<std::uint8_t> unscoped(4 * kMiB); }
+  EXPECT_EQ(idle_texel_bytes(), 0u);
+  {
+    const TexelPageReuse outer;
+    {
+      const TexelPageReuse inner;
+      { TexelBuffer<std::uint8_t> scoped(4 * kMiB); }
+      EXPECT_EQ(idle_texel_bytes(), 4 * kMiB);
+    }
+    EXPECT_EQ(idle_texel_bytes(), 4 * kMiB);  // the outer scope still lives
+  }
+  EXPECT_EQ(idle_texel_bytes(), 0u);
 }
 
 }  // namespace
