@@ -152,8 +152,9 @@ GBufferTexel read_side(const GBuffer& g, size_t i, bool after, bool unpack_norma
 // through the next pixel in x and in y, intersected with the triangle's plane (Moller & Trumbore
 // 1997), give the change of barycentrics and so of each UV set. Zero where they are not finite,
 // and for an orthographic camera (the sphere grid, which has no textures).
-UvDerivatives uv_derivatives(const Scene& scene, const Triangle& triangle, const Camera& camera,
-                             const RayGenerator& rays, int x, int y) {
+[[gnu::always_inline]] inline UvDerivatives uv_derivatives(const Scene& scene, const Triangle& triangle,
+                                                           const Camera& camera, const RayGenerator& rays, int x,
+                                                           int y) {
   UvDerivatives derivatives;
   const Vertex& v0 = scene.vertices[triangle.vertex[0]];
   const Vertex& v1 = scene.vertices[triangle.vertex[1]];
