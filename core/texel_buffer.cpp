@@ -8,6 +8,7 @@
 #include <vector>
 
 #if defined(__linux__)
+#include <pthread.h>
 #include <sys/mman.h>
 #endif
 
@@ -18,7 +19,7 @@ constexpr std::size_t kHugePage = std::size_t{2} << 20;
 
 std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
 
-#if defined(__linux__) && defined(MREMAP_FIXED)
+#if defined(__linux__)
 
 // Memory that large buffers gave back, kept mapped for the next ones. A page a process touches
 // for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
@@ -26,8 +27,10 @@ std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage
 // measured here, 1.0 ms per MB for fresh huge pages against 0.11-0.14 for pages the process freed
 // a moment before, so a 1024^2 render's 50 MB of buffers paid ~50 ms in the first frame alone.
 // Buffers reuse the pages of the ones freed before them (decoded maps before the render's
-// G-buffers); a larger request gathers idle regions with mremap, which moves their page tables
-// (whole huge pages when both sides are 2 MiB-aligned, as every region here is) without copying.
+// G-buffers): the smallest idle region that holds a request serves it. Regions are never moved
+// together (mremap): a region that spans two mappings cannot be moved on Linux before 6.17, and
+// before 6.11 a failed MREMAP_FIXED has already unmapped its destination. Every region is a
+// part of one mapping, so it needs no call to be reused.
 // Idle pages are advised MADV_FREE, so memory pressure reclaims them, and at most kIdleTexelLimit
 // bytes stay idle: the rest are unmapped as before. Pages are kept only inside a TexelPageReuse
 // scope: a whole-library conversion kept them at no gain in speed and 30% more peak memory.
@@ -36,6 +39,10 @@ class WarmPages {
   static constexpr std::size_t kMaxIdleRegions = 64;
 
   WarmPages() { idle_.reserve(kMaxIdleRegions); }
+
+  // A child forked while another thread held the lock would wait on it forever (--isolate forks).
+  void lock_for_fork() { mutex_.lock(); }
+  void unlock_after_fork() { mutex_.unlock(); }
 
   void* take(std::size_t bytes) {
     std::lock_guard lock(mutex_);
@@ -48,18 +55,7 @@ class WarmPages {
       release_from_idle(fit, bytes);
       return base;
     }
-    char* base = map_aligned(bytes);
-    if (!base) return nullptr;
-    // Fill the new range with idle pages, largest regions first; the rest is fresh.
-    std::sort(idle_.begin(), idle_.end(), [](const Region& a, const Region& b) { return a.bytes > b.bytes; });
-    std::size_t filled = 0;
-    while (filled < bytes && !idle_.empty()) {
-      const std::size_t moved = std::min(idle_.front().bytes, bytes - filled);
-      if (mremap(idle_.front().base, moved, moved, MREMAP_MAYMOVE | MREMAP_FIXED, base + filled) == MAP_FAILED) break;
-      release_from_idle(idle_.begin(), moved);
-      filled += moved;
-    }
-    return base;
+    return map_aligned(bytes);
   }
 
   std::size_t idle_bytes() {
@@ -89,7 +85,7 @@ class WarmPages {
     madvise(base, bytes, MADV_FREE);
     idle_.push_back({base, bytes});
     idle_bytes_ += bytes;
-    while (idle_bytes_ > kIdleTexelLimit) {  // from the front: the oldest, unless a gather sorted them
+    while (idle_bytes_ > kIdleTexelLimit) {  // the oldest go first
       munmap(idle_.front().base, idle_.front().bytes);
       idle_bytes_ -= idle_.front().bytes;
       idle_.erase(idle_.begin());
@@ -133,7 +129,12 @@ class WarmPages {
 };
 
 WarmPages& warm_pages() {
-  static WarmPages* pages = new WarmPages;  // never destroyed: buffers may be freed during exit
+  static WarmPages* pages = [] {
+    auto* made = new WarmPages;  // never destroyed: buffers may be freed during exit
+    pthread_atfork([] { warm_pages().lock_for_fork(); }, [] { warm_pages().unlock_after_fork(); },
+                   [] { warm_pages().unlock_after_fork(); });
+    return made;
+  }();
   return *pages;
 }
 
@@ -145,7 +146,9 @@ void end_reuse() { warm_pages().end_reuse(); }
 
 #else
 
-void* allocate_large(std::size_t bytes) { return std::aligned_alloc(kHugePage, rounded_to_huge_pages(bytes)); }
+void* allocate_large(std::size_t bytes) {
+  return std::aligned_alloc(kHugePage, rounded_to_huge_pages(bytes));
+}  // no THP advice here
 void free_large(void* pointer, std::size_t) noexcept { std::free(pointer); }
 std::size_t idle_large_bytes() { return 0; }
 void begin_reuse() {}

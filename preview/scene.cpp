@@ -263,7 +263,9 @@ Scene build_scene(const Asset& original, const Asset& converted, const DecodedIm
 
 void load_textures(Scene& scene, std::span<const int> first_levels) {
   if (!scene.unloaded) return;
-  scene.unloaded->load(scene, first_levels);
+  std::vector<int> levels(first_levels.begin(), first_levels.end());
+  for (int& level : levels) level = std::max(level, 0);  // every texture is made now (kNotYet: all levels)
+  scene.unloaded->load(scene, levels);
   scene.unloaded.reset();
 }
 

@@ -128,7 +128,7 @@ Footprint footprint_of(const TextureSlot& slot, const glm::vec2 uv_sets[2], cons
   const glm::vec2 wrapped(wrap_coordinate(uv.x, slot.wrap_s), wrap_coordinate(uv.y, slot.wrap_t));
   // Below first_level only if a footprint disagreed with finest_sampled_levels': its level, then.
   const int l0 = std::max(static_cast<int>(lod), texture.first_level);
-  const float t = lod - static_cast<float>(static_cast<int>(lod));
+  const float t = l0 == static_cast<int>(lod) ? lod - static_cast<float>(l0) : 0.0f;
   const bool blend = t > 0.0f && l0 < static_cast<int>(texture.mips.size());
   Footprint f;
   f.level_count = blend ? 2 : 1;
@@ -314,7 +314,7 @@ glm::vec4 sample(const TextureSlot& slot, const glm::vec2 uv_sets[2], const UvDe
     return sample_level(slot, m.rgba.data(), m.width, m.height, uv);
   };
   const int l0 = std::max(static_cast<int>(lod), texture.first_level);  // (as footprint_of)
-  const float t = lod - static_cast<float>(static_cast<int>(lod));
+  const float t = l0 == static_cast<int>(lod) ? lod - static_cast<float>(l0) : 0.0f;
   const glm::vec4 a = level(l0);
   return t > 0.0f && l0 < static_cast<int>(texture.mips.size()) ? glm::mix(a, level(l0 + 1), t) : a;
 }

@@ -344,6 +344,10 @@ TEST(Render, ThePreviewDecodesNoImageItsConversionHeldAndDrawsTheSame) {
 // Every texel of both G-buffers equal (depth aside: the same raster gives it).
 void expect_same_gbuffers(const GBuffers& a, const GBuffers& b, const std::string& label) {
   ASSERT_EQ(a.after.normal.size(), b.after.normal.size()) << label;
+  EXPECT_TRUE(a.after.occlusion == b.after.occlusion && a.before.occlusion == b.before.occlusion) << label;
+  ASSERT_EQ(a.after.emissive.size(), b.after.emissive.size()) << label;
+  for (size_t i = 0; i < a.after.emissive.size(); ++i)
+    ASSERT_EQ(a.after.emissive[i].rgb9e5, b.after.emissive[i].rgb9e5) << label << " pixel " << i;
   for (size_t i = 0; i < a.after.normal.size(); ++i) {
     ASSERT_EQ(a.after.normal[i].bits, b.after.normal[i].bits) << label << " pixel " << i;
     ASSERT_EQ(a.before.normal[i].bits, b.before.normal[i].bits) << label << " pixel " << i;
