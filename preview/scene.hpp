@@ -1,6 +1,7 @@
 // The asset flattened for drawing: world-space triangles of every mesh under the scene's node
 // transforms, and each material read twice, as the legacy spec-gloss side ("before") and as the
-// converted albedo + metalness side ("after"). Textures are decoded here, once per distinct image.
+// converted albedo + metalness side ("after"). Textures are decoded here, once per distinct image:
+// at once, or (a render) after the raster, from the finest mip level its pixels sample.
 #pragma once
 #include <cstdint>
 #include <glm/mat4x4.hpp>
