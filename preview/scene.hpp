@@ -37,14 +37,12 @@ struct Texture {
   std::vector<TextureLevel> mips;  // level 1, 2, ... down to 1 x 1
   int first_level = 0;
   void build_mips();  // from rgba
-  // Levels first_level and down from `source` (8-bit RGBA as rgba8_of reads it); the levels
-  // above are computed only as steps to the next, and not kept.
+  // Levels first_level and down from `source`, read as 8-bit RGBA (grey expanded to RGB, a
+  // missing alpha opaque, wider samples rounded); the levels above are computed only as steps to
+  // the next, and not kept.
   void build_levels(const Pixels& source, int first_level);
   void size_levels(int level0_width, int level0_height);  // every level's size, no texels
 };
-// 8-bit RGBA of any decoded image: grey expanded to RGB, a missing alpha opaque, wider samples
-// rounded; 8-bit RGBA bytes as they are.
-TexelBytes rgba8_of(const Pixels& pixels);
 
 // A material's reference to a texture (glTF 2.0 section 5.19 textureInfo, KHR_texture_transform).
 struct TextureSlot {

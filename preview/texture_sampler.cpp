@@ -164,7 +164,8 @@ TextureLevel half_level(int w, int h, const TexelOf& texel) {
   return level;
 }
 
-// RGBA8 texel `p` of any decoded image (rgba8_of's conversion, one texel).
+// RGBA8 texel `p` of any decoded image: grey expanded to RGB, a missing alpha opaque, wider
+// samples rounded.
 std::array<std::uint8_t, 4> rgba8_texel(const Pixels& pixels, size_t p) {
   const size_t ch = static_cast<size_t>(pixels.channels), in = p * ch;
   auto channel = [&](size_t i) -> std::uint8_t {
@@ -178,8 +179,7 @@ std::array<std::uint8_t, 4> rgba8_texel(const Pixels& pixels, size_t p) {
   return {channel(in), channel(in + 1), channel(in + 2), ch >= 4 ? channel(in + 3) : std::uint8_t{255}};
 }
 
-}  // namespace
-
+// 8-bit RGBA of a whole decoded image (8-bit RGBA bytes as they are).
 TexelBytes rgba8_of(const Pixels& pixels) {
   const size_t count = static_cast<size_t>(pixels.width) * static_cast<size_t>(pixels.height);
   TexelBytes rgba(count * 4);
@@ -193,6 +193,8 @@ TexelBytes rgba8_of(const Pixels& pixels) {
   }
   return rgba;
 }
+
+}  // namespace
 
 void Texture::size_levels(int level0_width, int level0_height) {
   width = level0_width, height = level0_height;
