@@ -6,9 +6,6 @@
 #include "core/split_sum.hpp"
 
 namespace gltf_pbr {
-namespace baked {
-extern const float kDfgTable[kDfgTableSize * kDfgTableSize * 2];  // generated dfg_table_data.cpp: (A, B) by cell
-}  // namespace baked
 
 glm::vec2 dfg_lookup(float n_dot_v, float roughness) {
   // NaN reads as 0 (std::clamp passes NaN through, and a NaN index cast to int is undefined).

@@ -35,5 +35,10 @@ GLTF_PBR_INLINE bool any(Mask mask) {
     if (mask[l]) return true;
   return false;
 }
+GLTF_PBR_INLINE bool all(Mask mask) {
+  for (int l = 0; l < kLanes; ++l)
+    if (!mask[l]) return false;
+  return true;
+}
 
 }  // namespace gltf_pbr::lanes

@@ -17,6 +17,10 @@ namespace gltf_pbr {
 // spaced in sqrt(N.V), where the table changes fastest at grazing angles.
 inline constexpr int kDfgTableSize = 64;
 glm::vec2 dfg_lookup(float n_dot_v, float roughness);
+namespace baked {
+// The table dfg_lookup reads: (A, B) by cell, row-major by roughness (generated dfg_table_data.cpp).
+extern const float kDfgTable[kDfgTableSize * kDfgTableSize * 2];
+}  // namespace baked
 glm::vec2 integrate_dfg(float n_dot_v, float roughness, int samples);
 glm::vec2 dfg_table_cell(int row, int column);
 

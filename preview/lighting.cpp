@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/color.hpp"
+#include "preview/lighting_lanes.hpp"
 
 namespace gltf_pbr::preview {
 
@@ -96,6 +97,20 @@ HdrImage empty_image(const GBuffer& g) {
   return image;
 }
 
+LitPair empty_pair(const GBuffers& gbuffers, bool keep_radiance) {
+  const size_t count = gbuffers.after.depth.size();
+  LitPair out{std::vector<std::uint8_t>(count * 3),
+              std::vector<std::uint8_t>(count * 3),
+              std::vector<std::uint8_t>(count),
+              {},
+              {}};
+  if (keep_radiance) {
+    out.before_hdr = empty_image(gbuffers.before);
+    out.after_hdr = empty_image(gbuffers.after);
+  }
+  return out;
+}
+
 }  // namespace
 
 glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, glm::vec3 v, float occlusion,
@@ -105,17 +120,17 @@ glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, g
 
 LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
                    const LightingOptions& options, bool keep_radiance) {
+  LitPair out = empty_pair(gbuffers, keep_radiance);
+  const RayGenerator rays(camera, gbuffers.after.width, gbuffers.after.height);
+  const LightingPass pass{gbuffers, env, rays, options, out, keep_radiance};
+  parallel_dynamic(gbuffers.after.height, [&](std::int64_t y) { light_row(pass, y); });
+  return out;
+}
+
+LitPair light_both_reference(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
+                             const LightingOptions& options, bool keep_radiance) {
   const GBuffer& a = gbuffers.after;
-  const size_t count = a.depth.size();
-  LitPair out{std::vector<std::uint8_t>(count * 3),
-              std::vector<std::uint8_t>(count * 3),
-              std::vector<std::uint8_t>(count),
-              {},
-              {}};
-  if (keep_radiance) {
-    out.before_hdr = empty_image(gbuffers.before);
-    out.after_hdr = empty_image(a);
-  }
+  LitPair out = empty_pair(gbuffers, keep_radiance);
   const RayGenerator rays(camera, a.width, a.height);
   parallel_dynamic(a.height, [&](std::int64_t y) {
     for (int x = 0; x < a.width; ++x) {

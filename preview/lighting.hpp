@@ -39,6 +39,10 @@ struct LitPair {
 };
 LitPair light_both(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
                    const LightingOptions& options, bool keep_radiance = false);
+// The same pass a pixel at a time: the reference that light_both's eight-pixel lanes
+// (lighting_lanes.cpp) must equal byte for byte, and that the lanes are written from.
+LitPair light_both_reference(const GBuffers& gbuffers, const Environment& env, const Camera& camera,
+                             const LightingOptions& options, bool keep_radiance = false);
 
 // Radiance leaving one shading point towards v (unit vectors, world space).
 glm::vec3 shade_point(const SurfaceLobes& lobes, float roughness, glm::vec3 n, glm::vec3 v, float occlusion,
