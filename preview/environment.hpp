@@ -50,18 +50,21 @@ inline glm::vec2 equirect_uv(glm::vec3 d) {
   return {u, v};
 }
 
-inline std::array<float, 9> sh_basis(glm::vec3 d) {
-  // Real SH up to l = 2 (Ramamoorthi & Hanrahan 2001, eq. 3 constants).
-  return {0.282095f,
-          0.488603f * d.y,
-          0.488603f * d.z,
-          0.488603f * d.x,
-          1.092548f * d.x * d.y,
-          1.092548f * d.y * d.z,
-          0.315392f * (3.0f * d.z * d.z - 1.0f),
-          1.092548f * d.x * d.z,
-          0.546274f * (d.x * d.x - d.y * d.y)};
+// Real SH up to l = 2 (Ramamoorthi & Hanrahan 2001, eq. 3 constants) of a unit direction, for a
+// float or for SIMD lanes of them (preview/lighting_lanes.cpp).
+template <typename Scalar>
+[[gnu::always_inline]] inline std::array<Scalar, 9> sh_basis(Scalar x, Scalar y, Scalar z) {
+  return {Scalar{} + 0.282095f,
+          0.488603f * y,
+          0.488603f * z,
+          0.488603f * x,
+          1.092548f * x * y,
+          1.092548f * y * z,
+          0.315392f * (3.0f * z * z - 1.0f),
+          1.092548f * x * z,
+          0.546274f * (x * x - y * y)};
 }
+inline std::array<float, 9> sh_basis(glm::vec3 d) { return sh_basis(d.x, d.y, d.z); }
 
 inline glm::vec3 EquirectMap::sample(glm::vec3 d) const { return sample_uv(equirect_uv(d)); }
 

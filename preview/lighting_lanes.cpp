@@ -128,15 +128,7 @@ GLTF_PBR_INLINE Vec3 prefiltered_radiance(const Environment& env, Uv uv, Floats 
 
 // Environment::irradiance
 GLTF_PBR_INLINE Vec3 irradiance(const Environment& env, Vec3 d) {
-  const Floats basis[9] = {splat(0.282095f),
-                           0.488603f * d.y,
-                           0.488603f * d.z,
-                           0.488603f * d.x,
-                           1.092548f * d.x * d.y,
-                           1.092548f * d.y * d.z,
-                           0.315392f * (3.0f * d.z * d.z - 1.0f),
-                           1.092548f * d.x * d.z,
-                           0.546274f * (d.x * d.x - d.y * d.y)};
+  const auto basis = sh_basis(d.x, d.y, d.z);
   Vec3 e{Floats{}, Floats{}, Floats{}};
   for (size_t i = 0; i < 9; ++i) e = e + splat3(env.irradiance_sh[i]) * basis[i];
   return {std_max(e.x, Floats{}), std_max(e.y, Floats{}), std_max(e.z, Floats{})};
