@@ -61,9 +61,10 @@ GLTF_PBR_INLINE Vec3 normalize(Vec3 v) { return v * (1.0f / square_root(dot(v, v
 
 // preview/fast_math.hpp
 GLTF_PBR_INLINE Floats floor_fast(Floats x) {
-  const Floats truncated = to_floats(truncate(x));
+  const Mask fractional = lanes::abs(x) < 8388608.0f;
+  const Floats truncated = to_floats(truncate(select(fractional, x, Floats{})));  // no lane out of int range
   const Floats floored = select(truncated > x, truncated - 1.0f, truncated);
-  return select(lanes::abs(x) < 8388608.0f, floored, x);
+  return select(fractional, floored, x);
 }
 GLTF_PBR_INLINE Floats fast_atan2(Floats y, Floats x) {
   const Floats ax = lanes::abs(x), ay = lanes::abs(y);
@@ -134,12 +135,12 @@ GLTF_PBR_INLINE Vec3 irradiance(const Environment& env, Vec3 d) {
   return {std_max(e.x, Floats{}), std_max(e.y, Floats{}), std_max(e.z, Floats{})};
 }
 
-// dfg_lookup (core/dfg_table.cpp)
+// dfg_lookup (core/dfg_table.cpp), its `unit` first
+GLTF_PBR_INLINE Floats unit(Floats x) { return select(x > 0.0f, std_min(x, splat(1.0f)), Floats{}); }
 struct Dfg {
   Floats scale, bias;
 };
 GLTF_PBR_INLINE Dfg dfg_lookup(Floats n_dot_v, Floats roughness) {
-  auto unit = [](Floats x) { return select(x > 0.0f, std_min(x, splat(1.0f)), Floats{}); };
   const Floats fx = square_root(unit(n_dot_v)) * static_cast<float>(kDfgTableSize) - 0.5f;
   const Floats fy = unit(roughness) * static_cast<float>(kDfgTableSize) - 0.5f;
   const Ints x0 = int_clamp(truncate(fx + 1.0f) - 1, 0, kDfgTableSize - 1),
@@ -257,6 +258,11 @@ GLTF_PBR_INLINE Vec3 shade(const Lobes& lobes, Floats roughness, const Geometry&
   return select3(finite(color.x + color.y + color.z), color, Vec3{Floats{}, Floats{}, Floats{}});
 }
 
+// aces (lighting.cpp) of one channel
+GLTF_PBR_INLINE Floats aces(Floats x) {
+  return std_clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
 // tone_map_pixel (lighting.cpp) up to the sRGB encoding
 GLTF_PBR_INLINE Vec3 tone_map(Vec3 radiance, const LightingOptions& options) {
   Vec3 c = radiance * splat(options.exposure);
@@ -274,10 +280,7 @@ GLTF_PBR_INLINE Vec3 tone_map(Vec3 radiance, const LightingOptions& options) {
     return select3(peak < kStartCompression, c, mix3(compressed, Vec3{new_peak, new_peak, new_peak}, g));
   }
   if (options.tone_map == ToneMap::Aces) {
-    auto curve = [](Floats x) {
-      return std_clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
-    };
-    return {curve(c.x), curve(c.y), curve(c.z)};
+    return {aces(c.x), aces(c.y), aces(c.z)};
   }
   return {std_clamp(c.x, 0.0f, 1.0f), std_clamp(c.y, 0.0f, 1.0f), std_clamp(c.z, 0.0f, 1.0f)};
 }
@@ -319,12 +322,13 @@ GLTF_PBR_INLINE Vec3 unpack_octahedral(Ints bits) {
   return normalize(n);
 }
 
-GLTF_PBR_LANE_CLONES void light_eight(const LightingPass& pass, std::int64_t y, int x0, int count) {
+// Pixels x0 .. x0 + count - 1 (count <= 8) of row y. `lut`: srgb8_to_linear_table().
+GLTF_PBR_INLINE void light_eight(const LightingPass& pass, const std::array<float, 256>& lut, std::int64_t y, int x0,
+                                 int count) {
   const GBuffer& a = pass.gbuffers.after;
   const GBuffer& b = pass.gbuffers.before;
   const Environment& env = pass.env;
   const LightingOptions& options = pass.options;
-  const auto& lut = srgb8_to_linear_table();
   const size_t row = static_cast<size_t>(y) * static_cast<size_t>(a.width);
   const size_t first = row + static_cast<size_t>(x0);
   // Lanes past the row's end repeat its last pixel and are not stored.
@@ -350,13 +354,16 @@ GLTF_PBR_LANE_CLONES void light_eight(const LightingPass& pass, std::int64_t y, 
     Floats metalness, after_occlusion = splat(1.0f), before_occlusion = splat(1.0f);
     for (int l = 0; l < kLanes; ++l) {
       const size_t i = covered[l] ? index[l] : first;  // a background lane reads any texel, unused
+      // read_before_material: where the "before" side drew nothing, its texel's defaults (the two
+      // G-buffer producers write one depth to both sides, so this is for completeness).
+      const bool before_covered = std::isfinite(b.depth[i]);
       const std::uint32_t bits = a.normal[i].bits;
       normal_bits[l] = static_cast<int>(bits & 0xFFFFFFu), roughness_code[l] = static_cast<int>(bits >> 24);
-      gloss_code[l] = static_cast<int>(b.normal[i].bits >> 24);
+      gloss_code[l] = before_covered ? static_cast<int>(b.normal[i].bits >> 24) : 0;
       const AlbedoMetalness& am = a.albedo[i];
       albedo.x[l] = lut[am.albedo_srgb[0]], albedo.y[l] = lut[am.albedo_srgb[1]], albedo.z[l] = lut[am.albedo_srgb[2]];
       metalness[l] = static_cast<float>(am.metalness) / 255.0f;
-      const DiffuseSpecular& ds = b.diffspec[i];
+      const DiffuseSpecular ds = before_covered ? b.diffspec[i] : DiffuseSpecular{};
       diffuse.x[l] = lut[ds.diffuse_srgb[0]], diffuse.y[l] = lut[ds.diffuse_srgb[1]],
       diffuse.z[l] = lut[ds.diffuse_srgb[2]];
       specular.x[l] = lut[ds.specular_srgb[0]], specular.y[l] = lut[ds.specular_srgb[1]],
@@ -365,12 +372,12 @@ GLTF_PBR_LANE_CLONES void light_eight(const LightingPass& pass, std::int64_t y, 
         const glm::vec3 e = unpack_rgb9e5(a.emissive[i].rgb9e5);
         after_emissive.x[l] = e.x, after_emissive.y[l] = e.y, after_emissive.z[l] = e.z;
       }
-      if (!b.emissive.empty()) {
+      if (!b.emissive.empty() && before_covered) {
         const glm::vec3 e = unpack_rgb9e5(b.emissive[i].rgb9e5);
         before_emissive.x[l] = e.x, before_emissive.y[l] = e.y, before_emissive.z[l] = e.z;
       }
       if (!a.occlusion.empty()) after_occlusion[l] = static_cast<float>(a.occlusion[i]) / 255.0f;
-      if (!b.occlusion.empty()) before_occlusion[l] = static_cast<float>(b.occlusion[i]) / 255.0f;
+      if (!b.occlusion.empty() && before_covered) before_occlusion[l] = static_cast<float>(b.occlusion[i]) / 255.0f;
     }
     const Vec3 v{-ray.x, -ray.y, -ray.z};
     const Geometry geometry = prepare(unpack_octahedral(normal_bits), v, env);
@@ -386,7 +393,10 @@ GLTF_PBR_LANE_CLONES void light_eight(const LightingPass& pass, std::int64_t y, 
     before_radiance = select3(covered, before_radiance, sky);
   }
   store_rgb8(tone_map(after_radiance, options), &pass.out.after[first * 3], count);
-  store_rgb8(tone_map(before_radiance, options), &pass.out.before[first * 3], count);
+  if (lanes::any(covered))
+    store_rgb8(tone_map(before_radiance, options), &pass.out.before[first * 3], count);
+  else  // only sky: the same pixels on both sides, mapped once
+    std::memcpy(&pass.out.before[first * 3], &pass.out.after[first * 3], static_cast<size_t>(count) * 3);
   for (int l = 0; l < count; ++l) pass.out.covered[first + static_cast<size_t>(l)] = covered[l] ? 1 : 0;
   if (pass.keep_radiance) {
     store_hdr(before_radiance, &pass.out.before_hdr.radiance[first], count);
@@ -399,9 +409,10 @@ GLTF_PBR_LANE_CLONES void light_eight(const LightingPass& pass, std::int64_t y, 
 
 }  // namespace
 
-void light_row(const LightingPass& pass, std::int64_t y) {
+GLTF_PBR_LANE_CLONES void light_row(const LightingPass& pass, std::int64_t y) {
+  const std::array<float, 256>& lut = srgb8_to_linear_table();
   const int width = pass.gbuffers.after.width;
-  for (int x = 0; x < width; x += kLanes) light_eight(pass, y, x, std::min(kLanes, width - x));
+  for (int x = 0; x < width; x += kLanes) light_eight(pass, lut, y, x, std::min(kLanes, width - x));
 }
 
 }  // namespace gltf_pbr::preview

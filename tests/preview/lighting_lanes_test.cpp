@@ -1,5 +1,7 @@
 // light_both's eight-pixel lanes against the scalar reference they were written from: the same
-// bytes and the same radiance bits, on real assets and on constructed extreme G-buffers.
+// bytes and the same radiance bits, on real assets and on constructed extreme G-buffers. A GCC
+// build runs the lanes' AVX2 clone where the processor has AVX2; the sanitizer build (clang, no
+// clones) runs the plain x86-64 lanes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,9 +26,20 @@ void expect_identical(const LitPair& lanes, const LitPair& reference, const std:
   const size_t bytes = reference.after_hdr.radiance.size() * sizeof(glm::vec3);
   EXPECT_EQ(std::memcmp(lanes.after_hdr.radiance.data(), reference.after_hdr.radiance.data(), bytes), 0) << what;
   EXPECT_EQ(std::memcmp(lanes.before_hdr.radiance.data(), reference.before_hdr.radiance.data(), bytes), 0) << what;
-  EXPECT_TRUE(
-      std::equal(lanes.after_hdr.covered.begin(), lanes.after_hdr.covered.end(), reference.after_hdr.covered.begin()))
-      << what;
+  EXPECT_EQ(lanes.after_hdr.covered, reference.after_hdr.covered) << what;
+  EXPECT_EQ(lanes.before_hdr.covered, reference.before_hdr.covered) << what;
+}
+
+// Both passes with and without the radiance kept: the 8-bit images may not depend on it.
+void expect_identical_passes(const GBuffers& g, const Environment& env, const Camera& camera,
+                             const LightingOptions& options, const std::string& what) {
+  const LitPair reference = light_both_reference(g, env, camera, options, true);
+  expect_identical(light_both(g, env, camera, options, true), reference, what);
+  const LitPair without_radiance = light_both(g, env, camera, options, false);
+  EXPECT_TRUE(without_radiance.after_hdr.radiance.empty()) << what;
+  EXPECT_EQ(without_radiance.after, reference.after) << what << ", radiance not kept";
+  EXPECT_EQ(without_radiance.before, reference.before) << what << ", radiance not kept";
+  EXPECT_EQ(without_radiance.covered, reference.covered) << what << ", radiance not kept";
 }
 
 // Every lighting option the pass branches on.
@@ -56,17 +69,16 @@ TEST(LightingLanes, RealAssetsLightToTheReferencesBytesAtEveryOption) {
     for (float d : gbuffers.after.depth) covered += std::isfinite(d);
     ASSERT_GT(covered, 1000u) << file;
     for (const auto& [name, options] : option_sets())
-      expect_identical(light_both(gbuffers, default_environment(), camera, options, true),
-                       light_both_reference(gbuffers, default_environment(), camera, options, true),
-                       std::string(file) + ", " + name);
+      expect_identical_passes(gbuffers, default_environment(), camera, options, std::string(file) + ", " + name);
   }
 }
 
-// Every normal the octahedral code can hold facing away from, along and across the view; every
-// roughness and gloss code; black, white and out-of-range emission; occlusion; F0 from 0 to 1.
-TEST(LightingLanes, ExtremeGBuffersLightToTheReferencesBits) {
-  const int width = 61, height = 53;  // 61: seven full lanes and five in each row
-  const size_t count = static_cast<size_t>(width) * height;
+// Random octahedral normals (facing away from, along and across the view), every roughness and
+// gloss code, specular 1, emission from 0 to the format's top, occlusion, empty pixels (infinite
+// and NaN depth, and whole groups of eight), a "before" side that drew nothing where "after" did,
+// under the sky, a white furnace and a light so bright that the sum is not finite.
+GBuffers extreme_gbuffers(int width, int height) {
+  const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
   GBuffers g;
   for (GBuffer* side : {&g.before, &g.after}) {
     side->width = width, side->height = height;
@@ -81,10 +93,11 @@ TEST(LightingLanes, ExtremeGBuffersLightToTheReferencesBits) {
   auto next = [&] { return state = state * 1664525u + 1013904223u; };
   for (size_t i = 0; i < count; ++i) {
     const std::uint32_t r = next();
-    // Some pixels empty (infinite and NaN depth), the rest covered.
-    g.after.depth[i] = g.before.depth[i] = i % 7 == 0    ? std::numeric_limits<float>::infinity()
-                                           : i % 11 == 0 ? std::numeric_limits<float>::quiet_NaN()
-                                                         : 1.0f;
+    const bool sky = i % 7 == 0 || i < 2 * static_cast<size_t>(width);  // the first two rows: only sky
+    g.after.depth[i] = sky           ? std::numeric_limits<float>::infinity()
+                       : i % 11 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                     : 1.0f;
+    g.before.depth[i] = i % 13 == 0 ? std::numeric_limits<float>::infinity() : g.after.depth[i];
     const std::uint32_t normal = next() & 0xFFFFFFu;
     g.after.normal[i] = {normal | ((r & 255u) << 24)};
     g.before.normal[i] = {normal | (((r >> 8) & 255u) << 24)};
@@ -97,21 +110,39 @@ TEST(LightingLanes, ExtremeGBuffersLightToTheReferencesBits) {
                              static_cast<std::uint8_t>(colour >> 12)},
                             {static_cast<std::uint8_t>(specular), static_cast<std::uint8_t>(specular >> 8),
                              static_cast<std::uint8_t>(specular >> 16)}};
-    const glm::vec3 emission = i % 3 == 0 ? glm::vec3(0.0f) : glm::vec3(next() % 1000, next() % 7, 65000.0f) * 0.01f;
+    const glm::vec3 emission = i % 3 == 0   ? glm::vec3(0.0f)
+                               : i % 3 == 1 ? glm::vec3(next() % 1000, next() % 7, 650.0f) * 0.01f
+                                            : glm::vec3(65408.0f, 0.5f, next() % 65408);  // RGB9E5's largest
     g.after.emissive[i] = g.before.emissive[i] = {pack_rgb9e5(emission)};
     g.after.occlusion[i] = g.before.occlusion[i] = static_cast<std::uint8_t>(r >> 16);
   }
+  return g;
+}
+
+TEST(LightingLanes, ExtremeGBuffersLightToTheReferencesBits) {
+  const int width = 61, height = 53;  // 61: seven full lanes and five in each row
+  const GBuffers g = extreme_gbuffers(width, height);
   Camera camera = frame_camera(Bounds{glm::dvec3(-1), glm::dvec3(1)}, 10, 80, 120, static_cast<double>(width) / height);
+  const Environment furnace = uniform_environment(glm::vec3(1.0f));      // no sun, one radiance everywhere
+  const Environment blinding = uniform_environment(glm::vec3(3.0e38f));  // sums overflow to infinity
   for (const auto& [name, options] : option_sets()) {
-    expect_identical(light_both(g, default_environment(), camera, options, true),
-                     light_both_reference(g, default_environment(), camera, options, true), name);
-    const Environment furnace = uniform_environment(glm::vec3(1.0f));  // no sun, one radiance everywhere
-    expect_identical(light_both(g, furnace, camera, options, true),
-                     light_both_reference(g, furnace, camera, options, true), name + ", furnace");
+    expect_identical_passes(g, default_environment(), camera, options, name);
+    expect_identical_passes(g, furnace, camera, options, name + ", furnace");
+    expect_identical_passes(g, blinding, camera, options, name + ", blinding");
   }
   camera.orthographic = true;  // every ray the same
-  expect_identical(light_both(g, default_environment(), camera, LightingOptions{}, true),
-                   light_both_reference(g, default_environment(), camera, LightingOptions{}, true), "orthographic");
+  expect_identical_passes(g, default_environment(), camera, LightingOptions{}, "orthographic");
+}
+
+// Rows shorter than one group of lanes, and one row alone: lanes past its end are never stored
+// (the sanitizer build would see a write past the image).
+TEST(LightingLanes, RowsShorterThanEightPixelsStoreOnlyTheirOwn) {
+  for (const auto& [width, height] : {std::pair{1, 1}, std::pair{5, 1}, std::pair{7, 3}, std::pair{9, 1}}) {
+    const GBuffers g = extreme_gbuffers(width, height);
+    const Camera camera = frame_camera(Bounds{glm::dvec3(-1), glm::dvec3(1)}, 30, 10, 60, 1.0);
+    expect_identical_passes(g, default_environment(), camera, LightingOptions{},
+                            std::to_string(width) + " x " + std::to_string(height));
+  }
 }
 
 }  // namespace
