@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace gltf_pbr {
@@ -29,11 +30,11 @@ TEST(TexelBuffer, AFreedLargeBufferIsTheNextOfItsSize) {
 
 TEST(TexelBuffer, TheSmallestIdleRegionThatHoldsARequestServesItAndKeepsItsRest) {
   const TexelPageReuse reuse;
-  const std::uint8_t *small_base = nullptr, *large_base = nullptr;
-  {
-    TexelBuffer<std::uint8_t> small(4 * kMiB), large(10 * kMiB);
-    small_base = small.data(), large_base = large.data();
-  }
+  std::optional<TexelBuffer<std::uint8_t>> small(std::in_place, 4 * kMiB);
+  const TexelBuffer<std::uint8_t> between(2 * kMiB);  // kept: the two freed regions do not touch
+  std::optional<TexelBuffer<std::uint8_t>> large(std::in_place, 10 * kMiB);
+  const std::uint8_t *small_base = small->data(), *large_base = large->data();
+  small.reset(), large.reset();
   ASSERT_EQ(idle_texel_bytes(), 14 * kMiB);
   TexelBuffer<std::uint8_t> bigger_than_both(12 * kMiB);  // fresh pages: no one region holds it
   EXPECT_NE(bigger_than_both.data(), small_base);
@@ -47,6 +48,28 @@ TEST(TexelBuffer, TheSmallestIdleRegionThatHoldsARequestServesItAndKeepsItsRest)
   TexelBuffer<std::uint8_t> rest(4 * kMiB);
   EXPECT_EQ(rest.data(), large_base + 6 * kMiB);
   EXPECT_EQ(idle_texel_bytes(), 0u);
+}
+
+// Buffers made one after another lie end to end, so the idle regions they leave join: a
+// conversion's freed 4, 4 and 12 MiB planes hold a render's 16 MiB visibility buffer.
+TEST(TexelBuffer, IdleRegionsThatTouchServeABufferNoneOfThemHoldsAlone) {
+  const TexelPageReuse reuse;
+  std::optional<TexelBuffer<std::uint8_t>> a(std::in_place, 4 * kMiB), b(std::in_place, 4 * kMiB),
+      c(std::in_place, 12 * kMiB);
+  ASSERT_EQ(b->data() + 4 * kMiB, a->data());  // each right below the one before
+  ASSERT_EQ(c->data() + 12 * kMiB, b->data());
+  const std::uint8_t* lowest = c->data();
+  a.reset(), c.reset();
+  EXPECT_EQ(idle_texel_bytes(), 16 * kMiB);
+  const TexelBuffer<std::uint8_t> neither(14 * kMiB);  // a and c do not touch: fresh pages
+  EXPECT_TRUE(neither.data() + 14 * kMiB <= lowest || neither.data() >= lowest + 20 * kMiB);
+  EXPECT_EQ(idle_texel_bytes(), 16 * kMiB);
+  b.reset();  // joins the regions on both sides
+  TexelBuffer<std::uint8_t> visibility(18 * kMiB);
+  EXPECT_EQ(visibility.data(), lowest);
+  EXPECT_EQ(idle_texel_bytes(), 2 * kMiB);
+  std::fill(visibility.begin(), visibility.end(), std::uint8_t{1});  // across the seams of three mappings
+  EXPECT_EQ(visibility[12 * kMiB - 1] + visibility[12 * kMiB] + visibility[16 * kMiB], 3);
 }
 
 TEST(TexelBuffer, NoMoreThanTheLimitStaysIdle) {
