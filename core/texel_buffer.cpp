@@ -10,6 +10,9 @@
 #if defined(__linux__)
 #include <pthread.h>
 #include <sys/mman.h>
+#ifndef MAP_FIXED_NOREPLACE  // Linux 4.17; C libraries before glibc 2.28 do not name it
+#define MAP_FIXED_NOREPLACE 0x100000
+#endif
 #endif
 
 namespace gltf_pbr {
@@ -82,7 +85,9 @@ class WarmPages {
   void give(void* pointer, std::size_t bytes) noexcept {
     char* base = static_cast<char*>(pointer);
     std::lock_guard lock(mutex_);
-    if (reuse_scopes_ == 0 || bytes > kIdleTexelLimit || idle_.size() == idle_.capacity()) {
+    const auto touches = [&](const Region& r) { return r.base + r.bytes == base || base + bytes == r.base; };
+    if (reuse_scopes_ == 0 || bytes > kIdleTexelLimit ||
+        (idle_.size() == idle_.capacity() && std::none_of(idle_.begin(), idle_.end(), touches))) {
       munmap(base, bytes);  // (a full list is not grown here: growing could throw)
       return;
     }
@@ -91,7 +96,7 @@ class WarmPages {
     // Joined with the idle regions it touches: the merged region takes the later place in the
     // list (the oldest are unmapped first), so a freed neighbour does not go early.
     for (auto r = idle_.begin(); r != idle_.end();) {
-      if (r->base + r->bytes == base || base + bytes == r->base) {
+      if (touches(*r)) {
         base = std::min(base, r->base), bytes += r->bytes;
         r = idle_.erase(r);
       } else {
@@ -102,7 +107,7 @@ class WarmPages {
     while (idle_bytes_ > kIdleTexelLimit) {  // the oldest go first, no more of them than the excess
       Region& oldest = idle_.front();        // (sizes and the limit are whole huge pages)
       const std::size_t excess = std::min(oldest.bytes, idle_bytes_ - kIdleTexelLimit);
-      munmap(oldest.base, excess);
+      if (munmap(oldest.base, excess) != 0) break;  // (splitting a mapping can fail at vm.max_map_count)
       oldest.base += excess, oldest.bytes -= excess, idle_bytes_ -= excess;
       if (oldest.bytes == 0) idle_.erase(idle_.begin());
     }
@@ -128,11 +133,11 @@ class WarmPages {
   // A mapping of `bytes` (a multiple of kHugePage) on a huge page boundary: right below the last
   // one when that range is free, else wherever the kernel puts it.
   char* map_aligned(std::size_t bytes) {
-    if (below_ && reinterpret_cast<std::uintptr_t>(below_) > bytes) {
-      char* const wanted = below_ - bytes;
+    if (const auto top = reinterpret_cast<std::uintptr_t>(below_); top > bytes) {
+      void* const wanted = reinterpret_cast<void*>(top - bytes);
       void* placed =
           mmap(wanted, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
-      if (placed == wanted) return below_ = advised(wanted, bytes);
+      if (placed == wanted) return below_ = advised(static_cast<char*>(placed), bytes);
       if (placed != MAP_FAILED) munmap(placed, bytes);  // a kernel before 4.17 took it as a hint only
     }
     void* mapped = mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);

@@ -50,26 +50,53 @@ TEST(TexelBuffer, TheSmallestIdleRegionThatHoldsARequestServesItAndKeepsItsRest)
   EXPECT_EQ(idle_texel_bytes(), 0u);
 }
 
-// Buffers made one after another lie end to end, so the idle regions they leave join: a
-// conversion's freed 4, 4 and 12 MiB planes hold a render's 16 MiB visibility buffer.
+// Idle regions that touch are one region: a conversion's freed 4, 4 and 12 MiB planes, lying end
+// to end, hold a render's 16 MiB visibility buffer. (Here the three come out of one freed 20 MiB
+// buffer, so they touch whatever the kernel's placement of new mappings.)
 TEST(TexelBuffer, IdleRegionsThatTouchServeABufferNoneOfThemHoldsAlone) {
   const TexelPageReuse reuse;
+  const std::uint8_t* start = nullptr;
+  { start = TexelBuffer<std::uint8_t>(20 * kMiB).data(); }
+  ASSERT_EQ(idle_texel_bytes(), 20 * kMiB);
   std::optional<TexelBuffer<std::uint8_t>> a(std::in_place, 4 * kMiB), b(std::in_place, 4 * kMiB),
       c(std::in_place, 12 * kMiB);
-  ASSERT_EQ(b->data() + 4 * kMiB, a->data());  // each right below the one before
-  ASSERT_EQ(c->data() + 12 * kMiB, b->data());
-  const std::uint8_t* lowest = c->data();
+  ASSERT_EQ(a->data(), start);  // each from the front of what is left
+  ASSERT_EQ(b->data(), start + 4 * kMiB);
+  ASSERT_EQ(c->data(), start + 8 * kMiB);
+  ASSERT_EQ(idle_texel_bytes(), 0u);
   a.reset(), c.reset();
   EXPECT_EQ(idle_texel_bytes(), 16 * kMiB);
   const TexelBuffer<std::uint8_t> neither(14 * kMiB);  // a and c do not touch: fresh pages
-  EXPECT_TRUE(neither.data() + 14 * kMiB <= lowest || neither.data() >= lowest + 20 * kMiB);
   EXPECT_EQ(idle_texel_bytes(), 16 * kMiB);
   b.reset();  // joins the regions on both sides
   TexelBuffer<std::uint8_t> visibility(18 * kMiB);
-  EXPECT_EQ(visibility.data(), lowest);
+  EXPECT_EQ(visibility.data(), start);
   EXPECT_EQ(idle_texel_bytes(), 2 * kMiB);
-  std::fill(visibility.begin(), visibility.end(), std::uint8_t{1});  // across the seams of three mappings
-  EXPECT_EQ(visibility[12 * kMiB - 1] + visibility[12 * kMiB] + visibility[16 * kMiB], 3);
+  std::fill(visibility.begin(), visibility.end(), std::uint8_t{1});
+  EXPECT_EQ(visibility[4 * kMiB - 1] + visibility[4 * kMiB] + visibility[8 * kMiB], 3);
+}
+
+// A full list of idle regions refuses a freed buffer that touches none of them, and still takes
+// one that joins them (the list does not grow).
+TEST(TexelBuffer, AFullIdleListStillJoinsAFreedNeighbour) {
+  const TexelPageReuse reuse;
+  std::vector<TexelBuffer<std::uint8_t>> kept, freed;
+  const std::uint8_t* start = nullptr;
+  { start = TexelBuffer<std::uint8_t>(256 * kMiB).data(); }  // 128 buffers of 2 MiB from here
+  for (int i = 0; i < 64; ++i) kept.emplace_back(2 * kMiB), freed.emplace_back(2 * kMiB);
+  ASSERT_EQ(kept.front().data(), start);
+  ASSERT_EQ(freed.back().data(), start + 254 * kMiB);
+  ASSERT_EQ(idle_texel_bytes(), 0u);
+  freed.clear();  // 64 idle regions, a kept buffer between each two
+  ASSERT_EQ(idle_texel_bytes(), 128 * kMiB);
+  { TexelBuffer<std::uint8_t> apart(4 * kMiB); }  // no region holds it; freed, it touches none: unmapped
+  EXPECT_EQ(idle_texel_bytes(), 128 * kMiB);
+  kept.erase(kept.begin());  // the lowest touches one idle region: joined while the list is full
+  EXPECT_EQ(idle_texel_bytes(), 130 * kMiB);
+  kept.pop_back();  // touches the two idle regions around it
+  EXPECT_EQ(idle_texel_bytes(), 132 * kMiB);
+  TexelBuffer<std::uint8_t> joined(6 * kMiB);  // only those three together hold it
+  EXPECT_EQ(joined.data(), start + 250 * kMiB);
 }
 
 TEST(TexelBuffer, NoMoreThanTheLimitStaysIdle) {
