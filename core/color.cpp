@@ -111,12 +111,6 @@ namespace {
 
 using namespace lanes;
 
-GLTF_PBR_INLINE Floats square_root(Floats x) {
-  Floats root;
-  for (int l = 0; l < kLanes; ++l) root[l] = __builtin_sqrtf(x[l]);
-  return root;
-}
-
 // x + 1.5·2^23 rounds x to an integer (to nearest, for |x| < 2^22), which then sits in the low
 // bits of the float's mantissa: integers without a float-to-int conversion.
 constexpr float kRoundingShift = 12582912.0f;

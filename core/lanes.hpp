@@ -30,6 +30,14 @@ GLTF_PBR_INLINE Floats min(Floats a, Floats b) { return select(a < b, a, b); }
 GLTF_PBR_INLINE Floats abs(Floats a) { return reinterpret_cast<Floats>(reinterpret_cast<Ints>(a) & 0x7FFFFFFF); }
 GLTF_PBR_INLINE Doubles to_doubles(Floats v) { return __builtin_convertvector(v, Doubles); }
 GLTF_PBR_INLINE Floats to_floats(Doubles v) { return __builtin_convertvector(v, Floats); }
+GLTF_PBR_INLINE Floats to_floats(Ints v) { return __builtin_convertvector(v, Floats); }
+GLTF_PBR_INLINE Ints truncate(Floats v) { return __builtin_convertvector(v, Ints); }  // toward 0, as a cast
+// Lane by lane; one SIMD instruction where the file is built with -fno-math-errno.
+GLTF_PBR_INLINE Floats square_root(Floats x) {
+  Floats root;
+  for (int l = 0; l < kLanes; ++l) root[l] = __builtin_sqrtf(x[l]);
+  return root;
+}
 GLTF_PBR_INLINE bool any(Mask mask) {
   for (int l = 0; l < kLanes; ++l)
     if (mask[l]) return true;

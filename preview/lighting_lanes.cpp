@@ -24,6 +24,9 @@ using lanes::kLanes;
 using lanes::Mask;
 using lanes::select;
 using lanes::splat;
+using lanes::square_root;
+using lanes::to_floats;
+using lanes::truncate;
 
 // std::min / std::max / std::clamp / glm::min / glm::max as their definitions compare, so that a
 // NaN lane takes the branch the scalar code takes.
@@ -33,13 +36,6 @@ GLTF_PBR_INLINE Floats std_clamp(Floats v, float lo, float hi) {
   return select(v < lo, splat(lo), select(splat(hi) < v, splat(hi), v));
 }
 GLTF_PBR_INLINE Ints int_clamp(Ints v, int lo, int hi) { return v < lo ? Ints{} + lo : (v > hi ? Ints{} + hi : v); }
-GLTF_PBR_INLINE Floats to_floats(Ints v) { return __builtin_convertvector(v, Floats); }
-GLTF_PBR_INLINE Ints truncate(Floats v) { return __builtin_convertvector(v, Ints); }
-GLTF_PBR_INLINE Floats square_root(Floats x) {
-  Floats root;
-  for (int l = 0; l < kLanes; ++l) root[l] = __builtin_sqrtf(x[l]);
-  return root;
-}
 GLTF_PBR_INLINE Mask finite(Floats x) { return lanes::abs(x) <= std::numeric_limits<float>::max(); }
 GLTF_PBR_INLINE Floats mix(Floats a, Floats b, Floats t) { return a * (1.0f - t) + b * t; }  // glm::mix
 
