@@ -3,16 +3,17 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
-#include "core/text.hpp"
+#include "cli/inputs.hpp"
 #include "converter/evaluate.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace gltf_pbr::cli {
 namespace {
 
 struct CompareArgs {
   std::string legacy, converted, viewer = "core";
-  int grid = 256;
+  size_t error_samples = size_t{1} << 16;
 };
 
 nlohmann::json stats(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}}; }
@@ -20,8 +21,8 @@ nlohmann::json stats(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.
 int run(const CompareArgs& args) {
   try {
     const Asset legacy = load_asset(args.legacy), converted = load_asset(args.converted);
-    const auto materials =
-        compare_conversion(legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly, args.grid);
+    const auto materials = compare_conversion(
+        legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly, args.error_samples);
     nlohmann::json out = {{"legacy", args.legacy}, {"converted", args.converted}, {"viewer", args.viewer}};
     nlohmann::json list = nlohmann::json::array();
     double sum_mean = 0, worst = 0;
@@ -56,17 +57,19 @@ std::function<int()> add_compare_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "compare",
       "Print, as JSON, the ΔE2000 error (diffuse weight and F0 at normal incidence) that a viewer sees in\n"
-      "CONVERTED against the spec-gloss materials of LEGACY, material by material (same indices).\n"
-      "Works on any converter's output, ours or another tool's.");
+      "CONVERTED against the spec-gloss materials of LEGACY, material by material (same indices), on the\n"
+      "texels convert bakes: both materials' textures on their larger size, resampled to it where they differ.\n"
+      "Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.");
   cmd->add_option("legacy", args->legacy, "the spec-gloss original")->required();
   cmd->add_option("converted", args->converted, "its conversion")->required();
   cmd->add_option("--viewer", args->viewer,
                   "core: baseColor/metallic/roughness only; full: also KHR_materials_specular and KHR_materials_ior")
       ->check(CLI::IsMember({"core", "full"}))
       ->capture_default_str();
-  cmd->add_option("--grid", args->grid, "UV samples per side for textured materials")
-      ->check(CLI::Range(1, 4096))
+  cmd->add_option("--error-samples", args->error_samples,
+                  "texels sampled per material for the error statistics, as convert samples them (0: all)")
       ->capture_default_str();
+  add_image_limit_option(*cmd);
   return [cmd, args]() -> int { return cmd->parsed() ? run_command("compare", [&] { return run(*args); }) : -1; };
 }
 

@@ -5,6 +5,9 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <span>
+#include <stdexcept>
+#include <vector>
 
 #include "core/color.hpp"
 #include "core/parallel.hpp"
@@ -40,6 +43,57 @@ std::uint64_t mix_bits(std::uint64_t k) {
   k *= 0xC4CEB9FE1A85EC53ull;
   return k ^ (k >> 33);
 }
+
+// A texel as written, beside the legacy texel it stands for: what an error sample measures.
+struct StoredTexel {
+  SpecGloss legacy;
+  std::uint8_t base_srgb[3];
+  std::uint8_t metalness;
+};
+
+// ΔE2000 of stored texels read back as a viewer reads them (core_reflectance and core_appearance
+// of the 8-bit sRGB base and metalness, at the texel's roughness) against legacy readings A and B,
+// every colour pair in one batch of CIELAB and ΔE2000 lanes. F0 is the specular colour under
+// either reading. Per texel: diffuse A, F0 A, diffuse B, F0 B, and under the appearance model the
+// mean over the appearance rings (else 0, unmeasured).
+class StoredTexelErrors {
+ public:
+  using DeltaE = std::array<float, 5>;
+  void measure(std::span<const StoredTexel> texels, bool appearance, std::span<DeltaE> out) {
+    const size_t kPairs = appearance ? 3 + kAppearanceRings : 3;
+    const size_t n = texels.size();
+    linear_.resize(2 * kPairs * n), lab_.resize(2 * kPairs * n), delta_e_.resize(kPairs * n);
+    for (size_t j = 0; j < n; ++j) {
+      const StoredTexel& texel = texels[j];
+      MetalRough stored;
+      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(texel.base_srgb[c]);
+      stored.metalness = static_cast<float>(texel.metalness) / 255.0f;
+      stored.roughness = std::clamp(1.0f - texel.legacy.glossiness, 0.0f, 1.0f);
+      const Reflectance converted = core_reflectance(stored);
+      const Reflectance a = legacy_reflectance(texel.legacy, LegacyReading::A),
+                        b = legacy_reflectance(texel.legacy, LegacyReading::B);
+      glm::vec3* expected = &linear_[kPairs * j];  // the first half: legacy; the second: converted
+      glm::vec3* actual = &linear_[kPairs * (n + j)];
+      expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
+      actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
+      if (!appearance) continue;
+      const Appearance seen = legacy_appearance(texel.legacy), shown = core_appearance(stored);
+      for (int k = 0; k < kAppearanceRings; ++k) expected[3 + k] = seen.ring[k], actual[3 + k] = shown.ring[k];
+    }
+    linear_srgb_to_lab(linear_, lab_);
+    delta_e_2000(std::span(lab_).first(kPairs * n), std::span(lab_).subspan(kPairs * n), delta_e_);
+    for (size_t j = 0; j < n; ++j) {
+      const float* d = &delta_e_[kPairs * j];
+      float rings = 0.0f;  // the mean over the rings, as appearance_delta_e
+      for (int k = 0; appearance && k < kAppearanceRings; ++k) rings += d[3 + k];
+      out[j] = {d[0], d[1], d[2], d[1], rings / kAppearanceRings};
+    }
+  }
+
+ private:
+  std::vector<glm::vec3> linear_, lab_;
+  std::vector<float> delta_e_;
+};
 
 // How the bake reads texel i: its legacy material, and the key its solve is cached by: diffuse and
 // specular, and glossiness where the solve depends on it (the appearance model weighs the lobes by
@@ -167,7 +221,7 @@ class SolveCache {
     if (cache.entries_.size() < size) cache.entries_.assign(size, Entry{}), cache.ticket_of_slot_.resize(size);
     ++cache.generation_;
     cache.queue_.clear(), cache.claimed_.clear(), cache.spill_.clear();  // an earlier bake may have thrown
-    cache.error_jobs_.clear(), cache.error_waiting_.clear();
+    cache.error_texels_.clear(), cache.error_entries_.clear(), cache.error_waiting_.clear();
     return cache;
   }
 
@@ -249,62 +303,34 @@ class SolveCache {
   void take_error(Entry& entry, Legacy&& legacy, size_t sample, Set&& set) {
     if (entry.has_error) return set(sample, entry.delta_e);
     if (entry.error_job < 0) {
-      entry.error_job = static_cast<std::int32_t>(error_jobs_.size());
-      error_jobs_.push_back({legacy(), &entry, {}});
-      std::memcpy(error_jobs_.back().stored.base_srgb, entry.base_srgb, 3);
-      error_jobs_.back().stored.metalness = entry.metalness;
+      entry.error_job = static_cast<std::int32_t>(error_texels_.size());
+      StoredTexel& texel = error_texels_.emplace_back();
+      texel.legacy = legacy();
+      std::memcpy(texel.base_srgb, entry.base_srgb, 3);
+      texel.metalness = entry.metalness;
+      error_entries_.push_back(&entry);
     }
     error_waiting_.emplace_back(sample, static_cast<size_t>(entry.error_job));
-    if (error_jobs_.size() >= kErrorBatch) measure_errors(set);
+    if (error_texels_.size() >= kErrorBatch) measure_errors(set);
   }
 
-  // The waiting error jobs, in one batch: the stored texels read back as a viewer reads them
-  // (core_reflectance and core_appearance of the 8-bit sRGB base and metalness, at the texel's
-  // roughness) against legacy readings A and B, each colour pair in CIELAB and ΔE2000 lanes. F0
-  // is the specular colour under either reading.
+  // The waiting error jobs, in one batch (StoredTexelErrors).
   template <class Set>
   void measure_errors(Set&& set) {
-    // Diffuse A, F0, diffuse B, and the appearance rings under the appearance model (the
-    // normal-incidence run leaves them unmeasured: its entries are not keyed by glossiness).
-    const bool appearance = settings_->error_model == ErrorModel::Appearance;
-    const size_t kPairs = appearance ? 3 + kAppearanceRings : 3;
-    const size_t jobs = error_jobs_.size();
+    const size_t jobs = error_texels_.size();
     if (jobs == 0) return;
-    linear_.resize(2 * kPairs * jobs), lab_.resize(2 * kPairs * jobs), delta_e_.resize(kPairs * jobs);
+    // The normal-incidence run leaves the appearance unmeasured: its entries are not keyed by glossiness.
+    error_delta_e_.resize(jobs);
+    errors_.measure(error_texels_, settings_->error_model == ErrorModel::Appearance, error_delta_e_);
     for (size_t j = 0; j < jobs; ++j) {
-      const ErrorJob& job = error_jobs_[j];
-      MetalRough stored;
-      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(job.stored.base_srgb[c]);
-      stored.metalness = static_cast<float>(job.stored.metalness) / 255.0f;
-      stored.roughness = std::clamp(1.0f - job.legacy.glossiness, 0.0f, 1.0f);
-      const Reflectance converted = core_reflectance(stored);
-      const Reflectance a = legacy_reflectance(job.legacy, LegacyReading::A),
-                        b = legacy_reflectance(job.legacy, LegacyReading::B);
-      glm::vec3* expected = &linear_[kPairs * j];  // the first half: legacy; the second: converted
-      glm::vec3* actual = &linear_[kPairs * (jobs + j)];
-      expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
-      actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
-      if (!appearance) continue;
-      const Appearance seen = legacy_appearance(job.legacy), shown = core_appearance(stored);
-      for (int k = 0; k < kAppearanceRings; ++k) expected[3 + k] = seen.ring[k], actual[3 + k] = shown.ring[k];
-    }
-    linear_srgb_to_lab(linear_, lab_);
-    delta_e_2000(std::span(lab_).first(kPairs * jobs), std::span(lab_).subspan(kPairs * jobs), delta_e_);
-    for (size_t j = 0; j < jobs; ++j) {
-      ErrorJob& job = error_jobs_[j];
-      const float* d = &delta_e_[kPairs * j];
-      float rings = 0.0f;  // the mean over the rings, as appearance_delta_e
-      for (int k = 0; appearance && k < kAppearanceRings; ++k) rings += d[3 + k];
-      job.delta_e[0] = d[0], job.delta_e[1] = d[1], job.delta_e[2] = d[2], job.delta_e[3] = d[1];
-      job.delta_e[4] = rings / kAppearanceRings;
-      Entry& entry = *job.entry;
+      Entry& entry = *error_entries_[j];
       if (entry.error_job == static_cast<std::int32_t>(j)) {  // still holding what the job measured
-        std::memcpy(entry.delta_e, job.delta_e, sizeof entry.delta_e);
+        std::memcpy(entry.delta_e, error_delta_e_[j].data(), sizeof entry.delta_e);
         entry.has_error = true, entry.error_job = -1;
       }
     }
-    for (const auto& [sample, job] : error_waiting_) set(sample, error_jobs_[job].delta_e);
-    error_jobs_.clear(), error_waiting_.clear();
+    for (const auto& [sample, job] : error_waiting_) set(sample, error_delta_e_[job].data());
+    error_texels_.clear(), error_entries_.clear(), error_waiting_.clear();
   }
 
  private:
@@ -328,22 +354,14 @@ class SolveCache {
   std::vector<Entry*> ticket_entries_;
   Entry unqueued_;  // an answer known without a solve whose set is claimed: good until the next ask
 
-  // An entry's error to measure, with a copy of what it measures: the entry may be taken by
-  // another input before measure_errors(), and then keeps none of it.
+  // The entries' errors to measure, each with a copy of what it measures: an entry may be taken
+  // by another input before measure_errors(), and then keeps none of it.
   static constexpr size_t kErrorBatch = 4096;  // jobs held at most (memory stays bounded)
-  struct ErrorJob {
-    SpecGloss legacy;
-    Entry* entry;
-    struct {
-      std::uint8_t base_srgb[3];
-      std::uint8_t metalness;
-    } stored;
-    float delta_e[5] = {};
-  };
-  std::vector<ErrorJob> error_jobs_;
+  std::vector<StoredTexel> error_texels_;
+  std::vector<Entry*> error_entries_;
   std::vector<std::pair<size_t, size_t>> error_waiting_;  // (sample, job)
-  std::vector<glm::vec3> linear_, lab_;
-  std::vector<float> delta_e_;
+  std::vector<StoredTexelErrors::DeltaE> error_delta_e_;
+  StoredTexelErrors errors_;
 };
 
 // A channel's 256 byte values through f, quantized: per-texel alpha and roughness by lookup.
@@ -379,6 +397,8 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const size_t samples = (texels + stride - 1) / stride;
   out.error_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
   out.error_b = ErrorAccumulator(samples);
+  out.sample_stride = stride;
+  if (in.measure_as_written) out.sampled_legacy.resize(samples);
   if (in.measure_extension_route) {
     out.extension_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
     out.extension_b = ErrorAccumulator(samples);
@@ -411,8 +431,11 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const auto write = [&](size_t i, auto& solved, auto& cache, bool& equal) {
     if (i % stride == 0) {
       const size_t sample = i / stride;
-      cache.take_error(
-          solved, [&] { return texels_of.legacy(i); }, sample, set_error);
+      if (in.measure_as_written)
+        out.sampled_legacy[sample] = texels_of.legacy(i);
+      else
+        cache.take_error(
+            solved, [&] { return texels_of.legacy(i); }, sample, set_error);
       if (in.measure_extension_route) {
         const SpecGloss legacy = texels_of.legacy(i);
         const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
@@ -515,6 +538,36 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
                                (out.roughness.empty() || out.roughness[i] == out.first_roughness);
   }
   return out;
+}
+
+void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                        const SolverSettings& settings) {
+  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
+  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
+    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
+  const bool appearance = settings.error_model == ErrorModel::Appearance;
+  const size_t samples = texels.sampled_legacy.size();
+  texels.error_a = ErrorAccumulator(samples, appearance);
+  texels.error_b = ErrorAccumulator(samples);
+  // Batches of bounded scratch on the pool (ErrorAccumulator takes each sample once, from any thread).
+  constexpr size_t kBatch = 4096;
+  parallel_dynamic(static_cast<std::int64_t>((samples + kBatch - 1) / kBatch), [&](std::int64_t index) {
+    const size_t first = static_cast<size_t>(index) * kBatch;
+    std::vector<StoredTexel> batch(std::min(kBatch, samples - first));
+    for (size_t j = 0; j < batch.size(); ++j) {
+      const size_t texel = (first + j) * texels.sample_stride;
+      batch[j].legacy = texels.sampled_legacy[first + j];
+      std::memcpy(batch[j].base_srgb, &base[texel * static_cast<size_t>(channels)], 3);
+      batch[j].metalness = texels.metalness[texel];
+    }
+    std::vector<StoredTexelErrors::DeltaE> delta_e(batch.size());
+    StoredTexelErrors().measure(batch, appearance, delta_e);
+    for (size_t j = 0; j < batch.size(); ++j) {
+      texels.error_a.set(first + j, delta_e[j][0], delta_e[j][1]);
+      if (appearance) texels.error_a.set_appearance(first + j, delta_e[j][4]);
+      texels.error_b.set(first + j, delta_e[j][2], delta_e[j][3]);
+    }
+  });
 }
 
 TexelBytes BakedTexels::metal_rough() const {

@@ -2,6 +2,8 @@
 #pragma once
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <span>
+#include <vector>
 
 #include "converter/error_stats.hpp"
 #include "converter/solver.hpp"
@@ -25,6 +27,10 @@ struct BakeInputs {
   // result, so a full-size RGB(A) buffer fewer is alive at once (48 MB at 4096²). The buffer is
   // empty afterwards when taken; a diffuse the bake cannot write over is left as it was.
   TexelBytes* overwrite_diffuse = nullptr;
+  // The caller measures the error of the base colour it writes (measure_as_written), which may
+  // differ from the bake's (a JPEG): the bake keeps each error sample's legacy texel
+  // (BakedTexels::sampled_legacy) instead of measuring it.
+  bool measure_as_written = false;
 };
 
 struct BakedTexels {
@@ -45,6 +51,8 @@ struct BakedTexels {
   bool equals_diffuse = false;
   ErrorAccumulator error_a, error_b;          // against legacy readings A and B
   ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
+  size_t sample_stride = 1;                   // error sample s is texel s × sample_stride
+  std::vector<SpecGloss> sampled_legacy;      // each sample's legacy texel, with measure_as_written
 
   // The metallicRoughness texels as glTF stores them: RGB, R unused (0), G roughness, B metalness.
   TexelBytes metal_rough() const;
@@ -53,5 +61,12 @@ struct BakedTexels {
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are
 // resampled to width x height first by the caller.
 BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_t max_error_samples);
+
+// Measures error_a and error_b of a bake made with measure_as_written on the base colour as the
+// file holds it: `base` is 8-bit sRGB with `channels` (3 or 4) a texel on the bake's grid, the
+// bake's own texels or the decode of their lossy encoding. So the report gives the error of what
+// was written.
+void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                        const SolverSettings& settings);
 
 }  // namespace gltf_pbr

@@ -20,8 +20,9 @@ struct ConvertOptions {
   int png_compression = 3;              // zlib level for baked textures: speed against bytes
   int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
-  // When set, every image the conversion decodes, and every PNG it bakes, is kept here as pixels
-  // for a later reader in the same run (the preview's scene), which then decodes none of them.
+  // When set, every image the conversion decodes (its inputs, and the JPEG base colours it measures
+  // as written) and every PNG it bakes is kept here as pixels for a later reader in the same run
+  // (the preview's scene), which then decodes none of them.
   DecodedImages* keep_decoded = nullptr;
 };
 
@@ -75,7 +76,7 @@ struct ConversionReport {
   std::vector<std::string> warnings;
   int textures_baked = 0, textures_reused = 0, textures_shared = 0;
   int textures_removed = 0, images_removed = 0, samplers_removed = 0;
-  long images_decoded = 0;
+  long images_decoded = 0;  // inputs, and the JPEG base colours decoded again to measure what was written
   StageTimes times;
   bool extension_lists_changed = false;
   // False when there was nothing to convert: the asset can be copied as is.

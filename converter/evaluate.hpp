@@ -22,9 +22,12 @@ struct MaterialComparison {
 };
 
 // Compares every material of `legacy` that has spec-gloss with the material of the same index in
-// `converted`, sampling both on a grid x grid lattice of UVs (nearest texel of each texture; both
-// sides must use the same texture coordinates, as conversions do). Factor-only pairs take one sample.
+// `converted`, on the texels a bake reads: the textures of both on their common bake grid
+// (core/image.hpp's bake_grid and resize, as convert and the material checks read them; both sides
+// must use the same texture coordinates, as conversions do), sampled every stride-th texel as the
+// bake samples its error, at most `max_error_samples` (0: every texel). Factor-only pairs take one
+// sample. So compare of convert's own output gives the figures of convert's report.
 std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
-                                                   int grid = 256);
+                                                   size_t max_error_samples = size_t{1} << 16);
 
 }  // namespace gltf_pbr

@@ -268,11 +268,4 @@ glm::vec4 texel_rgba(const Pixels& p, int x, int y) {
   return v;
 }
 
-glm::vec4 nearest_texel(const Pixels& p, glm::vec2 uv) {
-  auto wrap = [](float t) { return t - std::floor(t); };
-  const int x = std::min(p.width - 1, static_cast<int>(wrap(uv.x) * static_cast<float>(p.width)));
-  const int y = std::min(p.height - 1, static_cast<int>(wrap(uv.y) * static_cast<float>(p.height)));
-  return texel_rgba(p, x, y);
-}
-
 }  // namespace gltf_pbr

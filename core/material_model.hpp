@@ -4,7 +4,6 @@
 // preview and the conversion error model share it, so every one of them reads a material the same way.
 #pragma once
 #include <array>
-#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 #include <map>
@@ -121,9 +120,7 @@ SurfaceSample evaluate_surface(const MaterialInputs& material, const TexelInputs
 // sRGB 8-bit code values decode through a table (the common case: decoded 8-bit images).
 float srgb_texel_to_linear(float encoded);
 
-// Channel values (RGBA; grey repeated, missing alpha 1) of the texel nearest to uv, repeat wrap.
-glm::vec4 nearest_texel(const Pixels& pixels, glm::vec2 uv);
-// The same for integer texel coordinates.
+// Channel values (RGBA; grey repeated, missing alpha 1) of texel (x, y).
 glm::vec4 texel_rgba(const Pixels& pixels, int x, int y);
 
 }  // namespace gltf_pbr

@@ -311,8 +311,8 @@ TEST(Render, DracoMeshDrawsLikeItsUncompressedOriginal) {
 }
 
 // Decode nothing twice: the preview's scene takes the pixels its conversion decoded (the spec-gloss
-// inputs) and baked (the PNG outputs), and draws exactly what decoding them again would draw. A
-// baked JPEG is lossy, so the scene decodes what was written (VC's JPEG base colours).
+// inputs) and baked (the PNG outputs, and the decode of each JPEG base colour, which the
+// conversion measures as written), and draws exactly what decoding them again would draw.
 TEST(Render, ThePreviewDecodesNoImageItsConversionHeldAndDrawsTheSame) {
   for (const char* file : {"Avocado/specgloss/Avocado.gltf", "VC/specgloss/VC.gltf"}) {
     const fs::path path = assets_dir() / file;
