@@ -76,17 +76,6 @@ GlbParts split_glb(const std::string& file, std::span<const std::uint8_t> bytes)
   return parts;
 }
 
-// EXT_meshopt_compression "Fallback buffers": {"fallback": true} marks a buffer that holds no
-// bytes of its own; compressed bufferViews decode into its layout (core/meshopt.hpp).
-bool is_meshopt_fallback(const JsonDocument& buffer) {
-  const auto extensions = buffer.find("extensions");
-  if (extensions == buffer.end() || !extensions->is_object()) return false;
-  const auto extension = extensions->find("EXT_meshopt_compression");
-  if (extension == extensions->end() || !extension->is_object()) return false;
-  const auto fallback = extension->find("fallback");
-  return fallback != extension->end() && fallback->is_boolean() && fallback->get<bool>();
-}
-
 // External buffer files by absolute, normal path: the only files tinygltf's read callback serves.
 using BufferFiles = std::map<fs::path, std::shared_ptr<const MappedFile>>;
 
@@ -194,7 +183,7 @@ void check_resources(Asset& asset, const JsonDocument& root, bool glb_has_bin, B
       const std::string where = pointer(collection, static_cast<int>(i));
       const auto uri = entry.find("uri");
       if (uri == entry.end()) {
-        if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin) && !is_meshopt_fallback(entry))
+        if (std::strcmp(collection, "buffers") == 0 && !(i == 0 && glb_has_bin) && !is_meshopt_fallback_json(entry))
           throw InputError(file, where, "buffer has no uri and no GLB BIN chunk to stand for it");
         continue;
       }
@@ -251,7 +240,7 @@ std::vector<size_t> hide_meshopt_fallbacks(JsonDocument& root, bool glb_has_bin)
   for (size_t b = 0; b < buffers->size(); ++b) {
     JsonDocument& buffer = (*buffers)[b];
     // A GLB's first buffer without a uri is its BIN chunk, marked fallback or not (glTF 2.0 4.4.3.2).
-    if (buffer.contains("uri") || !is_meshopt_fallback(buffer) || (b == 0 && glb_has_bin)) continue;
+    if (buffer.contains("uri") || !is_meshopt_fallback_json(buffer) || (b == 0 && glb_has_bin)) continue;
     buffer["uri"] = "data:application/octet-stream;base64,AA==";
     buffer["byteLength"] = 1;
     hidden.push_back(b);

@@ -3,6 +3,7 @@
 #include <meshoptimizer.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gltf_pbr {
@@ -142,25 +143,52 @@ std::string meshopt_budget_problem(std::uint64_t decoded, std::uint64_t size, st
 
 namespace {
 
-std::optional<std::uint64_t> unsigned_member(const tinygltf::Value& object, const char* name) {
-  if (!object.Has(name)) return std::nullopt;
-  const tinygltf::Value& value = object.Get(name);
-  if (!value.IsNumber()) return std::nullopt;
-  const double number = value.GetNumberAsDouble();
-  // Checked before the cast, which is undefined outside [0, 2^64).
-  if (!std::isfinite(number) || number < 0 || number >= 0x1p64 || std::trunc(number) != number) return std::nullopt;
-  return static_cast<std::uint64_t>(number);
+// The two documents' values, seen alike by the one reader below: tinygltf's (the Asset every
+// step reads) and our JSON tree's (the loader's pre-pass and the structure step).
+const tinygltf::Value* member(const tinygltf::Value& object, const char* name) {
+  return object.IsObject() && object.Has(name) ? &object.Get(name) : nullptr;
+}
+const JsonDocument* member(const JsonDocument& object, const char* name) {
+  if (!object.is_object()) return nullptr;
+  const auto found = object.find(name);
+  return found == object.end() ? nullptr : &*found;
+}
+bool is_object(const tinygltf::Value& value) { return value.IsObject(); }
+bool is_object(const JsonDocument& value) { return value.is_object(); }
+std::optional<double> number_of(const tinygltf::Value& value) {
+  return value.IsNumber() ? std::optional(value.GetNumberAsDouble()) : std::nullopt;
+}
+std::optional<double> number_of(const JsonDocument& value) {
+  return value.is_number() ? std::optional(value.get<double>()) : std::nullopt;
+}
+std::optional<std::string> string_of(const tinygltf::Value& value) {
+  return value.IsString() ? std::optional(value.Get<std::string>()) : std::nullopt;
+}
+std::optional<std::string> string_of(const JsonDocument& value) {
+  return value.is_string() ? std::optional(value.get<std::string>()) : std::nullopt;
+}
+std::optional<bool> boolean_of(const tinygltf::Value& value) {
+  return value.IsBool() ? std::optional(value.Get<bool>()) : std::nullopt;
+}
+std::optional<bool> boolean_of(const JsonDocument& value) {
+  return value.is_boolean() ? std::optional(value.get<bool>()) : std::nullopt;
 }
 
-}  // namespace
+template <class Value>
+std::optional<std::uint64_t> unsigned_member(const Value& object, const char* name) {
+  const Value* value = member(object, name);
+  const std::optional<double> number = value ? number_of(*value) : std::nullopt;
+  // Checked before the cast, which is undefined outside [0, 2^64).
+  if (!number || !std::isfinite(*number) || *number < 0 || *number >= 0x1p64 || std::trunc(*number) != *number)
+    return std::nullopt;
+  return static_cast<std::uint64_t>(*number);
+}
 
-std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::string& problem) {
+// The bufferView extension object (the extension's README, "bufferView properties").
+template <class Value>
+std::optional<MeshoptView> read_view(const Value& object, std::string& problem) {
   problem.clear();
-  const auto found = view.extensions.find("EXT_meshopt_compression");
-  if (found == view.extensions.end()) return std::nullopt;
-  const tinygltf::Value& object = found->second;
-  MeshoptView out;
-  if (!object.IsObject()) {
+  if (!is_object(object)) {
     problem = "the extension is not an object";
     return std::nullopt;
   }
@@ -168,32 +196,35 @@ std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::s
   const auto byte_length = unsigned_member(object, "byteLength");
   const auto byte_stride = unsigned_member(object, "byteStride");
   const auto count = unsigned_member(object, "count");
-  for (const auto& [member, value] : {std::pair{"buffer", buffer}, std::pair{"byteLength", byte_length},
-                                      std::pair{"byteStride", byte_stride}, std::pair{"count", count}}) {
+  for (const auto& [name, value] : {std::pair{"buffer", buffer}, std::pair{"byteLength", byte_length},
+                                    std::pair{"byteStride", byte_stride}, std::pair{"count", count}}) {
     if (!value) {
-      problem = std::string(member) + " is missing or not a non-negative integer";
+      problem = std::string(name) + " is missing or not a non-negative integer";
       return std::nullopt;
     }
   }
-  const auto mode = object.Has("mode") && object.Get("mode").IsString()
-                        ? meshopt_mode(object.Get("mode").Get<std::string>())
-                        : std::nullopt;
+  const Value* mode_value = member(object, "mode");
+  const std::optional<std::string> mode_name = mode_value ? string_of(*mode_value) : std::nullopt;
+  const std::optional<MeshoptMode> mode = mode_name ? meshopt_mode(*mode_name) : std::nullopt;
   if (!mode) {
     problem = "mode is not ATTRIBUTES, TRIANGLES or INDICES";
     return std::nullopt;
   }
   std::optional<MeshoptFilter> filter = MeshoptFilter::None;
-  if (object.Has("filter"))
-    filter = object.Get("filter").IsString() ? meshopt_filter(object.Get("filter").Get<std::string>()) : std::nullopt;
+  if (const Value* filter_value = member(object, "filter")) {
+    const std::optional<std::string> name = string_of(*filter_value);
+    filter = name ? meshopt_filter(*name) : std::nullopt;
+  }
   if (!filter) {
     problem = "filter is not NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL";
     return std::nullopt;
   }
-  const auto byte_offset = object.Has("byteOffset") ? unsigned_member(object, "byteOffset") : std::uint64_t{0};
+  const auto byte_offset = member(object, "byteOffset") ? unsigned_member(object, "byteOffset") : std::uint64_t{0};
   if (!byte_offset) {
     problem = "byteOffset is not a non-negative integer";
     return std::nullopt;
   }
+  MeshoptView out;
   out.buffer = static_cast<std::int64_t>(std::min<std::uint64_t>(*buffer, INT32_MAX));
   out.byte_offset = *byte_offset;
   out.byte_length = *byte_length;
@@ -204,11 +235,35 @@ std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::s
   return out;
 }
 
+// The buffer extension object: {"fallback": true} ("Fallback buffers").
+template <class Value>
+bool fallback_of(const Value& extension) {
+  const Value* fallback = member(extension, "fallback");
+  return fallback && boolean_of(*fallback).value_or(false);
+}
+
+}  // namespace
+
+std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::string& problem) {
+  problem.clear();
+  const auto found = view.extensions.find("EXT_meshopt_compression");
+  if (found == view.extensions.end()) return std::nullopt;
+  return read_view(found->second, problem);
+}
+
+std::optional<MeshoptView> meshopt_view_from_json(const JsonDocument& extension, std::string& problem) {
+  return read_view(extension, problem);
+}
+
 bool is_meshopt_fallback(const tinygltf::Buffer& buffer) {
   const auto found = buffer.extensions.find("EXT_meshopt_compression");
-  if (found == buffer.extensions.end() || !found->second.IsObject() || !found->second.Has("fallback")) return false;
-  const tinygltf::Value& fallback = found->second.Get("fallback");
-  return fallback.IsBool() && fallback.Get<bool>();
+  return found != buffer.extensions.end() && fallback_of(found->second);
+}
+
+bool is_meshopt_fallback_json(const JsonDocument& buffer) {
+  const JsonDocument* extensions = member(buffer, "extensions");
+  const JsonDocument* extension = extensions ? member(*extensions, "EXT_meshopt_compression") : nullptr;
+  return extension && fallback_of(*extension);
 }
 
 bool is_meshopt_placeholder(const tinygltf::Buffer& buffer) {

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/json.hpp"
+
 namespace tinygltf {
 struct Buffer;
 struct BufferView;
@@ -56,12 +58,16 @@ std::uint64_t meshopt_decode_budget(std::uint64_t stored_bytes);
 std::string meshopt_budget_problem(std::uint64_t decoded, std::uint64_t size, std::uint64_t budget);
 
 // The extension object of a tinygltf bufferView, or nothing when it has none. `problem` is set
-// when the object is there but malformed (a member missing or of the wrong type).
+// when the object is there but malformed (a member missing or of the wrong type). One reader for
+// both documents: the same for the object itself in our JSON tree (the structure step's).
 std::optional<MeshoptView> meshopt_view(const tinygltf::BufferView& view, std::string& problem);
+std::optional<MeshoptView> meshopt_view_from_json(const JsonDocument& extension, std::string& problem);
 
 // Whether a buffer is marked {"fallback": true}: a placeholder with no bytes of its own that only
-// compressed bufferViews reference ("Fallback buffers").
+// compressed bufferViews reference ("Fallback buffers"). The tinygltf buffer, or the buffer object
+// in our JSON tree (the loader's pre-pass, before tinygltf reads the file).
 bool is_meshopt_fallback(const tinygltf::Buffer& buffer);
+bool is_meshopt_fallback_json(const JsonDocument& buffer);
 
 // A fallback buffer without bytes (no uri, nothing loaded): saving writes no file for it and derives
 // its byteLength from the views it holds.

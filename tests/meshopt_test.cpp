@@ -2,6 +2,8 @@
 // encoder writes decodes back; layouts the extension forbids and hostile byte counts are refused
 // before anything is allocated; an Asset decodes a view once, on first read; saving (.gltf, .glb)
 // and pruning keep the compressed bytes as they were and the fallback buffer without data.
+#include "core/meshopt.hpp"
+
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
@@ -15,7 +17,7 @@
 #include "core/accessor.hpp"
 #include "core/asset.hpp"
 #include "core/error.hpp"
-#include "core/meshopt.hpp"
+#include "core/json.hpp"
 #include "tests/test_support.hpp"
 
 namespace gltf_pbr {
@@ -193,6 +195,76 @@ TEST(Meshopt, LayoutsTheExtensionForbidsAreNamed) {
   EXPECT_EQ(meshopt_layout_problem(layout(256, 1, MeshoptMode::Attributes, MeshoptFilter::Exponential), 256, 0), "");
   EXPECT_EQ(meshopt_layout_problem(layout(2, 9, MeshoptMode::Triangles), 18, 0), "");
   EXPECT_EQ(meshopt_layout_problem(layout(4, 3, MeshoptMode::Attributes, MeshoptFilter::Octahedral), 12, 0), "");
+}
+
+// A JSON value as tinygltf 2.7 holds it (ParseJsonAsValue, static in its header): integers as
+// int, other numbers as double. Integers beyond an int are refused by the loader before tinygltf
+// reads them (MeshoptAsset.ExtensionIntegersTheDocumentLibraryCannotHoldAreRefusedWithTheirPointer).
+tinygltf::Value value_as_tinygltf_reads_it(const nlohmann::json& json) {
+  switch (json.type()) {
+    case nlohmann::json::value_t::object: {
+      tinygltf::Value::Object object;
+      for (const auto& [key, member] : json.items()) object[key] = value_as_tinygltf_reads_it(member);
+      return tinygltf::Value(std::move(object));
+    }
+    case nlohmann::json::value_t::array: {
+      tinygltf::Value::Array array;
+      for (const auto& element : json) array.push_back(value_as_tinygltf_reads_it(element));
+      return tinygltf::Value(std::move(array));
+    }
+    case nlohmann::json::value_t::string:
+      return tinygltf::Value(json.get<std::string>());
+    case nlohmann::json::value_t::boolean:
+      return tinygltf::Value(json.get<bool>());
+    case nlohmann::json::value_t::number_integer:
+    case nlohmann::json::value_t::number_unsigned:
+      return tinygltf::Value(static_cast<int>(json.get<std::int64_t>()));
+    case nlohmann::json::value_t::number_float:
+      return tinygltf::Value(json.get<double>());
+    default:
+      return tinygltf::Value();
+  }
+}
+
+// One reader of the extension object for both documents: tinygltf's values (what convert,
+// preview and the mesh checks read) and our JSON tree (the loader's pre-pass, the structure step)
+// give the same view, or the same reason there is none.
+TEST(Meshopt, TheExtensionObjectReadsTheSameInBothDocuments) {
+  const char* objects[] = {
+      R"({"buffer": 1, "byteOffset": 8, "byteLength": 40, "byteStride": 12, "count": 10, "mode": "ATTRIBUTES"})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 2, "count": 9, "mode": "TRIANGLES", "filter": "NONE"})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 4, "count": 2, "mode": "ATTRIBUTES", "filter": "OCTAHEDRAL"})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 4, "count": 2, "mode": "INDICES", "filter": "NEAREST"})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 4, "count": 2, "mode": "POINTS"})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 4, "count": 2})",
+      R"({"buffer": 0, "byteLength": 9, "byteStride": 4, "count": 2.5, "mode": "INDICES"})",
+      R"({"buffer": -1, "byteLength": 9, "byteStride": 4, "count": 2, "mode": "INDICES"})",
+      R"({"buffer": 0, "byteOffset": "8", "byteLength": 9, "byteStride": 4, "count": 2, "mode": "INDICES"})",
+      R"({"byteLength": 9, "byteStride": 4, "count": 2, "mode": "INDICES"})",
+      R"([1, 2])",
+  };
+  for (const char* object : objects) {
+    SCOPED_TRACE(object);
+    JsonDocument tree;
+    const std::string text(object);
+    ASSERT_FALSE(read_json(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), tree));
+    tinygltf::BufferView view;
+    view.extensions["EXT_meshopt_compression"] = value_as_tinygltf_reads_it(nlohmann::json::parse(text));
+    std::string from_tree, from_tinygltf;
+    const std::optional<MeshoptView> a = meshopt_view_from_json(tree, from_tree);
+    const std::optional<MeshoptView> b = meshopt_view(view, from_tinygltf);
+    EXPECT_EQ(from_tree, from_tinygltf);
+    ASSERT_EQ(a.has_value(), b.has_value());
+    EXPECT_EQ(a.has_value(), from_tree.empty());
+    if (!a) continue;
+    EXPECT_EQ(a->buffer, b->buffer);
+    EXPECT_EQ(a->byte_offset, b->byte_offset);
+    EXPECT_EQ(a->byte_length, b->byte_length);
+    EXPECT_EQ(a->byte_stride, b->byte_stride);
+    EXPECT_EQ(a->count, b->count);
+    EXPECT_EQ(a->mode, b->mode);
+    EXPECT_EQ(a->filter, b->filter);
+  }
 }
 
 TEST(Meshopt, HostileCountsAndBytesAreRefusedWithAReason) {

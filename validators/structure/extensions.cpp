@@ -343,8 +343,7 @@ class ExtensionReader {
     read_.check_members(
         o, p, {"buffer", "byteOffset", "byteLength", "byteStride", "count", "mode", "filter", "extensions", "extras"});
     view.meshopt_present = true;
-    MeshoptView m;
-    m.buffer = read_.index(o, p, "buffer", true);
+    const int buffer = read_.index(o, p, "buffer", true);
     const auto offset = read_.integer(o, p, "byteOffset", false, {0});
     const auto length = read_.integer(o, p, "byteLength", true, {1});
     const auto stride = read_.integer(o, p, "byteStride", true, {2, 256});
@@ -354,14 +353,10 @@ class ExtensionReader {
     tail(o, p);
     const bool offset_valid = offset || o.find("byteOffset") == o.end();
     const bool filter_valid = filter || o.find("filter") == o.end();
-    if (m.buffer < 0 || !offset_valid || !length || !stride || !count || !mode || !filter_valid) return;
-    m.byte_offset = static_cast<std::uint64_t>(offset.value_or(0));
-    m.byte_length = static_cast<std::uint64_t>(*length);
-    m.byte_stride = static_cast<std::uint64_t>(*stride);
-    m.count = static_cast<std::uint64_t>(*count);
-    m.mode = *meshopt_mode(*mode);
-    m.filter = filter ? *meshopt_filter(*filter) : MeshoptFilter::None;
-    view.meshopt = m;
+    if (buffer < 0 || !offset_valid || !length || !stride || !count || !mode || !filter_valid) return;
+    // Valid by the schema: read by the one reader of the object, which every other step uses too.
+    std::string problem;
+    view.meshopt = meshopt_view_from_json(o, problem);
   }
 
   void variant_mappings(const Json& o, const std::string& p, PrimitiveModel& primitive) {
