@@ -1,5 +1,6 @@
 #include "core/json.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -385,6 +386,19 @@ std::optional<JsonFlaw> first_flaw(const JsonDocument& value) {
   std::string at;
   if (const std::optional<JsonFlaw::Kind> kind = find_flaw(value, at)) return JsonFlaw{*kind, at};
   return std::nullopt;
+}
+
+std::optional<std::int64_t> integer_value(const JsonDocument& value) {
+  constexpr auto most = std::numeric_limits<std::int64_t>::max();
+  if (value.is_number_unsigned())
+    return static_cast<std::int64_t>(std::min<std::uint64_t>(value.get<std::uint64_t>(), most));
+  if (value.is_number_integer()) return value.get<std::int64_t>();
+  if (!value.is_number_float()) return std::nullopt;
+  const double number = value.get<double>();
+  if (!std::isfinite(number) || std::trunc(number) != number) return std::nullopt;
+  // 2^63 is the first double above the range; the lowest int64 is exactly -2^63.
+  if (number >= 9223372036854775808.0) return most;
+  return static_cast<std::int64_t>(std::max(number, -9223372036854775808.0));
 }
 
 }  // namespace gltf_pbr

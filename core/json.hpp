@@ -58,4 +58,9 @@ struct JsonFlaw {
 // The first flaw in `value`, in document order, if any.
 std::optional<JsonFlaw> first_flaw(const JsonDocument& value);
 
+// The value of a JSON integer, saturated to the int64 range; std::nullopt when `value` is not one.
+// JSON Schema (2020-12 validation 6.1.1, the glTF schema's draft) counts any number with a zero
+// fractional part as an integer, so 1, 1.0 and 1e0 are the same index (the npm reference agrees).
+std::optional<std::int64_t> integer_value(const JsonDocument& value);
+
 }  // namespace gltf_pbr

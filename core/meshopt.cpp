@@ -155,11 +155,12 @@ const JsonDocument* member(const JsonDocument& object, const char* name) {
 }
 bool is_object(const tinygltf::Value& value) { return value.IsObject(); }
 bool is_object(const JsonDocument& value) { return value.is_object(); }
-std::optional<double> number_of(const tinygltf::Value& value) {
-  return value.IsNumber() ? std::optional(value.GetNumberAsDouble()) : std::nullopt;
-}
-std::optional<double> number_of(const JsonDocument& value) {
-  return value.is_number() ? std::optional(value.get<double>()) : std::nullopt;
+// An integer as the schema counts one (core/json.hpp integer_value: 4 and 4.0 alike), saturated
+// to int64. tinygltf holds an int or a double.
+std::optional<std::int64_t> integer_of(const JsonDocument& value) { return integer_value(value); }
+std::optional<std::int64_t> integer_of(const tinygltf::Value& value) {
+  if (value.IsInt()) return value.Get<int>();
+  return value.IsNumber() ? integer_value(JsonDocument(value.GetNumberAsDouble())) : std::nullopt;
 }
 std::optional<std::string> string_of(const tinygltf::Value& value) {
   return value.IsString() ? std::optional(value.Get<std::string>()) : std::nullopt;
@@ -177,11 +178,9 @@ std::optional<bool> boolean_of(const JsonDocument& value) {
 template <class Value>
 std::optional<std::uint64_t> unsigned_member(const Value& object, const char* name) {
   const Value* value = member(object, name);
-  const std::optional<double> number = value ? number_of(*value) : std::nullopt;
-  // Checked before the cast, which is undefined outside [0, 2^64).
-  if (!number || !std::isfinite(*number) || *number < 0 || *number >= 0x1p64 || std::trunc(*number) != *number)
-    return std::nullopt;
-  return static_cast<std::uint64_t>(*number);
+  const std::optional<std::int64_t> integer = value ? integer_of(*value) : std::nullopt;
+  if (!integer || *integer < 0) return std::nullopt;
+  return static_cast<std::uint64_t>(*integer);
 }
 
 // The bufferView extension object (the extension's README, "bufferView properties").
@@ -225,7 +224,7 @@ std::optional<MeshoptView> read_view(const Value& object, std::string& problem) 
     return std::nullopt;
   }
   MeshoptView out;
-  out.buffer = static_cast<std::int64_t>(std::min<std::uint64_t>(*buffer, INT32_MAX));
+  out.buffer = static_cast<std::int64_t>(*buffer);
   out.byte_offset = *byte_offset;
   out.byte_length = *byte_length;
   out.byte_stride = *byte_stride;

@@ -265,6 +265,20 @@ TEST(Meshopt, TheExtensionObjectReadsTheSameInBothDocuments) {
     EXPECT_EQ(a->mode, b->mode);
     EXPECT_EQ(a->filter, b->filter);
   }
+  // Integers as the structure step's schema reads them (core/json.hpp integer_value): 4.0 is 4, and
+  // what lies beyond an int64 saturates, so a view too long or an index too large is still named.
+  const std::string huge =
+      R"({"buffer": 4294967296, "byteOffset": 1e20, "byteLength": 18446744073709551615, "byteStride": 4.0,)"
+      R"( "count": 2, "mode": "ATTRIBUTES"})";
+  JsonDocument tree;
+  ASSERT_FALSE(read_json(std::span(reinterpret_cast<const std::uint8_t*>(huge.data()), huge.size()), tree));
+  std::string problem;
+  const std::optional<MeshoptView> view = meshopt_view_from_json(tree, problem);
+  ASSERT_TRUE(view) << problem;
+  EXPECT_EQ(view->buffer, 4294967296);
+  EXPECT_EQ(view->byte_offset, static_cast<std::uint64_t>(INT64_MAX));
+  EXPECT_EQ(view->byte_length, static_cast<std::uint64_t>(INT64_MAX));
+  EXPECT_EQ(view->byte_stride, 4u);
 }
 
 TEST(Meshopt, HostileCountsAndBytesAreRefusedWithAReason) {

@@ -556,6 +556,34 @@ TEST(StructureChecks, ACompressedLayoutTheExtensionForbidsIsReported) {
   EXPECT_EQ(find(exponential, "MESHOPT_INVALID_LAYOUT"), nullptr);
 }
 
+// The extension object's integers are the schema's (saturated to int64, 4.0 an integer): one
+// beyond a double's exact range, an int64 or an int still names the member it breaks.
+TEST(StructureChecks, ACompressedViewsHugeIntegersAreStillCheckedWhereTheyStand) {
+  const std::string extension = "/bufferViews/0/extensions/EXT_meshopt_compression";
+  std::string long_view = meshopt_document();
+  const std::size_t length = long_view.find(R"({"buffer":0,"byteLength":)") + 25;
+  long_view.replace(length, long_view.find(',', length) - length, "18446744073709551615");
+  const Report long_report = validate_text(long_view);
+  const Issue* too_long = find(long_report, "BUFFER_VIEW_TOO_LONG");
+  ASSERT_NE(too_long, nullptr);
+  EXPECT_EQ(too_long->pointer, extension + "/byteLength");
+
+  const Report far = validate_text(meshopt_document(R"(,"byteOffset":1e20)"));
+  const Issue* beyond = find(far, "BUFFER_VIEW_TOO_LONG");
+  ASSERT_NE(beyond, nullptr);
+  EXPECT_EQ(beyond->pointer, extension + "/byteOffset");
+
+  for (const char* index : {"2147483648", "4294967296"}) {
+    std::string text = meshopt_document();
+    text.replace(text.find(R"({"buffer":0,"byteLength")") + 10, 1, index);
+    const Report report = validate_text(text);
+    const Issue* unresolved = find(report, "UNRESOLVED_REFERENCE");
+    ASSERT_NE(unresolved, nullptr) << index;
+    EXPECT_EQ(unresolved->pointer, extension + "/buffer");
+    EXPECT_NE(unresolved->message.find(index), std::string::npos) << unresolved->message;
+  }
+}
+
 TEST(StructureChecks, CompressedBytesThatDoNotDecodeAreReported) {
   std::string text = meshopt_document();
   // Bytes of the same length but a header no codec version has (the data URI's first byte, 0xa0).

@@ -343,7 +343,7 @@ class ExtensionReader {
     read_.check_members(
         o, p, {"buffer", "byteOffset", "byteLength", "byteStride", "count", "mode", "filter", "extensions", "extras"});
     view.meshopt_present = true;
-    const int buffer = read_.index(o, p, "buffer", true);
+    const std::int64_t buffer = read_.index(o, p, "buffer", true);
     const auto offset = read_.integer(o, p, "byteOffset", false, {0});
     const auto length = read_.integer(o, p, "byteLength", true, {1});
     const auto stride = read_.integer(o, p, "byteStride", true, {2, 256});
@@ -354,7 +354,8 @@ class ExtensionReader {
     const bool offset_valid = offset || o.find("byteOffset") == o.end();
     const bool filter_valid = filter || o.find("filter") == o.end();
     if (buffer < 0 || !offset_valid || !length || !stride || !count || !mode || !filter_valid) return;
-    // Valid by the schema: read by the one reader of the object, which every other step uses too.
+    // Valid by the schema: read by the one reader of the object, which every other step uses too
+    // (the same integers as the schema's: integer_value).
     std::string problem;
     view.meshopt = meshopt_view_from_json(o, problem);
   }

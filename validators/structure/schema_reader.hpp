@@ -103,10 +103,7 @@ class SchemaReader {
   std::size_t missing_count_ = 0;
 };
 
-// The value of a JSON integer, saturated to the int64 range; std::nullopt when `value` is not one.
-// JSON Schema (2020-12 validation 6.1.1, the glTF schema's draft) counts any number with a zero
-// fractional part as an integer, so 1, 1.0 and 1e0 are the same index (the npm reference agrees).
-std::optional<std::int64_t> integer_value(const Json& value);
+// integer_value (core/json.hpp): a JSON integer as the schema counts one, saturated to int64.
 inline bool is_integer(const Json& value) { return integer_value(value).has_value(); }
 
 // Whether `object` defines `key` (a null value does not, as in the reference's Dart maps).
