@@ -25,9 +25,6 @@ namespace {
 constexpr const char* kSpecular = "KHR_materials_specular";
 constexpr const char* kIor = "KHR_materials_ior";
 constexpr const char* kTextureTransform = "KHR_texture_transform";
-// KHR_materials_specular's lossless route for legacy F0: an ior so high that ((ior-1)/(ior+1))^2
-// is ~1, so specularColorFactor alone carries F0 (the route glTF-Transform and Blender take).
-constexpr double kLosslessIor = 1000.0;
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point start) {
@@ -225,10 +222,10 @@ class Converter {
     }
     material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
     tinygltf::Value::Object ior;
-    ior["ior"] = tinygltf::Value(kLosslessIor);
+    ior["ior"] = tinygltf::Value(static_cast<double>(kSpecularRouteIor));  // solver.hpp
     material.extensions[kIor] = tinygltf::Value(std::move(ior));
-    // What was written is the extension route: report its error (about 0 at normal incidence under
-    // reading A, by construction; reading B is what a full viewer with the appendix's (1 - F) shows).
+    // What was written is the extension route: report its error (F0 0.4% short of the legacy's at
+    // normal incidence under reading A; reading B is what a full viewer with the appendix's (1 - F) shows).
     entry.error_samples = baked.texels.extension_a.samples();
     entry.error_a = baked.extension_a, entry.error_b = baked.extension_b;
   }

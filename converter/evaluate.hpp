@@ -25,8 +25,9 @@ struct MaterialComparison {
 // `converted`, on the texels a bake reads: the textures of both on their common bake grid
 // (core/image.hpp's bake_grid and resize, as convert and the material checks read them; both sides
 // must use the same texture coordinates, as conversions do), sampled every stride-th texel as the
-// bake samples its error, at most `max_error_samples` (0: every texel). Factor-only pairs take one
-// sample. So compare of convert's own output gives the figures of convert's report.
+// bake samples its error (the stride is texels / max_error_samples rounded down, so up to twice
+// that many samples; 0: every texel). Factor-only pairs take one sample. So compare of convert's
+// own output gives the figures of convert's report.
 std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const Asset& converted, Viewer viewer,
                                                    size_t max_error_samples = size_t{1} << 16);
 

@@ -764,8 +764,7 @@ Appearance core_appearance(const MetalRough& core) {
 }
 
 Appearance specular_extension_appearance(const SpecGloss& legacy) {
-  // The extension clamps its F0 to 1 (KHR_materials_specular, "dielectric_f0 = min(..., 1)").
-  const glm::vec3 f0 = glm::clamp(legacy.specular, 0.0f, 1.0f);
+  const glm::vec3 f0 = specular_route_f0(legacy.specular);
   const float max_f0 = max3(f0);
   const RingSplitSums split = ring_split_sums(roughness_of(legacy));
   Appearance seen;
@@ -781,8 +780,16 @@ Reflectance core_reflectance(const MetalRough& core) {
   return {core.base * (1.0f - m) * kDielectricDiffuse, glm::mix(glm::vec3(kDielectricF0), core.base, m)};
 }
 
-Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 f0) {
+glm::vec3 specular_route_f0(glm::vec3 specular) {
+  // In the operations of the viewer's reading (core/material_model.cpp): KHR_materials_ior's
+  // F0 = ((ior - 1) / (ior + 1))^2, then KHR_materials_specular's "dielectric_f0 = min(..., 1)".
+  const float r = (kSpecularRouteIor - 1.0f) / (kSpecularRouteIor + 1.0f);
+  return glm::clamp(glm::vec3(r * r) * specular, 0.0f, 1.0f);
+}
+
+Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 specular) {
   // KHR_materials_specular: the dielectric diffuse is scaled by 1 - max(F0) at normal incidence.
+  const glm::vec3 f0 = specular_route_f0(specular);
   return {base * std::max(0.0f, 1.0f - max3(f0)), f0};
 }
 

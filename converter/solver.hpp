@@ -41,9 +41,15 @@ Reflectance legacy_reflectance(const SpecGloss& legacy, LegacyReading reading = 
 // (1 - F), which is 1 - 0.04 at normal incidence: diffuse = base * (1 - m) * 0.96.
 Reflectance core_reflectance(const MetalRough& core);
 
-// KHR_materials_specular's lossless route (base = diffuse, metallic 0, F0 = specular through
-// specularColorFactor with a very high ior): diffuse = base * (1 - max(F0)), F0 = specular.
-Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 f0);
+// KHR_materials_specular's route for a legacy specular (the one glTF-Transform and Blender take):
+// base = diffuse, metallic 0, and the specular through specularColorFactor beside an ior so high
+// that ((ior - 1) / (ior + 1))^2 is nearly 1 (KHR_materials_ior section "Implementation").
+constexpr float kSpecularRouteIor = 1000.0f;
+// What that route reflects as written (KHR_materials_specular: F0 = min(F0(ior) specularColor, 1),
+// the dielectric diffuse scaled by 1 - max(F0)): F0(1000) = 0.996, so the route is 0.4% short of
+// the legacy F0, not exact.
+glm::vec3 specular_route_f0(glm::vec3 specular);
+Reflectance specular_extension_reflectance(glm::vec3 base, glm::vec3 specular);
 
 struct SolverSettings {
   int grid_steps = 16;             // metalness samples on [0, 1] before refinement
@@ -83,10 +89,11 @@ Appearance core_appearance(const MetalRough& core);
 // The KHR_materials_specular route's look (base = diffuse, F0 = specular, roughness 1 - glossiness):
 // the extension's fresnel_mix weights the diffuse by 1 - max(F) over the channels, whose
 // hemisphere average is 1 - (max(specular) A + B) (Schlick is monotone in F0 at every angle):
-//   L = diffuse (1 - (max(F0) A + B)) D + F0 A + B,   F0 = specular clamped to [0, 1] as the
-// extension clamps it. Against the legacy's (reading A) it differs in the diffuse alone, by
-// diffuse D (1 - A - B) (0.04 - max(F0)) / 0.96: exact for a mirror (A + B = 1), for a 0.04
-// specular and for a black diffuse, and off where a rough lobe loses energy (1 - A - B > 0).
+//   L = diffuse (1 - (max(F0) A + B)) D + F0 A + B,   F0 = specular_route_f0(specular), the
+// specular clamped to 1 as the extension clamps it. Against the legacy's (reading A) it differs in
+// the diffuse, by diffuse D (1 - A - B) (0.04 - max(F0)) / 0.96 (exact for a mirror (A + B = 1),
+// for a 0.04 specular and for a black diffuse, off where a rough lobe loses energy), and by the
+// route's 0.4% short F0.
 Appearance specular_extension_appearance(const SpecGloss& legacy);
 float appearance_ring_cosine(int ring);  // mu_k
 

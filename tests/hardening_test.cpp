@@ -912,7 +912,13 @@ TEST(DecodeOnce, AnImageSeveralMaterialsReadIsDecodedOnce) {
                         .source);
   }
   const ConversionReport report = convert(asset, ConvertOptions{});
-  EXPECT_EQ(report.images_decoded, static_cast<long>(read.size()));
+  // Each input once, and each JPEG base colour the bakes wrote once more: its error is measured
+  // on what the file holds.
+  long jpeg_written = 0;
+  for (const auto& image : asset.model.images)
+    jpeg_written += image.name.rfind("baseColor_", 0) == 0 && image.mimeType == "image/jpeg";
+  EXPECT_GT(jpeg_written, 0);
+  EXPECT_EQ(report.images_decoded, static_cast<long>(read.size()) + jpeg_written);
 }
 
 TEST(Signals, SigtermRemovesStagedTemporariesAndExitsWithTheSignal) {
