@@ -50,9 +50,9 @@ constexpr float kBrightDiffuse = 0.2f;  // diffuse weight from which the weak pr
 constexpr float kBlendWidthRelative = 0.5f;
 constexpr float kBlendWidthAbsolute = 1.0f;
 
-float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+GLTF_PBR_INLINE float max3(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
+GLTF_PBR_INLINE float roughness_of(const SpecGloss& legacy) { return std::clamp(1.0f - legacy.glossiness, 0.0f, 1.0f); }
 
 // (u + eps)^(-2/3) / 3, from a table with linear interpolation on [0, 2] (continuous, and six pow
 // calls a texel were a third of the solve time), exact beyond. The lanes look up eight at once
@@ -240,7 +240,7 @@ struct Objective {
 };
 
 // The prior on metalness of one legacy material (solver.hpp): where it points, how strongly.
-std::pair<float, float> metalness_prior(const SpecGloss& legacy) {
+GLTF_PBR_INLINE std::pair<float, float> metalness_prior(const SpecGloss& legacy) {
   const float mean_f0 = (legacy.specular.x + legacy.specular.y + legacy.specular.z) / 3.0f;
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
   return {metal_likeness(mean_f0), kPriorWeightOnBright + (kPriorWeightOnBlack - kPriorWeightOnBright) *
@@ -357,7 +357,7 @@ Minimum refine(float lo, float hi, float m, float error, int iterations, const O
 
 // The indices of the local minima of the sampled errors (the lowest of a flat run), written to
 // `at` (room for samples.size() / 2 + 1); returns how many.
-size_t sampled_minima(std::span<const float> samples, std::span<int> at) {
+GLTF_PBR_INLINE size_t sampled_minima(std::span<const float> samples, std::span<int> at) {
   const int last = static_cast<int>(samples.size()) - 1;
   const auto sample = [&](int i) { return samples[static_cast<size_t>(i)]; };
   size_t found = 0;
@@ -370,7 +370,7 @@ size_t sampled_minima(std::span<const float> samples, std::span<int> at) {
 struct Bracket {
   float lo, hi, m;
 };
-Bracket bracket_of(int i, size_t samples) {
+GLTF_PBR_INLINE Bracket bracket_of(int i, size_t samples) {
   const float step = 1.0f / static_cast<float>(std::max<size_t>(1, samples - 1));
   const float m = static_cast<float>(i) * step;
   return {std::max(0.0f, m - step), std::min(1.0f, m + step), m};
@@ -378,7 +378,7 @@ Bracket bracket_of(int i, size_t samples) {
 
 // How far minimum j (refined to `error`) lies below the highest sample between it and the
 // nearest other minimum: infinite with none.
-float prominence(std::span<const float> samples, std::span<const int> at, size_t j, float error) {
+GLTF_PBR_INLINE float prominence(std::span<const float> samples, std::span<const int> at, size_t j, float error) {
   const auto highest_between = [&](int from, int to) {
     return *std::max_element(samples.begin() + from, samples.begin() + to + 1);
   };
@@ -406,7 +406,7 @@ std::vector<Minimum> local_minima(const std::vector<float>& samples, int refine_
 // to it and by how prominent they are. As the inputs move, a minimum's weight falls smoothly to 0
 // as its error rises above the lowest or as it flattens out and vanishes, so m moves continuously
 // where a plain argmin jumps. One clear minimum, the usual case, keeps its m exactly.
-float blended_metalness(std::span<const Minimum> minima) {
+GLTF_PBR_INLINE float blended_metalness(std::span<const Minimum> minima) {
   float lowest = std::numeric_limits<float>::infinity(), lowest_m = 0.0f;
   for (const Minimum& minimum : minima)
     if (minimum.error < lowest) lowest = minimum.error, lowest_m = minimum.m;
