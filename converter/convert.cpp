@@ -147,8 +147,8 @@ class Converter {
       entry.outputs.base_color = baked.outcome(baked.base_color_image, entry.index);
     }
     if (t.metal_rough_constant) {
-      pbr.metallicFactor = t.metalness[0] / 255.0;
-      pbr.roughnessFactor = t.first_roughness / 255.0;
+      pbr.metallicFactor = t.metalness(0) / 255.0;
+      pbr.roughnessFactor = t.roughness(0) / 255.0;
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
     }
@@ -213,7 +213,7 @@ class Converter {
       // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
       const Bake& rough = bake_roughness(legacy, entry.index);
       if (rough.texels.metal_rough_constant) {
-        pbr.roughnessFactor = rough.texels.first_roughness / 255.0;
+        pbr.roughnessFactor = rough.texels.roughness(0) / 255.0;
       } else {
         pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
@@ -330,9 +330,14 @@ class Converter {
       parallel_invoke(
           [&] {
             if (t.metal_rough_constant) return;
-            TexelBytes texels = t.metal_rough();
-            metal_rough = encode_png(texels, t.width, t.height, 3, options_.png_compression);
-            keep_lossless(metal_rough, std::move(texels), t.width, t.height, 3);
+            // The encoder takes the bake's texels and frees them as it goes, unless the error is
+            // measured on their metalness below; the preview keeps a copy.
+            std::optional<TexelBytes> kept;
+            if (options_.keep_decoded) kept = t.metal_rough;
+            metal_rough = error_as_written
+                              ? encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression)
+                              : encode_png(std::move(t.metal_rough), t.width, t.height, 3, options_.png_compression);
+            if (kept) keep_lossless(metal_rough, std::move(*kept), t.width, t.height, 3);
           },
           [&] {
             if (!bake_base) return;
@@ -350,9 +355,18 @@ class Converter {
               base_color = encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality);
             } else {
               const int channels = t.alpha_constant ? 3 : 4;
-              base_color = encode_png(texels, t.width, t.height, channels, options_.png_compression);
-              if (options_.keep_decoded)
-                keep_lossless(base_color, TexelBytes(texels.begin(), texels.end()), t.width, t.height, channels);
+              std::optional<TexelBytes> kept;
+              if (options_.keep_decoded) kept.emplace(texels.begin(), texels.end());
+              // The encoder frees texels it is given as it goes: the RGB copy, or the bake's own
+              // unless their error is measured below.
+              const auto encode = [&](auto&& given) {
+                return encode_png(std::forward<decltype(given)>(given), t.width, t.height, channels,
+                                  options_.png_compression);
+              };
+              base_color = !rgb.empty()        ? encode(std::move(rgb))
+                           : !error_as_written ? encode(std::move(t.base_color))
+                                               : encode(texels);
+              if (kept) keep_lossless(base_color, std::move(*kept), t.width, t.height, channels);
             }
           });
       if (error_as_written) {

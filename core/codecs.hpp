@@ -17,7 +17,8 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
 // std::nullopt for a JPEG that TurboJPEG cannot turn into RGB or grey (CMYK, YCCK): OpenImageIO reads those.
 std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
 
-Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
+Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level,
+                 TexelBytes* release = nullptr);  // freed (and `texels` with it) once filtered
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 
 // The header's size refused against the limit, for every decoder alike.

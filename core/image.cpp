@@ -116,6 +116,11 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
   return codecs::encode_png(texels, width, height, channels, compression_level);
 }
 
+Bytes encode_png(TexelBytes&& texels, int width, int height, int channels, int compression_level) {
+  TexelBytes owned = std::move(texels);
+  return codecs::encode_png(owned, width, height, channels, compression_level, &owned);
+}
+
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
   return codecs::encode_jpeg(texels, width, height, channels, quality);
 }

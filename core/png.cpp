@@ -1,10 +1,8 @@
 // PNG: decode through libspng with the tRNS chunk as alpha (as OpenImageIO did); encode in the
-// smallest lossless colour type with the sub filter and zlib's run-length strategy, which DESIGN.md
-// measured at a third of OpenImageIO's encode time for smaller files on baked maps. The encoder
-// writes the chunks itself because its zlib stream is compressed in pieces on the thread pool:
-// libspng deflates on one thread, and a large map's deflate then held a core alone.
+// smallest lossless colour type with the sub filter, deflated by libdeflate (append_image_data
+// says why). The encoder writes the chunks itself: libspng deflates through zlib.
+#include <libdeflate.h>
 #include <spng.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
@@ -105,25 +103,23 @@ std::uint32_t packed_rgba(const std::uint8_t* t, int channels) {
 
 // What a set of 8-bit texels needs (PNG spec 11.2.2): whether every texel is grey (R = G = B),
 // whether the alpha channel is all 255, and the distinct colours when there are at most 256, with
-// the palette index of each.
+// the palette index of each. Scanned in parts on the thread pool, each part until nothing is left
+// for it to learn; the parts' colours join in part order, which is the order of first appearance
+// in the whole image, so the palette does not depend on the thread count.
 class ColourUse {
  public:
   ColourUse(std::span<const std::uint8_t> texels, int channels) {
-    const bool alpha = channels == 2 || channels == 4;
-    bool few = true;
+    constexpr std::size_t kPartTexels = 1u << 18;
     const std::size_t count = texels.size() / static_cast<std::size_t>(channels);
-    // Until nothing is left to learn: without an alpha channel, every texel is opaque.
-    for (std::size_t i = 0; i < count && (few || grey || (alpha && opaque)); ++i) {
-      const std::uint32_t rgba = packed_rgba(&texels[i * static_cast<std::size_t>(channels)], channels);
-      const std::uint32_t r = rgba & 0xFF, g = rgba >> 8 & 0xFF, b = rgba >> 16 & 0xFF;
-      grey = grey && r == g && g == b;
-      opaque = opaque && rgba >> 24 == 0xFF;
-      if (!few) continue;
-      std::uint64_t& slot = slots_[slot_of(rgba)];
-      if (slot != 0) continue;
-      slot = static_cast<std::uint64_t>(palette.size()) << 33 | static_cast<std::uint64_t>(rgba) << 1 | 1;
-      palette.push_back(rgba);
-      few = palette.size() <= 256;
+    std::vector<Part> parts((count + kPartTexels - 1) / kPartTexels);
+    parallel_dynamic(static_cast<std::int64_t>(parts.size()), [&](std::int64_t index) {
+      const std::size_t first = static_cast<std::size_t>(index) * kPartTexels;
+      parts[static_cast<std::size_t>(index)].scan(texels, channels, first, std::min(count, first + kPartTexels));
+    });
+    bool few = true;
+    for (const Part& part : parts) {
+      grey = grey && part.grey, opaque = opaque && part.opaque, few = few && part.few;
+      for (std::size_t c = 0; few && c < part.colours.size(); ++c) few = add(part.colours[c]);
     }
     if (!few) palette.clear();
   }
@@ -132,18 +128,64 @@ class ColourUse {
   std::vector<std::uint32_t> palette;  // RGBA packed, by first appearance; empty above 256 colours
 
   // The palette index of a colour that occurs.
-  std::uint8_t index_of(std::uint32_t rgba) const { return static_cast<std::uint8_t>(slots_[slot_of(rgba)] >> 33); }
+  std::uint8_t index_of(std::uint32_t rgba) const { return static_cast<std::uint8_t>(slots_.at(rgba) >> 33); }
 
  private:
   // Open addressing over 1024 slots holds 256 colours with few collisions. A slot holds its
   // colour shifted up by one with the low bit set, so that 0 can mark it empty, and its index above.
-  std::size_t slot_of(std::uint32_t rgba) const {
-    const std::uint64_t key = static_cast<std::uint64_t>(rgba) << 1 | 1;
-    std::size_t slot = (rgba * 2654435761u) >> 22;
-    while (slots_[slot] != 0 && (slots_[slot] & 0x1FFFFFFFFull) != key) slot = (slot + 1) & 1023;
-    return slot;
+  class Slots {
+   public:
+    std::uint64_t& at(std::uint32_t rgba) { return slots_[slot_of(rgba)]; }
+    std::uint64_t at(std::uint32_t rgba) const { return slots_[slot_of(rgba)]; }
+
+   private:
+    std::size_t slot_of(std::uint32_t rgba) const {
+      const std::uint64_t key = static_cast<std::uint64_t>(rgba) << 1 | 1;
+      std::size_t slot = (rgba * 2654435761u) >> 22;
+      while (slots_[slot] != 0 && (slots_[slot] & 0x1FFFFFFFFull) != key) slot = (slot + 1) & 1023;
+      return slot;
+    }
+    std::vector<std::uint64_t> slots_ = std::vector<std::uint64_t>(1024, 0);
+  };
+
+  // One part's findings: its colours by first appearance while there are at most 256.
+  struct Part {
+    bool grey = true, opaque = true, few = true;
+    std::vector<std::uint32_t> colours;
+    void scan(std::span<const std::uint8_t> texels, int channels, std::size_t first, std::size_t end) {
+      const bool alpha = channels == 2 || channels == 4;
+      Slots seen;
+      // Neighbouring texels mostly repeat a colour: only a change is looked up.
+      std::uint32_t last = 0;
+      bool has_last = false;
+      // Until nothing is left to learn: without an alpha channel, every texel is opaque.
+      for (std::size_t i = first; i < end && (few || grey || (alpha && opaque)); ++i) {
+        const std::uint32_t rgba = packed_rgba(&texels[i * static_cast<std::size_t>(channels)], channels);
+        if (has_last && rgba == last) continue;
+        last = rgba, has_last = true;
+        const std::uint32_t r = rgba & 0xFF, g = rgba >> 8 & 0xFF, b = rgba >> 16 & 0xFF;
+        grey = grey && r == g && g == b;
+        opaque = opaque && rgba >> 24 == 0xFF;
+        if (!few) continue;
+        std::uint64_t& slot = seen.at(rgba);
+        if (slot != 0) continue;
+        slot = static_cast<std::uint64_t>(rgba) << 1 | 1;
+        colours.push_back(rgba);
+        few = colours.size() <= 256;
+      }
+      if (!few) colours.clear();
+    }
+  };
+
+  // Adds a colour to the palette unless it is there; false past 256 colours.
+  bool add(std::uint32_t rgba) {
+    std::uint64_t& slot = slots_.at(rgba);
+    if (slot != 0) return true;
+    slot = static_cast<std::uint64_t>(palette.size()) << 33 | static_cast<std::uint64_t>(rgba) << 1 | 1;
+    palette.push_back(rgba);
+    return palette.size() <= 256;
   }
-  std::vector<std::uint64_t> slots_ = std::vector<std::uint64_t>(1024, 0);
+  Slots slots_;
 };
 
 // PNG colour types (PNG spec 11.2.2).
@@ -157,7 +199,7 @@ void put_be32(std::uint8_t* out, std::uint32_t v) {
 }
 
 // A chunk (PNG spec 5.3): length, type, data, and the CRC-32 of type and data. The data may come
-// in parts (zlib header, a piece, zlib trailer), written as one chunk.
+// in parts, written as one chunk.
 void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::span<const std::uint8_t>> data) {
   std::size_t length = 0;
   for (std::span<const std::uint8_t> part : data) length += part.size();
@@ -166,11 +208,11 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   put_be32(head, static_cast<std::uint32_t>(length));
   std::memcpy(head + 4, type, 4);
   png.insert(png.end(), head, head + 8);
-  uLong crc = crc32(0, head + 4, 4);
+  std::uint32_t crc = libdeflate_crc32(0, head + 4, 4);
   for (std::span<const std::uint8_t> part : data) {
-    if (part.empty()) continue;  // crc32_z of a null pointer would restart the CRC
+    if (part.empty()) continue;
     png.insert(png.end(), part.begin(), part.end());
-    crc = crc32_z(crc, part.data(), part.size());
+    crc = libdeflate_crc32(crc, part.data(), part.size());
   }
   std::uint8_t tail[4];
   put_be32(tail, static_cast<std::uint32_t>(crc));
@@ -178,80 +220,56 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
 }
 
 // The IDAT chunks: the filtered rows (PNG spec 7.3, 9) as one zlib stream (RFC 1950), compressed
-// in pieces of rows on the thread pool, as pigz does: each piece is raw deflate that ends on a
-// byte boundary (Z_SYNC_FLUSH) but the last (Z_FINISH), so the pieces concatenate into one
-// stream, and the stream's Adler-32 is combined from the pieces'. A piece starts without the
-// previous one's window; the run-length strategy only matches at distance 1, so that costs at
-// most its first byte. Pieces are a fixed number of bytes, whatever the thread count, so an image
-// encodes to the same bytes on every machine. One IDAT chunk a piece.
-void append_image_data(Bytes& png, std::span<const std::uint8_t> image, std::size_t width, std::size_t height,
-                       std::size_t pixel_bytes, bool sub_filter, int level) {
-  constexpr std::size_t kPieceBytes = 1u << 20;
+// whole by libdeflate, which DESIGN.md and bench/RESULTS.md measured at about half zlib's time for
+// the same texels (Avocado's maps at 4096²: 277 against 517 ms of CPU). Its streams cannot be cut
+// into pieces that join, so an image deflates on one thread; a bake's two maps deflate at once.
+// The rows are converted and filtered in parts on the pool into one buffer first; neither it nor
+// the output is zeroed (the output's pages are touched only as far as the stream goes).
+// `row_of(y, scratch)` gives row y as stored: the caller's texels, or their conversion written
+// into `scratch` (room for a row). `release`, when given, holds the texels and is emptied once
+// they are filtered.
+template <class RowOf>
+void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::size_t height, std::size_t pixel_bytes,
+                       bool sub_filter, int level, TexelBytes* release) {
   const std::size_t row_bytes = width * pixel_bytes, filtered_row_bytes = 1 + row_bytes;
-  if (filtered_row_bytes > std::numeric_limits<uInt>::max())  // zlib takes a row in one call
-    throw std::runtime_error("PNG encoder: a row of " + std::to_string(row_bytes) + " bytes");
-  const std::size_t rows_per_piece = std::max<std::size_t>(1, kPieceBytes / filtered_row_bytes);
-  const std::size_t pieces = (height + rows_per_piece - 1) / rows_per_piece;
-  struct Piece {
-    Bytes deflated;
-    uLong adler = 0;
-    std::size_t length = 0;  // filtered bytes in
-  };
-  std::vector<Piece> out(pieces);
-  parallel_dynamic(static_cast<std::int64_t>(pieces), [&](std::int64_t index) {
-    const std::size_t p = static_cast<std::size_t>(index);
-    const std::size_t first = p * rows_per_piece, end = std::min(height, first + rows_per_piece);
-    z_stream z{};
-    if (deflateInit2(&z, level, Z_DEFLATED, -15, 8, Z_RLE) != Z_OK)
-      throw std::runtime_error("PNG encoder: zlib refused compression level " + std::to_string(level));
-    const std::unique_ptr<z_stream, int (*)(z_stream*)> stream(&z, &deflateEnd);
-    Piece& piece = out[p];
-    piece.length = (end - first) * filtered_row_bytes;
-    piece.adler = adler32(0, nullptr, 0);
-    // Deflates the input given through a small buffer: the output grows as it comes, never zeroed.
-    std::uint8_t buffer[1 << 16];
-    const auto pump = [&](int flush) {
-      for (;;) {
-        z.next_out = buffer;
-        z.avail_out = sizeof buffer;
-        const int status = deflate(&z, flush);
-        piece.deflated.insert(piece.deflated.end(), buffer, buffer + (sizeof buffer - z.avail_out));
-        if (status == Z_STREAM_ERROR) throw std::runtime_error("PNG encoder: deflate failed");
-        if (flush == Z_FINISH ? status == Z_STREAM_END : z.avail_in == 0 && z.avail_out != 0) return;
-      }
-    };
-    std::vector<std::uint8_t> filtered(filtered_row_bytes);
-    for (std::size_t y = first; y < end; ++y) {
-      const std::uint8_t* row = image.data() + y * row_bytes;
-      filtered[0] = sub_filter ? 1 : 0;  // filter type: Sub (each byte less the one a pixel before) or None
-      std::uint8_t* const out_row = filtered.data() + 1;
+  // Plain heap memory, not texel pages: where texel pages are kept for reuse (a preview), these
+  // transient buffers would stay mapped after the encode.
+  const std::size_t filtered_size = filtered_row_bytes * height;
+  const auto filtered = std::make_unique_for_overwrite<std::uint8_t[]>(filtered_size);
+  constexpr std::size_t kPartBytes = 1u << 20;
+  const std::size_t rows_per_part = std::max<std::size_t>(1, kPartBytes / filtered_row_bytes);
+  parallel_dynamic(static_cast<std::int64_t>((height + rows_per_part - 1) / rows_per_part), [&](std::int64_t part) {
+    std::vector<std::uint8_t> scratch(row_bytes);
+    const std::size_t first = static_cast<std::size_t>(part) * rows_per_part;
+    for (std::size_t y = first; y < std::min(height, first + rows_per_part); ++y) {
+      const std::uint8_t* row = row_of(y, scratch.data());
+      std::uint8_t* const out = filtered.get() + y * filtered_row_bytes;
+      out[0] = sub_filter ? 1 : 0;  // filter type: Sub (each byte less the one a pixel before) or None
+      std::uint8_t* const out_row = out + 1;
       const std::size_t copied = sub_filter ? std::min(pixel_bytes, row_bytes) : row_bytes;
       std::memcpy(out_row, row, copied);
       for (std::size_t i = copied; i < row_bytes; ++i)
         out_row[i] = static_cast<std::uint8_t>(row[i] - row[i - pixel_bytes]);
-      piece.adler = adler32_z(piece.adler, filtered.data(), filtered.size());
-      z.next_in = filtered.data();
-      z.avail_in = static_cast<uInt>(filtered.size());
-      pump(y + 1 < end ? Z_NO_FLUSH : p + 1 < pieces ? Z_SYNC_FLUSH : Z_FINISH);
     }
   });
-  // CMF 0x78: deflate with a 32 KiB window; FLG 0x01 makes CMF·256 + FLG a multiple of 31 (RFC 1950 2.2).
-  static constexpr std::uint8_t kZlibHeader[] = {0x78, 0x01};
-  uLong adler = adler32(0, nullptr, 0);
-  for (std::size_t p = 0; p < pieces; ++p) {
-    adler = adler32_combine(adler, out[p].adler, static_cast<z_off_t>(out[p].length));
-    std::uint8_t trailer[4];
-    put_be32(trailer, static_cast<std::uint32_t>(adler));
-    const bool first = p == 0, last = p + 1 == pieces;
-    append_chunk(png, "IDAT",
-                 {first ? std::span<const std::uint8_t>(kZlibHeader) : std::span<const std::uint8_t>(), out[p].deflated,
-                  last ? std::span<const std::uint8_t>(trailer) : std::span<const std::uint8_t>()});
-    Bytes().swap(out[p].deflated);
-  }
+  if (release) TexelBytes().swap(*release);  // the texels are read no more
+  const std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)> compressor(
+      libdeflate_alloc_compressor(level), &libdeflate_free_compressor);
+  if (!compressor)
+    throw std::runtime_error("PNG encoder: libdeflate refused compression level " + std::to_string(level));
+  const std::size_t bound = libdeflate_zlib_compress_bound(compressor.get(), filtered_size);
+  const auto stream = std::make_unique_for_overwrite<std::uint8_t[]>(bound);
+  const std::size_t length =
+      libdeflate_zlib_compress(compressor.get(), filtered.get(), filtered_size, stream.get(), bound);
+  if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");
+  constexpr std::size_t kChunkBytes = 1u << 20;  // IDAT chunks of 1 MiB: any split reads the same
+  for (std::size_t at = 0; at < length; at += kChunkBytes)
+    append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
 }
 }  // namespace
 
-Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
+Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level,
+                 TexelBytes* release) {
   if (channels < 1 || channels > 4) throw std::runtime_error("PNG encoder: " + std::to_string(channels) + " channels");
   if (width < 1 || height < 1 ||
       texels.size() !=
@@ -263,50 +281,60 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
   // alpha, else the channels as given. An opaque alpha channel is left out (it reads back as 1).
   // Baked maps of a few colours (BoxTexturedNonPowerOfTwo's) shrink to a fraction.
   const ColourUse use(texels, channels);
-  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   const bool colour = channels >= 3, alpha = channels == 2 || channels == 4;
   const bool keep_alpha = alpha && !use.opaque;
-  std::vector<std::uint8_t> converted;
-  auto gather = [&](int out_channels, auto&& write) {
-    converted.resize(count * static_cast<std::size_t>(out_channels));
-    for (std::size_t i = 0; i < count; ++i)
-      write(&texels[i * static_cast<std::size_t>(channels)], &converted[i * static_cast<std::size_t>(out_channels)]);
-  };
-  std::span<const std::uint8_t> image = texels;
+  // How a row is converted to the stored form: channels kept (their offsets in a texel) or the
+  // palette index.
+  enum class Conversion { None, Channels, PaletteIndex };
+  Conversion conversion = Conversion::Channels;
+  int kept[3] = {0, channels - 1, 0};
   ColourType colour_type;
   int pixel_bytes = channels;
   std::vector<std::uint8_t> plte, trns;  // PLTE and tRNS data of a palette image
   if (use.grey && !keep_alpha) {
     colour_type = ColourType::Grey, pixel_bytes = 1;
-    if (channels != 1) gather(1, [](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0]; });
   } else if (!use.palette.empty() && (colour || keep_alpha)) {
-    colour_type = ColourType::Palette, pixel_bytes = 1;
+    colour_type = ColourType::Palette, pixel_bytes = 1, conversion = Conversion::PaletteIndex;
     for (const std::uint32_t rgba : use.palette) {
       plte.insert(plte.end(), {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
                                static_cast<std::uint8_t>(rgba >> 16)});
       if (keep_alpha) trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
     }
-    // Neighbouring texels mostly repeat a colour: the last one's index is kept.
-    std::uint32_t last_rgba = use.palette[0];
-    std::uint8_t last_index = 0;
-    gather(1, [&](const std::uint8_t* in, std::uint8_t* out) {
-      const std::uint32_t rgba = packed_rgba(in, channels);
-      if (rgba != last_rgba) last_rgba = rgba, last_index = use.index_of(rgba);
-      out[0] = last_index;
-    });
   } else if (use.grey) {
-    colour_type = ColourType::GreyAlpha, pixel_bytes = 2;
-    if (channels != 2)
-      gather(2, [&](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0], out[1] = in[channels - 1]; });
+    colour_type = ColourType::GreyAlpha, pixel_bytes = 2;  // kept: 0 and the last
   } else if (alpha && !keep_alpha) {
-    colour_type = ColourType::Rgb, pixel_bytes = 3;  // colour: the grey cases are above
-    gather(3, [](const std::uint8_t* in, std::uint8_t* out) { out[0] = in[0], out[1] = in[1], out[2] = in[2]; });
+    colour_type = ColourType::Rgb, pixel_bytes = 3, kept[1] = 1, kept[2] = 2;  // colour: the grey cases are above
   } else {
     static constexpr ColourType kColourType[] = {ColourType::Grey, ColourType::GreyAlpha, ColourType::Rgb,
                                                  ColourType::Rgba};
     colour_type = kColourType[channels - 1];
   }
-  if (!converted.empty()) image = converted;
+  if (conversion == Conversion::Channels && pixel_bytes == channels) conversion = Conversion::None;
+  const std::size_t row_texels = static_cast<std::size_t>(width), in_channels = static_cast<std::size_t>(channels);
+  const std::size_t out_bytes = static_cast<std::size_t>(pixel_bytes);
+  const auto row_of = [&](std::size_t y, std::uint8_t* scratch) -> const std::uint8_t* {
+    const std::uint8_t* const row = texels.data() + y * row_texels * in_channels;
+    switch (conversion) {
+      case Conversion::None:
+        return row;
+      case Conversion::Channels:
+        for (std::size_t x = 0; x < row_texels; ++x)
+          for (std::size_t c = 0; c < out_bytes; ++c) scratch[x * out_bytes + c] = row[x * in_channels + kept[c]];
+        return scratch;
+      case Conversion::PaletteIndex: {
+        // Neighbouring texels mostly repeat a colour: the last one's index is kept.
+        std::uint32_t last_rgba = use.palette[0];
+        std::uint8_t last_index = 0;
+        for (std::size_t x = 0; x < row_texels; ++x) {
+          const std::uint32_t rgba = packed_rgba(row + x * in_channels, channels);
+          if (rgba != last_rgba) last_rgba = rgba, last_index = use.index_of(rgba);
+          scratch[x] = last_index;
+        }
+        return scratch;
+      }
+    }
+    return row;
+  };
   // PNG spec 12.8: palette images compress best unfiltered; the others with the sub filter.
   const bool sub_filter = colour_type != ColourType::Palette;
 
@@ -322,8 +350,8 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
     append_chunk(png, "PLTE", {plte});
     if (!trns.empty()) append_chunk(png, "tRNS", {trns});
   }
-  append_image_data(png, image, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
-                    static_cast<std::size_t>(pixel_bytes), sub_filter, compression_level);
+  append_image_data(png, row_of, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
+                    static_cast<std::size_t>(pixel_bytes), sub_filter, compression_level, release);
   append_chunk(png, "IEND", {});
   return png;
 }

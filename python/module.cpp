@@ -66,7 +66,7 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
 // convert's keywords, shared by convert and convert_many.
 #define GLTF_PBR_CONVERT_KEYWORDS                                                                         \
   py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence", \
-                 "specular_tolerance"_a = 2.0, "png_compression"_a = 3, "jpeg_quality"_a = 90,            \
+                 "specular_tolerance"_a = 2.0, "png_compression"_a = 1, "jpeg_quality"_a = 90,            \
                  "error_samples"_a = std::size_t{1} << 16, "allow_outside_uris"_a = false, "replace_input"_a = false
 
 }  // namespace

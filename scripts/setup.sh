@@ -11,7 +11,7 @@ jobs=$(nproc)
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
 packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev libdraco-dev libopenimageio-dev
-          libspng-dev libturbojpeg0-dev libmeshoptimizer-dev libxxhash-dev libglm-dev libcli11-dev libgtest-dev libyaml-cpp-dev libcgal-dev
+          libspng-dev libdeflate-dev libturbojpeg0-dev libmeshoptimizer-dev libxxhash-dev libglm-dev libcli11-dev libgtest-dev libyaml-cpp-dev libcgal-dev
           libbenchmark-dev python3-dev python3-pybind11)
 # The Python module's tests run under Debian's pytest; the Dask driver's (dist/) on a local cluster.
 if [ "$mode" = test ]; then packages+=(python3-pytest python3-distributed); fi

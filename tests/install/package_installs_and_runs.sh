@@ -19,7 +19,7 @@ for field in "Package: gltf-pbr" "Version: $version"; do
 done
 # What the tool and the module link, as Debian names it: each must be a declared dependency.
 depends=$(dpkg-deb -f "$deb" Depends)
-for library in libspng0 libturbojpeg0 libdraco7 libyaml-cpp0.7 libopenimageio2.4 libstdc++6; do
+for library in libspng0 libdeflate0 libturbojpeg0 libdraco7 libyaml-cpp0.7 libopenimageio2.4 libstdc++6; do
   grep -q "\b$library\b" <<<"$depends" || { echo "Depends lacks $library: $depends" >&2; exit 1; }
 done
 # The Python module needs the interpreter it was built for; the tool does not.
