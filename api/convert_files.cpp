@@ -117,8 +117,8 @@ std::string run_settings(const ConvertFileOptions& options) {
   text.precision(17);
   text << "convert " << tool_version() << " target " << target_name(options.target) << " solver "
        << solver_effort_name(options.solver) << " error-model " << error_model_name(options.error_model)
-       << " specular-tolerance " << options.specular_tolerance << " png " << options.png_compression << " jpeg "
-       << options.jpeg_quality << " error-samples " << options.error_samples << " allow-outside "
+       << " specular-tolerance " << options.specular_tolerance << " png-libdeflate " << options.png_compression
+       << " jpeg " << options.jpeg_quality << " error-samples " << options.error_samples << " allow-outside "
        << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << " preview-size "
        << options.preview_size << " preview-lint "
        << (options.preview_lint ? lint_profile_name(*options.preview_lint) : "off") << '\n'

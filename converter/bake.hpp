@@ -41,7 +41,9 @@ struct BakedTexels {
   int base_channels = 4;
   std::uint8_t alpha = 255;  // the first texel's alpha: all of them when alpha_constant
   // The metallicRoughness texels as glTF stores them, baked in place for the encoder: RGB, R unused
-  // (0), G roughness, B metalness, both linear.
+  // (0), G roughness, B metalness, both linear. The encoder may take them, and base_color, when
+  // no later step reads them (converter/convert.cpp): after encoding, only a constant map's first
+  // texel is read.
   TexelBytes metal_rough;
   std::uint8_t metalness(size_t texel) const { return metal_rough[texel * 3 + 2]; }
   std::uint8_t roughness(size_t texel) const { return metal_rough[texel * 3 + 1]; }

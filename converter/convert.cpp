@@ -330,8 +330,8 @@ class Converter {
       parallel_invoke(
           [&] {
             if (t.metal_rough_constant) return;
-            // The encoder takes the bake's texels and frees them as it goes, unless the error is
-            // measured on their metalness below; the preview keeps a copy.
+            // The encoder takes the bake's texels and frees them once filtered, unless the error
+            // is measured on their metalness below; the preview keeps a copy.
             std::optional<TexelBytes> kept;
             if (options_.keep_decoded) kept = t.metal_rough;
             metal_rough = error_as_written
@@ -357,8 +357,8 @@ class Converter {
               const int channels = t.alpha_constant ? 3 : 4;
               std::optional<TexelBytes> kept;
               if (options_.keep_decoded) kept.emplace(texels.begin(), texels.end());
-              // The encoder frees texels it is given as it goes: the RGB copy, or the bake's own
-              // unless their error is measured below.
+              // The encoder frees texels it is given once filtered: the RGB copy, or the bake's
+              // own unless their error is measured below.
               const auto encode = [&](auto&& given) {
                 return encode_png(std::forward<decltype(given)>(given), t.width, t.height, channels,
                                   options_.png_compression);

@@ -73,7 +73,8 @@ struct TexelGrid {
 };
 TexelGrid bake_grid(std::span<const Pixels* const> textures);
 
-// Encodes 8-bit PNG; `channels` is 1-4, interleaved; `compression_level` is libdeflate's, 0-12.
+// Encodes 8-bit PNG; `channels` is 1-4, interleaved; `compression_level` is libdeflate's, 0-12
+// (the tool and the library offer 0-9).
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level);
 // The same for texels the caller gives up: they are freed once filtered, before the deflate, so a
 // large map is not held twice while it compresses (Avocado at 4096²: 50 MB less at the peak).

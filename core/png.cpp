@@ -220,8 +220,9 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
 }
 
 // The IDAT chunks: the filtered rows (PNG spec 7.3, 9) as one zlib stream (RFC 1950), compressed
-// whole by libdeflate, which DESIGN.md and bench/RESULTS.md measured at about half zlib's time for
-// the same texels (Avocado's maps at 4096²: 277 against 517 ms of CPU). Its streams cannot be cut
+// whole by libdeflate, at level 1 about half the time of zlib's fastest (run-length) deflate for a
+// few percent more bytes (Avocado's maps at 4096²: 277 against 517 ms of CPU; bench/RESULTS.md,
+// session 29). Its streams cannot be cut
 // into pieces that join, so an image deflates on one thread; a bake's two maps deflate at once.
 // The rows are converted and filtered in parts on the pool into one buffer first; neither it nor
 // the output is zeroed (the output's pages are touched only as far as the stream goes).
@@ -235,7 +236,7 @@ void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::
   // Plain heap memory, not texel pages: where texel pages are kept for reuse (a preview), these
   // transient buffers would stay mapped after the encode.
   const std::size_t filtered_size = filtered_row_bytes * height;
-  const auto filtered = std::make_unique_for_overwrite<std::uint8_t[]>(filtered_size);
+  auto filtered = std::make_unique_for_overwrite<std::uint8_t[]>(filtered_size);
   constexpr std::size_t kPartBytes = 1u << 20;
   const std::size_t rows_per_part = std::max<std::size_t>(1, kPartBytes / filtered_row_bytes);
   parallel_dynamic(static_cast<std::int64_t>((height + rows_per_part - 1) / rows_per_part), [&](std::int64_t part) {
@@ -262,7 +263,9 @@ void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::
   const std::size_t length =
       libdeflate_zlib_compress(compressor.get(), filtered.get(), filtered_size, stream.get(), bound);
   if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");
+  filtered.reset();                              // read no more: not held while the file is written
   constexpr std::size_t kChunkBytes = 1u << 20;  // IDAT chunks of 1 MiB: any split reads the same
+  png.reserve(png.size() + length + (length / kChunkBytes + 1) * 12 + 12);  // the chunks and IEND
   for (std::size_t at = 0; at < length; at += kChunkBytes)
     append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
 }

@@ -35,7 +35,7 @@ std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage
 // before 6.11 a failed MREMAP_FIXED has already unmapped its destination. Instead, each mapping
 // is placed right below the one before when that address range is free (the kernel hands out
 // addresses top down), so that buffers made one after another lie end to end, and idle regions
-// that touch are one region: three freed 4, 4 and 12 MB planes of a conversion then hold a 16 MB
+// that touch are one region: three freed 4, 4 and 12 MB maps of a conversion then hold a 16 MB
 // visibility buffer that none of them holds alone. Memory is the same to the program across
 // the seam of two mappings; no call is needed to reuse it.
 // Idle pages are advised MADV_FREE, so memory pressure reclaims them, and at most kIdleTexelLimit

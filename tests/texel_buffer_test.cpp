@@ -50,7 +50,7 @@ TEST(TexelBuffer, TheSmallestIdleRegionThatHoldsARequestServesItAndKeepsItsRest)
   EXPECT_EQ(idle_texel_bytes(), 0u);
 }
 
-// Idle regions that touch are one region: a conversion's freed 4, 4 and 12 MiB planes, lying end
+// Idle regions that touch are one region: a conversion's freed 4, 4 and 12 MiB maps, lying end
 // to end, hold a render's 16 MiB visibility buffer. (Here the three come out of one freed 20 MiB
 // buffer, so they touch whatever the kernel's placement of new mappings.)
 TEST(TexelBuffer, IdleRegionsThatTouchServeABufferNoneOfThemHoldsAlone) {
