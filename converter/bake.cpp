@@ -409,7 +409,6 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // specularGlossiness alpha) of 8-bit texels by table; other precisions channel by channel.
   const auto alpha_table = byte_table([&](float a) { return in.diffuse_factor.a * a; });
   const auto roughness_table = byte_table([&](float g) { return 1.0f - in.glossiness_factor * g; });
-  const std::uint8_t factor_roughness = quantize(1.0f - in.glossiness_factor);
   const auto alpha_of = [&](size_t i) {
     const Pixels& d = *in.diffuse;
     return !d.bytes.empty()
@@ -453,7 +452,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
       for (int c = 0; c < 3; ++c) equal = equal && std::abs(int{diffuse[c]} - int{solved.base_srgb[c]}) <= 1;
     }
     std::memcpy(base + i * base_channels, solved.base_srgb, 3);
-    out.metal_rough[i * 3 + 2] = solved.metalness;
+    out.metalness[i] = solved.metalness;
   };
 
   // Bands of rows handed out a run of neighbours at a time: the distinct colours, and so the
@@ -483,8 +482,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
         equal = equal && (!diffuse_bytes || diffuse_bytes[i * 4 + 3] == alpha);
         base[i * 4 + 3] = alpha;
       }
-      out.metal_rough[i * 3] = 0;
-      out.metal_rough[i * 3 + 1] = in.spec_gloss ? roughness_of(i) : factor_roughness;
+      if (in.spec_gloss) out.roughness[i] = roughness_of(i);
       const typename Texels::Key key = texels_of.key(i);
       if (!previous || previous->first != key)
         previous.emplace(key, cache.find_or_queue(key, Texels::hash(key), [&] { return texels_of.legacy(i); }));
@@ -529,9 +527,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
         in.spec_gloss != in.diffuse && ByteTexels::serves(in)))
     inputs.overwrite_diffuse = nullptr;  // not a buffer the bake can write over: a new one
   out.base_color.resize(inputs.overwrite_diffuse ? 0 : texels * static_cast<size_t>(out.base_channels));
-  out.metal_rough.resize(texels * 3);
-  // The first texel's alpha: the factor's, unless the texels carry it (below).
+  out.metalness.resize(texels);
+  if (in.spec_gloss) out.roughness.resize(texels);
+  // The first texel's alpha and roughness: the factors', unless the texels carry them (below).
   out.alpha = quantize(in.diffuse_factor.a);
+  out.first_roughness = quantize(1.0f - in.glossiness_factor);
   if (texels == 0) return out;
 
   if (ByteTexels::serves(inputs))
@@ -540,14 +540,15 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
     bake_texels<FloatTexels>(inputs, settings, max_error_samples, out);
   if (inputs.overwrite_diffuse) out.base_color = std::move(*inputs.overwrite_diffuse);
   if (alpha_texels) out.alpha = out.base_color[3];
+  if (in.spec_gloss) out.first_roughness = out.roughness[0];
 
   const size_t base_channels = static_cast<size_t>(out.base_channels);
   for (size_t i = 1; i < texels; ++i) {
     const std::uint8_t* base = &out.base_color[i * base_channels];
     out.base_constant = out.base_constant && std::equal(base, base + 3, &out.base_color[0]);
     out.alpha_constant = out.alpha_constant && (!alpha_texels || base[3] == out.alpha);
-    out.metal_rough_constant = out.metal_rough_constant &&
-                               std::equal(&out.metal_rough[i * 3], &out.metal_rough[i * 3 + 3], &out.metal_rough[0]);
+    out.metal_rough_constant = out.metal_rough_constant && out.metalness[i] == out.metalness[0] &&
+                               (out.roughness.empty() || out.roughness[i] == out.first_roughness);
   }
   return out;
 }
@@ -570,7 +571,7 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
       const size_t texel = (first + j) * texels.sample_stride;
       batch[j].legacy = texels.sampled_legacy[first + j];
       std::memcpy(batch[j].base_srgb, &base[texel * static_cast<size_t>(channels)], 3);
-      batch[j].metalness = texels.metalness(texel);
+      batch[j].metalness = texels.metalness[texel];
     }
     std::vector<StoredTexelErrors::DeltaE> delta_e(batch.size());
     StoredTexelErrors().measure(batch, appearance, delta_e);
@@ -580,6 +581,16 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
       texels.error_b.set(first + j, delta_e[j][2], delta_e[j][3]);
     }
   });
+}
+
+TexelBytes BakedTexels::metal_rough() const {
+  TexelBytes texels(metalness.size() * 3);
+  for (size_t i = 0; i < metalness.size(); ++i) {
+    texels[i * 3] = 0;
+    texels[i * 3 + 1] = roughness.empty() ? first_roughness : roughness[i];
+    texels[i * 3 + 2] = metalness[i];
+  }
+  return texels;
 }
 
 }  // namespace gltf_pbr

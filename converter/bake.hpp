@@ -40,13 +40,13 @@ struct BakedTexels {
   TexelBytes base_color;
   int base_channels = 4;
   std::uint8_t alpha = 255;  // the first texel's alpha: all of them when alpha_constant
-  // The metallicRoughness texels as glTF stores them, baked in place for the encoder: RGB, R unused
-  // (0), G roughness, B metalness, both linear. The encoder may take them, and base_color, when
-  // no later step reads them (converter/convert.cpp): after encoding, only a constant map's first
-  // texel is read.
-  TexelBytes metal_rough;
-  std::uint8_t metalness(size_t texel) const { return metal_rough[texel * 3 + 2]; }
-  std::uint8_t roughness(size_t texel) const { return metal_rough[texel * 3 + 1]; }
+  // Linear metalness, a byte a texel; roughness a byte a texel only when the glossiness varies by
+  // texel (a specularGlossiness texture), else empty and `first_roughness` everywhere. Planes, not
+  // the interleaved map, while the bake runs: a third of the memory where the roughness is a factor
+  // (CesiumMilkTruck's 2048² map: 4 MB, not 12). Once encoded they, and base_color, may be freed
+  // where no later step reads them (converter/convert.cpp): only a constant map's first texel is.
+  TexelBytes metalness, roughness;
+  std::uint8_t first_roughness = 0;
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
   // The base colour equals the 8-bit diffuse within the solve's rounding (1 code in RGB; alpha
   // exactly), so the diffuse image can stand for it (the caller also checks the factor); the
@@ -56,6 +56,9 @@ struct BakedTexels {
   ErrorAccumulator extension_a, extension_b;  // the extension route's, when measured (else empty)
   size_t sample_stride = 1;                   // error sample s is texel s × sample_stride
   std::vector<SpecGloss> sampled_legacy;      // each sample's legacy texel, with measure_as_written
+
+  // The metallicRoughness texels as glTF stores them: RGB, R unused (0), G roughness, B metalness.
+  TexelBytes metal_rough() const;
 };
 
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are

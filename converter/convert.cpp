@@ -147,8 +147,8 @@ class Converter {
       entry.outputs.base_color = baked.outcome(baked.base_color_image, entry.index);
     }
     if (t.metal_rough_constant) {
-      pbr.metallicFactor = t.metalness(0) / 255.0;
-      pbr.roughnessFactor = t.roughness(0) / 255.0;
+      pbr.metallicFactor = t.metalness[0] / 255.0;
+      pbr.roughnessFactor = t.first_roughness / 255.0;
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
     }
@@ -213,7 +213,7 @@ class Converter {
       // Roughness comes from the glossiness in alpha: bake it (metalness stays 0).
       const Bake& rough = bake_roughness(legacy, entry.index);
       if (rough.texels.metal_rough_constant) {
-        pbr.roughnessFactor = rough.texels.roughness(0) / 255.0;
+        pbr.roughnessFactor = rough.texels.first_roughness / 255.0;
       } else {
         pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
@@ -330,14 +330,16 @@ class Converter {
       parallel_invoke(
           [&] {
             if (t.metal_rough_constant) return;
-            // The encoder takes the bake's texels and frees them once filtered, unless the error
-            // is measured on their metalness below; the preview keeps a copy.
-            std::optional<TexelBytes> kept;
-            if (options_.keep_decoded) kept = t.metal_rough;
-            metal_rough = error_as_written
-                              ? encode_png(t.metal_rough, t.width, t.height, 3, options_.png_compression)
-                              : encode_png(std::move(t.metal_rough), t.width, t.height, 3, options_.png_compression);
-            if (kept) keep_lossless(metal_rough, std::move(*kept), t.width, t.height, 3);
+            TexelBytes texels = t.metal_rough();
+            // The planes are read no more, unless the error is measured on the metalness below;
+            // the encoder frees the texels once filtered, unless the preview keeps them.
+            if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
+            if (options_.keep_decoded) {
+              metal_rough = encode_png(texels, t.width, t.height, 3, options_.png_compression);
+              keep_lossless(metal_rough, std::move(texels), t.width, t.height, 3);
+            } else {
+              metal_rough = encode_png(std::move(texels), t.width, t.height, 3, options_.png_compression);
+            }
           },
           [&] {
             if (!bake_base) return;

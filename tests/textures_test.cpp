@@ -881,7 +881,7 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
           ASSERT_EQ(out.base_color[i * 3 + static_cast<size_t>(c)], to_byte(linear_to_srgb(e.base[c])))
               << "texel " << i << " channel " << c << ", specular factor " << specular_factor << ", "
               << static_cast<int>(model);
-        ASSERT_EQ(out.metalness(i), to_byte(e.metalness))
+        ASSERT_EQ(out.metalness[i], to_byte(e.metalness))
             << "texel " << i << ", specular factor " << specular_factor << ", " << static_cast<int>(model);
       }
       EXPECT_EQ(shortcuts > 0, specular_factor == 0.04f);
@@ -941,7 +941,8 @@ TEST(BakeOverDiffuse, GivesTheSameBakeAsANewBuffer) {
       EXPECT_TRUE(c.diffuse.bytes == diffuse_before);
     }
     EXPECT_TRUE(over.base_color == fresh.base_color);
-    EXPECT_TRUE(over.metal_rough == fresh.metal_rough);
+    EXPECT_TRUE(over.metalness == fresh.metalness);
+    EXPECT_TRUE(over.roughness == fresh.roughness);
     EXPECT_EQ(over.base_channels, fresh.base_channels);
     EXPECT_EQ(over.alpha, fresh.alpha);
     EXPECT_EQ(over.base_constant, fresh.base_constant);
