@@ -222,10 +222,10 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
 // The IDAT chunks: the filtered rows (PNG spec 7.3, 9) as one zlib stream (RFC 1950), compressed
 // whole by libdeflate, at level 1 about half the time of zlib's fastest (run-length) deflate for a
 // few percent more bytes (Avocado's maps at 4096²: 277 against 517 ms of CPU; bench/RESULTS.md,
-// session 29). Its streams cannot be cut
-// into pieces that join, so an image deflates on one thread; a bake's two maps deflate at once.
-// The rows are converted and filtered in parts on the pool into one buffer first; neither it nor
-// the output is zeroed (the output's pages are touched only as far as the stream goes).
+// session 29). Its streams cannot be cut into pieces that join, so an image deflates on one
+// thread; a bake's two maps deflate at once. The rows are converted and filtered in parts on the
+// pool into one buffer first; neither it nor the output is zeroed (the output's pages are touched
+// only as far as the stream goes).
 // `row_of(y, scratch)` gives row y as stored: the caller's texels, or their conversion written
 // into `scratch` (room for a row). `release`, when given, holds the texels and is emptied once
 // they are filtered.
