@@ -43,8 +43,9 @@ struct BakedTexels {
   // Linear metalness, a byte a texel; roughness a byte a texel only when the glossiness varies by
   // texel (a specularGlossiness texture), else empty and `first_roughness` everywhere. Planes, not
   // the interleaved map, while the bake runs: a third of the memory where the roughness is a factor
-  // (CesiumMilkTruck's 2048² map: 4 MB, not 12). Once encoded they, and base_color, may be freed
-  // where no later step reads them (converter/convert.cpp): only a constant map's first texel is.
+  // (CesiumMilkTruck's 2048² map: 4 MB, not 12). Where no later step reads them, convert frees
+  // them once interleaved for the encoder, and gives base_color to it (converter/convert.cpp):
+  // afterwards only a constant map's first texel is read.
   TexelBytes metalness, roughness;
   std::uint8_t first_roughness = 0;
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
