@@ -426,6 +426,9 @@ GLTF_PBR_INLINE float blended_metalness(std::span<const Minimum> minima) {
 // solve(); the 3×3 systems are solved by cofactors
 // rather than glm::inverse, so results agree with solve() to float rounding, not bit for bit.
 // The rare lane whose unconstrained base has a negative channel takes the scalar active set.
+// Every helper that solve() calls, here and above (bracket_of, prominence, ...), is
+// GLTF_PBR_INLINE: a call out of its AVX2 clone into plain x86-64 code spilled the lanes, 330 of
+// 790 ns a solve (bench/RESULTS.md, session 29).
 namespace lane_solver {
 
 using namespace lanes;
