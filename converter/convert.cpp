@@ -331,15 +331,9 @@ class Converter {
           [&] {
             if (t.metal_rough_constant) return;
             TexelBytes texels = t.metal_rough();
-            // The planes are read no more, unless the error is measured on the metalness below;
-            // the encoder frees the texels once filtered, unless the preview keeps them.
+            // The planes are read no more, unless the error is measured on the metalness below.
             if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
-            if (options_.keep_decoded) {
-              metal_rough = encode_png(texels, t.width, t.height, 3, options_.png_compression);
-              keep_lossless(metal_rough, std::move(texels), t.width, t.height, 3);
-            } else {
-              metal_rough = encode_png(std::move(texels), t.width, t.height, 3, options_.png_compression);
-            }
+            metal_rough = encode_baked_png(texels, &texels, t.width, t.height, 3);
           },
           [&] {
             if (!bake_base) return;
@@ -356,19 +350,9 @@ class Converter {
             if (jpeg_base) {
               base_color = encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality);
             } else {
-              const int channels = t.alpha_constant ? 3 : 4;
-              std::optional<TexelBytes> kept;
-              if (options_.keep_decoded) kept.emplace(texels.begin(), texels.end());
-              // The encoder frees texels it is given once filtered: the RGB copy, or the bake's
-              // own unless their error is measured below.
-              const auto encode = [&](auto&& given) {
-                return encode_png(std::forward<decltype(given)>(given), t.width, t.height, channels,
-                                  options_.png_compression);
-              };
-              base_color = !rgb.empty()        ? encode(std::move(rgb))
-                           : !error_as_written ? encode(std::move(t.base_color))
-                                               : encode(texels);
-              if (kept) keep_lossless(base_color, std::move(*kept), t.width, t.height, channels);
+              // Given up: the RGB copy, or the bake's own texels unless their error is measured below.
+              TexelBytes* const given = !rgb.empty() ? &rgb : !error_as_written ? &t.base_color : nullptr;
+              base_color = encode_baked_png(texels, given, t.width, t.height, t.alpha_constant ? 3 : 4);
             }
           });
       if (error_as_written) {
@@ -474,12 +458,19 @@ class Converter {
 
   // A baked PNG's texels, kept as the pixels its bytes decode to (PNG is lossless; a JPEG is not,
   // so its reader decodes what was written).
-  void keep_lossless(const Bytes& png, TexelBytes texels, int width, int height, int channels) {
-    if (!options_.keep_decoded) return;
+  // A baked map as PNG. `given`, when set, holds `texels` and is read no more after this: the
+  // encoder frees it once filtered, or the preview keeps it as the decoded image (else it keeps
+  // a copy), so a large map is not held twice while it compresses.
+  Bytes encode_baked_png(std::span<const std::uint8_t> texels, TexelBytes* given, int width, int height, int channels) {
+    if (!options_.keep_decoded)
+      return given ? encode_png(std::move(*given), width, height, channels, options_.png_compression)
+                   : encode_png(texels, width, height, channels, options_.png_compression);
+    Bytes png = encode_png(texels, width, height, channels, options_.png_compression);
     auto pixels = std::make_shared<Pixels>();
     pixels->width = width, pixels->height = height, pixels->channels = channels;
-    pixels->bytes = std::move(texels);
+    pixels->bytes = given ? std::move(*given) : TexelBytes(texels.begin(), texels.end());
     options_.keep_decoded->keep(image_content_key(png), std::move(pixels));
+    return png;
   }
 
   int add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {
