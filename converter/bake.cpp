@@ -394,7 +394,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const std::uint8_t* const diffuse_bytes = same_layout_as_base(in.diffuse, out) ? in.diffuse->bytes.data() : nullptr;
   std::atomic<bool> equals_diffuse{diffuse_bytes != nullptr};
   // Every stride-th texel is a sample, in texel order.
-  const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
+  const size_t stride = error_sample_stride(texels, max_error_samples);
   const size_t samples = (texels + stride - 1) / stride;
   out.error_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
   out.error_b = ErrorAccumulator(samples);
@@ -551,6 +551,10 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
                                (out.roughness.empty() || out.roughness[i] == out.first_roughness);
   }
   return out;
+}
+
+size_t error_sample_stride(size_t texels, size_t max_error_samples) {
+  return max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
 }
 
 void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,

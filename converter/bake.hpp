@@ -62,6 +62,10 @@ struct BakedTexels {
   TexelBytes metal_rough() const;
 };
 
+// Every error_sample_stride()-th texel, in texel order, is an error sample: at most
+// `max_error_samples` of `texels` (0: all). compare samples the same texels.
+size_t error_sample_stride(size_t texels, size_t max_error_samples);
+
 // Solves every texel (factor x texel, each in its colour space). Inputs of other sizes are
 // resampled to width x height first by the caller.
 BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_t max_error_samples);

@@ -3,6 +3,7 @@
 #include <array>
 #include <vector>
 
+#include "converter/bake.hpp"
 #include "converter/legacy_material.hpp"
 #include "core/error.hpp"
 #include "core/material_model.hpp"
@@ -71,7 +72,7 @@ std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const As
         if (pixels && (pixels->width != grid.width || pixels->height != grid.height))
           pixels = &resampled.emplace_back(resize(*pixels, grid.width, grid.height));
 
-    const size_t stride = max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
+    const size_t stride = error_sample_stride(texels, max_error_samples);
     ErrorAccumulator error;
     for (size_t t = 0; t < texels; t += stride) {
       const int x = static_cast<int>(t % static_cast<size_t>(grid.width));
