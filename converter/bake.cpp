@@ -4,6 +4,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <span>
@@ -54,16 +55,26 @@ struct StoredTexel {
 
 // ΔE2000 of stored texels read back as a viewer reads them (core_reflectance and core_appearance
 // of the 8-bit sRGB base and metalness, at the texel's roughness) against legacy readings A and B,
-// every colour pair in one batch of CIELAB and ΔE2000 lanes. F0 is the specular colour under
-// either reading. Per texel: diffuse A, F0 A, diffuse B, F0 B, and under the appearance model the
-// mean over the appearance rings (else 0, unmeasured).
+// in one batch of CIELAB and ΔE2000 lanes. F0 is the specular colour under either reading. Per
+// texel: diffuse A, F0 A, diffuse B, F0 B, and under the appearance model the mean over the
+// appearance rings (else 0, unmeasured).
+//
+// A colour pair is converted and compared once however many of a texel's figures it serves: both
+// readings share the converted diffuse, a specular of 0 makes reading B's diffuse reading A's, and
+// the F0 pair of a texel often repeats the one before (a specular factor over a dielectric: every
+// texel of most of VC's textures). A lane's result never depends on its neighbours, so each figure
+// is the one a pair of its own would give.
 class StoredTexelErrors {
  public:
   using DeltaE = std::array<float, 5>;
   void measure(std::span<const StoredTexel> texels, bool appearance, std::span<DeltaE> out) {
-    const size_t kPairs = appearance ? 3 + kAppearanceRings : 3;
+    const size_t kFigures = appearance ? 3 + kAppearanceRings : 3;  // diffuse A, F0, diffuse B, rings
     const size_t n = texels.size();
-    linear_.resize(2 * kPairs * n), lab_.resize(2 * kPairs * n), delta_e_.resize(kPairs * n);
+    colours_.clear(), expected_.clear(), actual_.clear();
+    pair_of_.resize(kFigures * n);
+    bool have_f0 = false;
+    glm::vec3 last_expected_f0{0.0f}, last_actual_f0{0.0f};
+    std::uint32_t f0_pair = 0;
     for (size_t j = 0; j < n; ++j) {
       const StoredTexel& texel = texels[j];
       MetalRough stored;
@@ -73,27 +84,48 @@ class StoredTexelErrors {
       const Reflectance converted = core_reflectance(stored);
       const Reflectance a = legacy_reflectance(texel.legacy, LegacyReading::A),
                         b = legacy_reflectance(texel.legacy, LegacyReading::B);
-      glm::vec3* expected = &linear_[kPairs * j];  // the first half: legacy; the second: converted
-      glm::vec3* actual = &linear_[kPairs * (n + j)];
-      expected[0] = a.diffuse, expected[1] = a.f0, expected[2] = b.diffuse;
-      actual[0] = converted.diffuse, actual[1] = converted.f0, actual[2] = converted.diffuse;
+      std::uint32_t* const figures = &pair_of_[kFigures * j];
+      const std::uint32_t converted_diffuse = colour(converted.diffuse);
+      figures[0] = pair(colour(a.diffuse), converted_diffuse);
+      figures[2] = b.diffuse == a.diffuse ? figures[0] : pair(colour(b.diffuse), converted_diffuse);
+      if (!have_f0 || a.f0 != last_expected_f0 || converted.f0 != last_actual_f0) {
+        f0_pair = pair(colour(a.f0), colour(converted.f0));
+        have_f0 = true, last_expected_f0 = a.f0, last_actual_f0 = converted.f0;
+      }
+      figures[1] = f0_pair;
       if (!appearance) continue;
       const Appearance seen = legacy_appearance(texel.legacy), shown = core_appearance(stored);
-      for (int k = 0; k < kAppearanceRings; ++k) expected[3 + k] = seen.ring[k], actual[3 + k] = shown.ring[k];
+      for (int k = 0; k < kAppearanceRings; ++k) figures[3 + k] = pair(colour(seen.ring[k]), colour(shown.ring[k]));
     }
-    linear_srgb_to_lab(linear_, lab_);
-    delta_e_2000(std::span(lab_).first(kPairs * n), std::span(lab_).subspan(kPairs * n), delta_e_);
+    lab_.resize(colours_.size());
+    linear_srgb_to_lab(colours_, lab_);
+    const size_t pairs = expected_.size();
+    lab1_.resize(pairs), lab2_.resize(pairs), delta_e_.resize(pairs);
+    for (size_t p = 0; p < pairs; ++p) lab1_[p] = lab_[expected_[p]], lab2_[p] = lab_[actual_[p]];
+    delta_e_2000(lab1_, lab2_, delta_e_);
     for (size_t j = 0; j < n; ++j) {
-      const float* d = &delta_e_[kPairs * j];
+      const std::uint32_t* figures = &pair_of_[kFigures * j];
       float rings = 0.0f;  // the mean over the rings, as appearance_delta_e
-      for (int k = 0; appearance && k < kAppearanceRings; ++k) rings += d[3 + k];
-      out[j] = {d[0], d[1], d[2], d[1], rings / kAppearanceRings};
+      for (int k = 0; appearance && k < kAppearanceRings; ++k) rings += delta_e_[figures[3 + k]];
+      const float f0 = delta_e_[figures[1]];
+      out[j] = {delta_e_[figures[0]], f0, delta_e_[figures[2]], f0, rings / kAppearanceRings};
     }
   }
 
  private:
-  std::vector<glm::vec3> linear_, lab_;
-  std::vector<float> delta_e_;
+  std::uint32_t colour(const glm::vec3& linear) {
+    colours_.push_back(linear);
+    return static_cast<std::uint32_t>(colours_.size() - 1);
+  }
+  std::uint32_t pair(std::uint32_t expected, std::uint32_t actual) {
+    expected_.push_back(expected), actual_.push_back(actual);
+    return static_cast<std::uint32_t>(expected_.size() - 1);
+  }
+
+  std::vector<glm::vec3> colours_, lab_, lab1_, lab2_;
+  std::vector<std::uint32_t> expected_, actual_;  // a pair's two colours (legacy, converted)
+  std::vector<std::uint32_t> pair_of_;            // the pair of each figure of each texel
+  std::vector<float> delta_e_;                    // by pair
 };
 
 // How the bake reads texel i: its legacy material, and the key its solve is cached by: diffuse and
