@@ -197,6 +197,34 @@ TEST(LeanCodecs, OddPngLayoutsDecodeAsOpenImageIoDecodesThem) {
                                      "ICC-tagged RGB", 0.0f);
 }
 
+// The decoder leaves the zlib stream's Adler-32 unchecked (core/png.cpp) because each IDAT chunk's
+// CRC-32 covers the same bytes: a changed texel byte is still refused. The stream is stored (zlib
+// level 0), so the change leaves it a valid stream that only the checksums can catch.
+TEST(LeanCodecs, APngWhoseImageDataChangedUnderItsChunkCrcIsRefused) {
+  constexpr int kSize = 16;
+  Bytes raw;
+  for (int y = 0; y < kSize; ++y) {
+    raw.push_back(0);  // filter None
+    for (int x = 0; x < kSize * 3; ++x) raw.push_back(static_cast<std::uint8_t>(x * 5 + y));
+  }
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  Bytes stored(size);
+  ASSERT_EQ(compress2(stored.data(), &size, raw.data(), static_cast<uLong>(raw.size()), 0), Z_OK);
+  stored.resize(size);
+  Bytes png = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A}, header;
+  put32(header, kSize), put32(header, kSize);
+  header.insert(header.end(), {8, 2, 0, 0, 0});  // 8-bit RGB
+  add_chunk(png, "IHDR", header);
+  const size_t idat_data = png.size() + 8;
+  add_chunk(png, "IDAT", stored);
+  add_chunk(png, "IEND", {});
+  ASSERT_EQ(decode_image(png, "as written").bytes[10], raw[1 + 10]);
+  // zlib header (2 bytes) and stored block header (5): the texel bytes follow.
+  Bytes changed = png;
+  changed[idat_data + 7 + 1 + 10] ^= 0x10;  // row 0's filter byte, then its byte 10
+  EXPECT_THROW(decode_image(changed, "changed"), std::runtime_error);
+}
+
 // A JPEG from TurboJPEG with the given flags and subsampling.
 Bytes make_jpeg(int channels, int subsampling, int flags) {
   Bytes texels;
