@@ -217,12 +217,18 @@ struct ByteTexels {
   static std::uint64_t hash(Key key) { return mix_bits(key); }
 };
 
-// A cache of solves, two ways a set: textures repeat their colour pairs a lot, and a hit skips the
+// A cache of solves, four ways a set: textures repeat their colour pairs a lot, and a hit skips the
 // solve without changing any result. Misses are gathered per band and solved together in SIMD
 // lanes (solve_batch), whose answer for an input never depends on its neighbours, so a texel's
 // result is the same whichever batch solved it. The ΔE2000 of the stored (quantized) result
 // against both legacy readings depends on the same inputs, so it is cached too: computed once
 // per entry that a sample texel reads, in SIMD lanes for a batch of entries (measure_errors).
+//
+// A lookup reads one set, and its misses in the level-2 cache were most of a large bake's lookup
+// time: so an entry holds only what a lookup reads (16 bytes with the 8-byte keys of 8-bit
+// textures, a set of four one 64-byte line) and the error beside it lives apart, read by samples
+// only. Sets of two 48-byte entries spanned two lines, and four times as many of them saved a
+// third of the solves but lost as much again in misses (bench/RESULTS.md).
 template <class Key>
 class SolveCache {
  public:
@@ -230,11 +236,8 @@ class SolveCache {
     Key key{};
     std::uint8_t base_srgb[3];
     std::uint8_t metalness;
-    float delta_e[5];  // diffuse A, F0 A, diffuse B, F0 B, appearance A (its model only); valid when has_error
-    bool filled = false, queued = false, has_error = false;
-    std::uint8_t recent_way = 0;   // in a set's first entry: the way hit or claimed last
-    std::int32_t error_job = -1;   // the waiting error job for this entry's contents, or -1
-    std::uint32_t generation = 0;  // filled and queued hold only in the cache's current generation
+    std::uint32_t generation : 30 = 0;  // filled and queued hold only in the cache's current generation
+    std::uint32_t filled : 1 = 0, queued : 1 = 0;
   };
   enum class Found { Solved, Queued };
   struct Lookup {
@@ -246,63 +249,68 @@ class SolveCache {
   // The calling thread's cache, emptied for a new bake: each pool thread keeps its cache from bake
   // to bake, and emptying it starts a new generation instead of allocating and zeroing it again
   // (up to 3 MB a thread a texture: a tenth of the run time on VC's 21 small textures). Sized to
-  // the texels it will see, a power of two up to 65536 entries; it never shrinks.
+  // the texels it will see, a power of two up to kMostEntries; it never shrinks.
   static SolveCache& for_this_thread(const SolverSettings& settings, size_t texels) {
     thread_local SolveCache cache;
     cache.settings_ = &settings;
-    const size_t size = std::bit_ceil(std::clamp<size_t>(texels, 256, 65536));
-    if (cache.entries_.size() < size) cache.entries_.assign(size, Entry{}), cache.ticket_of_slot_.resize(size);
-    ++cache.generation_;
+    const size_t size = std::bit_ceil(std::clamp<size_t>(texels, 256, kMostEntries));
+    if (cache.sets_.size() * kWays < size || ++cache.generation_ == kGenerations) {
+      cache.sets_.assign(std::max(cache.sets_.size(), size / kWays), Set{});
+      cache.ticket_of_slot_.resize(cache.sets_.size() * kWays), cache.errors_.resize(cache.sets_.size() * kWays);
+      cache.generation_ = 1;  // every entry (generation 0) is empty
+    }
     cache.queue_.clear(), cache.claimed_.clear(), cache.spill_.clear();  // an earlier bake may have thrown
-    cache.error_texels_.clear(), cache.error_entries_.clear(), cache.error_waiting_.clear();
+    cache.error_texels_.clear(), cache.error_slots_.clear(), cache.error_waiting_.clear();
     return cache;
   }
 
   // The solved entry of `key` (valid until the next call), or a ticket for it in the next
   // solve_queued(). `legacy()` gives the material, asked for on a miss only. An input already
   // queued shares its ticket. A queued slot is never taken by another input before the solve:
-  // one whose set holds two queued inputs is queued apart, so every ticket stays valid.
-  // Two ways a set: with one slot per input, the slots that a band's queued inputs held turned
-  // later inputs away to solves of their own, and Avocado's bake solved 2.1 times its distinct
-  // inputs; two ways bring that to 1.5 (bench/RESULTS.md, "CI time and the bake cache").
+  // one whose set holds only queued inputs is queued apart, so every ticket stays valid.
   template <class Legacy>
   Lookup find_or_queue(const Key& key, std::uint64_t hash, Legacy&& legacy) {
-    Entry* const set = &entries_[hash & (entries_.size() - 2)];  // an even slot and the next
-    for (Entry* way : {set, set + 1}) {
-      if (way->generation != generation_)
-        way->filled = way->queued = false, way->error_job = -1, way->generation = generation_;
-      if (way->key != key) continue;
-      if (way->filled) {
-        set->recent_way = static_cast<std::uint8_t>(way - set);
-        return {Found::Solved, way, 0};
-      }
-      if (way->queued) return {Found::Queued, nullptr, ticket_of_slot_[slot_of(*way)]};
+    Set& set = sets_[hash & (sets_.size() - 1)];
+    // The ways whose key matches, compared without a branch a way (which way hits is random).
+    unsigned matches = 0;
+    for (int w = 0; w < kWays; ++w) matches |= static_cast<unsigned>(set.way[w].key == key) << w;
+    for (; matches != 0; matches &= matches - 1) {
+      Entry& way = set.way[std::countr_zero(matches)];
+      if (way.generation != generation_) continue;  // left by an earlier bake
+      if (way.filled) return {Found::Solved, &way, 0};
+      if (way.queued) return {Found::Queued, nullptr, ticket_of_slot_[slot_of(way)]};
     }
-    // The way to take: an empty one, else the one not found or filled last; never a queued one.
-    Entry* victim = !set->filled && !set->queued ? set : !set[1].filled && !set[1].queued ? set + 1 : nullptr;
-    if (!victim) {
-      Entry* const older = set + (1 - set->recent_way);
-      Entry* const newer = set + set->recent_way;
-      victim = !older->queued ? older : !newer->queued ? newer : nullptr;
+    Entry* empty = nullptr;
+    for (Entry& way : set.way) {
+      if (way.generation != generation_) way.filled = way.queued = 0, way.generation = generation_;
+      if (!empty && !way.filled && !way.queued) empty = &way;
     }
+    // The way to take: an empty one, else the next of the set's filled ones in turn (an older
+    // solve there is dropped); never a queued one.
+    Entry* victim = empty;
+    for (int k = 0; !victim && k < kWays; ++k) {
+      Entry& way = set.way[(next_victim_ + static_cast<unsigned>(k)) % kWays];
+      if (!way.queued) victim = &way;
+    }
+    ++next_victim_;
     const SpecGloss material = legacy();
     if (solves_to_its_diffuse(material)) {  // no search needed (solver.hpp); cached all the same
       Entry& into = victim ? *victim : unqueued_;
       into.key = key;
       fill(into, {material.diffuse, 0.0f, 0.0f});
-      if (victim) set->recent_way = static_cast<std::uint8_t>(victim - set);
       return {Found::Solved, &into, 0};
     }
     const size_t ticket = queue_.size();
     queue_.push_back(material);
     if (!victim) {
       spill_.push_back(ticket);
-    } else {  // claim the way (an older solve there is dropped)
+    } else {  // claim the way
       victim->key = key;
-      victim->filled = false, victim->queued = true, victim->error_job = -1;  // a waiting job keeps its copy
-      ticket_of_slot_[slot_of(*victim)] = ticket;
-      claimed_.push_back(slot_of(*victim));
-      set->recent_way = static_cast<std::uint8_t>(victim - set);
+      victim->filled = 0, victim->queued = 1;
+      const size_t slot = slot_of(*victim);
+      errors_[slot].job = -1;  // a waiting job keeps its copy of what it measures
+      ticket_of_slot_[slot] = ticket;
+      claimed_.push_back(slot);
     }
     return {Found::Queued, nullptr, ticket};
   }
@@ -313,7 +321,7 @@ class SolveCache {
     solve_batch(queue_, solved, *settings_);
     ticket_entries_.assign(queue_.size(), nullptr);
     for (size_t slot : claimed_) {
-      Entry& entry = entries_[slot];
+      Entry& entry = entry_at(slot);
       const size_t ticket = ticket_of_slot_[slot];
       fill(entry, solved[ticket]);
       ticket_entries_[ticket] = &entry;
@@ -329,21 +337,24 @@ class SolveCache {
 
   // Sample `sample` takes the ΔE2000 of what `entry` stores, against legacy readings A and B
   // (and the appearance under the appearance model, whose entries are keyed by glossiness too):
-  // at once, through set(sample, delta_e), when the entry knows it; else at the next
-  // measure_errors(), which computes it once for every entry waiting. `legacy()` gives the
-  // texel's material, asked for only when the entry does not know its error.
+  // at once, through set(sample, delta_e), when the entry's slot knows it; else at the next
+  // measure_errors(), which computes it once for every slot waiting (an entry outside the sets,
+  // spilled or unqueued, is measured for its sample alone). `legacy()` gives the texel's
+  // material, asked for only when the error is not known.
   template <class Legacy, class Set>
   void take_error(Entry& entry, Legacy&& legacy, size_t sample, Set&& set) {
-    if (entry.has_error) return set(sample, entry.delta_e);
-    if (entry.error_job < 0) {
-      entry.error_job = static_cast<std::int32_t>(error_texels_.size());
+    const std::optional<size_t> slot = slot_if_in_sets(entry);
+    ErrorSlot* const known = slot ? &errors_[*slot] : nullptr;
+    if (known && known->has_delta_e) return set(sample, known->delta_e);
+    if (!known || known->job < 0) {
       StoredTexel& texel = error_texels_.emplace_back();
       texel.legacy = legacy();
       std::memcpy(texel.base_srgb, entry.base_srgb, 3);
       texel.metalness = entry.metalness;
-      error_entries_.push_back(&entry);
+      error_slots_.push_back(slot ? static_cast<std::int64_t>(*slot) : -1);
+      if (known) known->job = static_cast<std::int32_t>(error_texels_.size() - 1);
     }
-    error_waiting_.emplace_back(sample, static_cast<size_t>(entry.error_job));
+    error_waiting_.emplace_back(sample, known ? static_cast<size_t>(known->job) : error_texels_.size() - 1);
     if (error_texels_.size() >= kErrorBatch) measure_errors(set);
   }
 
@@ -354,47 +365,77 @@ class SolveCache {
     if (jobs == 0) return;
     // The normal-incidence run leaves the appearance unmeasured: its entries are not keyed by glossiness.
     error_delta_e_.resize(jobs);
-    errors_.measure(error_texels_, settings_->error_model == ErrorModel::Appearance, error_delta_e_);
+    errors_measure_.measure(error_texels_, settings_->error_model == ErrorModel::Appearance, error_delta_e_);
     for (size_t j = 0; j < jobs; ++j) {
-      Entry& entry = *error_entries_[j];
-      if (entry.error_job == static_cast<std::int32_t>(j)) {  // still holding what the job measured
-        std::memcpy(entry.delta_e, error_delta_e_[j].data(), sizeof entry.delta_e);
-        entry.has_error = true, entry.error_job = -1;
+      if (error_slots_[j] < 0) continue;
+      ErrorSlot& slot = errors_[static_cast<size_t>(error_slots_[j])];
+      if (slot.job == static_cast<std::int32_t>(j)) {  // its entry still holds what the job measured
+        std::memcpy(slot.delta_e, error_delta_e_[j].data(), sizeof slot.delta_e);
+        slot.has_delta_e = true, slot.job = -1;
       }
     }
     for (const auto& [sample, job] : error_waiting_) set(sample, error_delta_e_[job].data());
-    error_texels_.clear(), error_entries_.clear(), error_waiting_.clear();
+    error_texels_.clear(), error_slots_.clear(), error_waiting_.clear();
   }
 
  private:
-  size_t slot_of(const Entry& entry) const { return static_cast<size_t>(&entry - entries_.data()); }
+  static constexpr int kWays = 4;
+  static constexpr size_t kMostEntries = 65536;
+  static constexpr std::uint32_t kGenerations = 1u << 30;  // Entry::generation's range
+  struct alignas(64) Set {
+    Entry way[kWays];
+  };
+  // The error of a slot's contents; valid while the slot holds what it was measured on (fill()
+  // and a claim reset it).
+  struct ErrorSlot {
+    float delta_e[5];       // diffuse A, F0 A, diffuse B, F0 B, appearance A (its model only)
+    std::int32_t job = -1;  // the waiting error job for the slot's contents, or -1
+    bool has_delta_e = false;
+  };
 
-  static void fill(Entry& entry, const MetalRough& r) {
+  // The slot of an entry in the sets: set by set, way by way.
+  size_t slot_of(const Entry& entry) const {
+    const auto offset =
+        static_cast<size_t>(reinterpret_cast<const char*>(&entry) - reinterpret_cast<const char*>(sets_.data()));
+    return offset / sizeof(Set) * kWays + offset % sizeof(Set) / sizeof(Entry);
+  }
+  std::optional<size_t> slot_if_in_sets(const Entry& entry) const {
+    const auto* const at = reinterpret_cast<const char*>(&entry);
+    const auto* const first = reinterpret_cast<const char*>(sets_.data());
+    if (at < first || at >= first + sets_.size() * sizeof(Set)) return std::nullopt;
+    return slot_of(entry);
+  }
+  Entry& entry_at(size_t slot) { return sets_[slot / kWays].way[slot % kWays]; }
+
+  void fill(Entry& entry, const MetalRough& r) {
     for (int c = 0; c < 3; ++c) entry.base_srgb[c] = quantize(linear_to_srgb(r.base[c]));
     entry.metalness = quantize(r.metalness);
-    entry.filled = true, entry.queued = false, entry.has_error = false, entry.error_job = -1;
+    entry.filled = 1, entry.queued = 0;
+    if (const std::optional<size_t> slot = slot_if_in_sets(entry)) errors_[*slot] = ErrorSlot{};
   }
 
   SolveCache() = default;
 
   const SolverSettings* settings_ = nullptr;
-  std::vector<Entry> entries_;
+  std::vector<Set> sets_;
   std::vector<size_t> ticket_of_slot_;
+  std::vector<ErrorSlot> errors_;  // by slot
   std::uint32_t generation_ = 0;
+  unsigned next_victim_ = 0;
   std::vector<SpecGloss> queue_;         // inputs to solve, by ticket
-  std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose set held two queued
+  std::vector<size_t> claimed_, spill_;  // slots claimed by tickets; tickets whose set held only queued ones
   std::vector<Entry> spilled_;           // the spilled tickets' solves, until the next batch
   std::vector<Entry*> ticket_entries_;
-  Entry unqueued_;  // an answer known without a solve whose set is claimed: good until the next ask
+  Entry unqueued_;  // an answer known without a solve whose set is all queued: good until the next ask
 
-  // The entries' errors to measure, each with a copy of what it measures: an entry may be taken
-  // by another input before measure_errors(), and then keeps none of it.
+  // The error jobs, each with a copy of what it measures: a slot may be taken by another input
+  // before measure_errors(), and then keeps none of it.
   static constexpr size_t kErrorBatch = 4096;  // jobs held at most (memory stays bounded)
   std::vector<StoredTexel> error_texels_;
-  std::vector<Entry*> error_entries_;
+  std::vector<std::int64_t> error_slots_;                 // the slot of each job, or -1
   std::vector<std::pair<size_t, size_t>> error_waiting_;  // (sample, job)
   std::vector<StoredTexelErrors::DeltaE> error_delta_e_;
-  StoredTexelErrors errors_;
+  StoredTexelErrors errors_measure_;
 };
 
 // A channel's 256 byte values through f, quantized: per-texel alpha and roughness by lookup.
