@@ -224,11 +224,11 @@ struct ByteTexels {
 // against both legacy readings depends on the same inputs, so it is cached too: computed once
 // per entry that a sample texel reads, in SIMD lanes for a batch of entries (measure_errors).
 //
-// A lookup reads one set, and its misses in the level-2 cache were most of a large bake's lookup
-// time: so an entry holds only what a lookup reads (16 bytes with the 8-byte keys of 8-bit
-// textures, a set of four one 64-byte line) and the error beside it lives apart, read by samples
-// only. Sets of two 48-byte entries spanned two lines, and four times as many of them saved a
-// third of the solves but lost as much again in misses (bench/RESULTS.md).
+// A lookup reads one set, and waiting for it was about a third of a large bake's lookup time
+// (Avocado at 4096²): so an entry holds only what a lookup reads (16 bytes with the 8-byte keys of
+// 8-bit textures, a set of four one 64-byte line) and the error beside it lives apart, read by
+// samples only. Sets of two 48-byte entries spanned two lines, and four times as many of them
+// saved a quarter of the solves but lost as much again in lookups (bench/RESULTS.md).
 template <class Key>
 class SolveCache {
  public:
