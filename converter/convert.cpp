@@ -323,37 +323,42 @@ class Converter {
 
       start = Clock::now();
       BakedTexels& t = bake.texels;
-      // The two textures encode concurrently; images are added in a fixed order afterwards.
+      // Images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
       const bool jpeg_base = t.alpha_constant && has_diffuse && jpeg_diffuse;
       const bool bake_base = !roughness_only && !bake.reuse_diffuse && !(t.base_constant && t.alpha_constant);
+      // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
+      TexelBytes rgb;
+      if (bake_base && t.alpha_constant && t.base_channels == 4) {
+        rgb.reserve(t.base_color.size() / 4 * 3);
+        for (size_t i = 0; i < t.base_color.size(); i += 4)
+          rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
+      }
+      const std::span<const std::uint8_t> base_texels =
+          rgb.empty() ? std::span<const std::uint8_t>(t.base_color) : std::span<const std::uint8_t>(rgb);
+      // A PNG base colour's rows are filtered first, on the whole pool; its deflate (one thread)
+      // then runs beside the metallicRoughness map's encode. With a map a thread from the start,
+      // the 4096² base colour's 50 MB were filtered on one core.
+      std::optional<BakedPng> base_png;
+      if (bake_base && !jpeg_base) {
+        // Given up: the RGB copy, or the bake's own texels unless their error is measured below.
+        TexelBytes* const given = !rgb.empty() ? &rgb : !error_as_written ? &t.base_color : nullptr;
+        base_png = filter_baked_png(base_texels, given, t.width, t.height, t.alpha_constant ? 3 : 4);
+      }
       parallel_invoke(
           [&] {
             if (t.metal_rough_constant) return;
             TexelBytes texels = t.metal_rough();
             // The planes are read no more, unless the error is measured on the metalness below.
             if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
-            metal_rough = encode_baked_png(texels, &texels, t.width, t.height, 3);
+            metal_rough = deflate_baked_png(filter_baked_png(texels, &texels, t.width, t.height, 3));
           },
           [&] {
-            if (!bake_base) return;
-            // A constant alpha goes into baseColorFactor, so the texture needs RGB only.
-            TexelBytes rgb;
-            if (t.alpha_constant && t.base_channels == 4) {
-              rgb.reserve(t.base_color.size() / 4 * 3);
-              for (size_t i = 0; i < t.base_color.size(); i += 4)
-                rgb.insert(rgb.end(), &t.base_color[i], &t.base_color[i + 3]);
-            }
-            const std::span<const std::uint8_t> texels =
-                rgb.empty() ? std::span<const std::uint8_t>(t.base_color) : std::span<const std::uint8_t>(rgb);
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
-            if (jpeg_base) {
-              base_color = encode_jpeg(texels, t.width, t.height, 3, options_.jpeg_quality);
-            } else {
-              // Given up: the RGB copy, or the bake's own texels unless their error is measured below.
-              TexelBytes* const given = !rgb.empty() ? &rgb : !error_as_written ? &t.base_color : nullptr;
-              base_color = encode_baked_png(texels, given, t.width, t.height, t.alpha_constant ? 3 : 4);
-            }
+            if (base_png)
+              base_color = deflate_baked_png(std::move(*base_png));
+            else if (bake_base)
+              base_color = encode_jpeg(base_texels, t.width, t.height, 3, options_.jpeg_quality);
           });
       if (error_as_written) {
         // The report gives the error of the texels the file holds: a JPEG's decode (on VC the
@@ -456,21 +461,32 @@ class Converter {
     }
   }
 
-  // A baked PNG's texels, kept as the pixels its bytes decode to (PNG is lossless; a JPEG is not,
-  // so its reader decodes what was written).
-  // A baked map as PNG. `given`, when set, holds `texels` and is read no more after this: the
-  // encoder frees it once filtered, or the preview keeps it as the decoded image (else it keeps
-  // a copy), so a large map is not held twice while it compresses.
-  Bytes encode_baked_png(std::span<const std::uint8_t> texels, TexelBytes* given, int width, int height, int channels) {
-    if (!options_.keep_decoded)
-      return given ? encode_png(std::move(*given), width, height, channels, options_.png_compression)
-                   : encode_png(texels, width, height, channels, options_.png_compression);
-    Bytes png = encode_png(texels, width, height, channels, options_.png_compression);
-    auto pixels = std::make_shared<Pixels>();
-    pixels->width = width, pixels->height = height, pixels->channels = channels;
-    pixels->bytes = given ? std::move(*given) : TexelBytes(texels.begin(), texels.end());
-    options_.keep_decoded->keep(image_content_key(png), std::move(pixels));
+  // A baked map's PNG in encode_png's two steps (filter_png, deflate_png). `given`, when set, holds
+  // `texels` and is read no more after this: the encoder frees it once filtered, or the preview
+  // keeps it as the decoded image (else it keeps a copy: PNG is lossless, so these are the texels
+  // its bytes decode to), so a large map is not held twice while it compresses.
+  struct BakedPng {
+    FilteredPng rows;
+    std::shared_ptr<Pixels> decoded;  // for the preview (keep_decoded)
+  };
+  BakedPng filter_baked_png(std::span<const std::uint8_t> texels, TexelBytes* given, int width, int height,
+                            int channels) {
+    BakedPng png;
+    if (!options_.keep_decoded) {
+      png.rows =
+          given ? filter_png(std::move(*given), width, height, channels) : filter_png(texels, width, height, channels);
+      return png;
+    }
+    png.rows = filter_png(texels, width, height, channels);
+    png.decoded = std::make_shared<Pixels>();
+    png.decoded->width = width, png.decoded->height = height, png.decoded->channels = channels;
+    png.decoded->bytes = given ? std::move(*given) : TexelBytes(texels.begin(), texels.end());
     return png;
+  }
+  Bytes deflate_baked_png(BakedPng&& png) {
+    Bytes bytes = deflate_png(std::move(png.rows), options_.png_compression);
+    if (png.decoded) options_.keep_decoded->keep(image_content_key(bytes), std::move(png.decoded));
+    return bytes;
   }
 
   int add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {

@@ -1,6 +1,7 @@
 // The lean codecs behind core/image.hpp for the two formats core glTF allows: libspng for PNG and
 // libjpeg-turbo (TurboJPEG) for JPEG, called directly (DESIGN.md "Images: which library does what").
-// Only core/image.cpp calls these; everyone else goes through decode_image / encode_png / encode_jpeg.
+// Only core/image.cpp calls these; everyone else goes through decode_image / encode_png (filter_png,
+// deflate_png) / encode_jpeg.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -17,8 +18,9 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
 // std::nullopt for a JPEG that TurboJPEG cannot turn into RGB or grey (CMYK, YCCK): OpenImageIO reads those.
 std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
 
-Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level,
-                 TexelBytes* release = nullptr);  // freed (and `texels` with it) once filtered
+FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels,
+                       TexelBytes* release = nullptr);  // freed (and `texels` with it) once filtered
+Bytes deflate_png(FilteredPng&& filtered, int compression_level);
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 
 // The header's size refused against the limit, for every decoder alike.

@@ -113,12 +113,24 @@ TexelGrid bake_grid(std::span<const Pixels* const> textures) {
 }
 
 Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level) {
-  return codecs::encode_png(texels, width, height, channels, compression_level);
+  return deflate_png(filter_png(texels, width, height, channels), compression_level);
 }
 
 Bytes encode_png(TexelBytes&& texels, int width, int height, int channels, int compression_level) {
+  return deflate_png(filter_png(std::move(texels), width, height, channels), compression_level);
+}
+
+FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels) {
+  return codecs::filter_png(texels, width, height, channels);
+}
+
+FilteredPng filter_png(TexelBytes&& texels, int width, int height, int channels) {
   TexelBytes owned = std::move(texels);
-  return codecs::encode_png(owned, width, height, channels, compression_level, &owned);
+  return codecs::filter_png(owned, width, height, channels, &owned);
+}
+
+Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
+  return codecs::deflate_png(std::move(filtered), compression_level);
 }
 
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {

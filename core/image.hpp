@@ -80,6 +80,19 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
 // large map is not held twice while it compresses (Avocado at 4096²: 50 MB less at the peak).
 Bytes encode_png(TexelBytes&& texels, int width, int height, int channels, int compression_level);
 
+// encode_png in its two steps, for a caller with other work for the pool while an image
+// compresses: filter_png picks the colour type and converts and filters the rows on the whole
+// pool; deflate_png compresses them on the calling thread (libdeflate compresses a buffer whole)
+// and writes the file.
+struct FilteredPng {
+  Bytes head;                            // signature, IHDR, PLTE and tRNS
+  std::unique_ptr<std::uint8_t[]> rows;  // the filtered rows, `size` bytes
+  std::size_t size = 0;
+};
+FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels);
+FilteredPng filter_png(TexelBytes&& texels, int width, int height, int channels);  // freed once filtered
+Bytes deflate_png(FilteredPng&& filtered, int compression_level);
+
 // Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 

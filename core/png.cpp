@@ -1,6 +1,6 @@
 // PNG: decode through libspng with the tRNS chunk as alpha (as OpenImageIO did); encode in the
-// smallest lossless colour type with the sub filter, deflated by libdeflate (append_image_data
-// says why). The encoder writes the chunks itself: libspng deflates through zlib.
+// smallest lossless colour type with the sub filter, deflated by libdeflate (deflate_png says
+// why). The encoder writes the chunks itself: libspng deflates through zlib.
 #include <libdeflate.h>
 #include <spng.h>
 
@@ -225,24 +225,18 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   png.insert(png.end(), tail, tail + 4);
 }
 
-// The IDAT chunks: the filtered rows (PNG spec 7.3, 9) as one zlib stream (RFC 1950), compressed
-// whole by libdeflate, at level 1 about half the time of zlib's fastest (run-length) deflate for a
-// few percent more bytes (Avocado's maps at 4096²: 277 against 517 ms of CPU; bench/RESULTS.md,
-// session 29). Its streams cannot be cut into pieces that join, so an image deflates on one
-// thread; a bake's two maps deflate at once. The rows are converted and filtered in parts on the
-// pool into one buffer first; neither it nor the output is zeroed (the output's pages are touched
-// only as far as the stream goes).
-// `row_of(y, scratch)` gives row y as stored: the caller's texels, or their conversion written
-// into `scratch` (room for a row). `release`, when given, holds the texels and is emptied once
-// they are filtered.
+// The filtered rows (PNG spec 7.3, 9), converted and filtered in parts on the pool into one
+// buffer; it is not zeroed. `row_of(y, scratch)` gives row y as stored: the caller's texels, or
+// their conversion written into `scratch` (room for a row). `release`, when given, holds the
+// texels and is emptied once they are filtered.
 template <class RowOf>
-void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::size_t height, std::size_t pixel_bytes,
-                       bool sub_filter, int level, TexelBytes* release) {
+void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::size_t height, std::size_t pixel_bytes,
+                 bool sub_filter, TexelBytes* release) {
   const std::size_t row_bytes = width * pixel_bytes, filtered_row_bytes = 1 + row_bytes;
   // Plain heap memory, not texel pages: where texel pages are kept for reuse (a preview), these
   // transient buffers would stay mapped after the encode.
-  const std::size_t filtered_size = filtered_row_bytes * height;
-  auto filtered = std::make_unique_for_overwrite<std::uint8_t[]>(filtered_size);
+  png.size = filtered_row_bytes * height;
+  png.rows = std::make_unique_for_overwrite<std::uint8_t[]>(png.size);
   constexpr std::size_t kPartBytes = 1u << 20;
   const std::size_t rows_per_part = std::max<std::size_t>(1, kPartBytes / filtered_row_bytes);
   parallel_dynamic(static_cast<std::int64_t>((height + rows_per_part - 1) / rows_per_part), [&](std::int64_t part) {
@@ -250,7 +244,7 @@ void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::
     const std::size_t first = static_cast<std::size_t>(part) * rows_per_part;
     for (std::size_t y = first; y < std::min(height, first + rows_per_part); ++y) {
       const std::uint8_t* row = row_of(y, scratch.data());
-      std::uint8_t* const out = filtered.get() + y * filtered_row_bytes;
+      std::uint8_t* const out = png.rows.get() + y * filtered_row_bytes;
       out[0] = sub_filter ? 1 : 0;  // filter type: Sub (each byte less the one a pixel before) or None
       std::uint8_t* const out_row = out + 1;
       const std::size_t copied = sub_filter ? std::min(pixel_bytes, row_bytes) : row_bytes;
@@ -260,25 +254,10 @@ void append_image_data(Bytes& png, const RowOf& row_of, std::size_t width, std::
     }
   });
   if (release) TexelBytes().swap(*release);  // the texels are read no more
-  const std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)> compressor(
-      libdeflate_alloc_compressor(level), &libdeflate_free_compressor);
-  if (!compressor)
-    throw std::runtime_error("PNG encoder: libdeflate refused compression level " + std::to_string(level));
-  const std::size_t bound = libdeflate_zlib_compress_bound(compressor.get(), filtered_size);
-  const auto stream = std::make_unique_for_overwrite<std::uint8_t[]>(bound);
-  const std::size_t length =
-      libdeflate_zlib_compress(compressor.get(), filtered.get(), filtered_size, stream.get(), bound);
-  if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");
-  filtered.reset();                              // read no more: not held while the file is written
-  constexpr std::size_t kChunkBytes = 1u << 20;  // IDAT chunks of 1 MiB: any split reads the same
-  png.reserve(png.size() + length + (length / kChunkBytes + 1) * 12 + 12);  // the chunks and IEND
-  for (std::size_t at = 0; at < length; at += kChunkBytes)
-    append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
 }
 }  // namespace
 
-Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, int channels, int compression_level,
-                 TexelBytes* release) {
+FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels, TexelBytes* release) {
   if (channels < 1 || channels > 4) throw std::runtime_error("PNG encoder: " + std::to_string(channels) + " channels");
   if (width < 1 || height < 1 ||
       texels.size() !=
@@ -347,20 +326,45 @@ Bytes encode_png(std::span<const std::uint8_t> texels, int width, int height, in
   // PNG spec 12.8: palette images compress best unfiltered; the others with the sub filter.
   const bool sub_filter = colour_type != ColourType::Palette;
 
-  // PNG spec 5.2-5.3 and 11.2: signature, IHDR, PLTE and tRNS, IDAT, IEND.
-  Bytes png(kSignature, kSignature + sizeof kSignature);
+  // PNG spec 5.2-5.3 and 11.2: signature, IHDR, PLTE and tRNS here; IDAT and IEND in deflate_png.
+  FilteredPng png;
+  png.head.assign(kSignature, kSignature + sizeof kSignature);
   std::uint8_t ihdr[13] = {};
   put_be32(ihdr, static_cast<std::uint32_t>(width));
   put_be32(ihdr + 4, static_cast<std::uint32_t>(height));
   ihdr[8] = 8;  // bit depth; compression, filter and interlace methods 0
   ihdr[9] = static_cast<std::uint8_t>(colour_type);
-  append_chunk(png, "IHDR", {ihdr});
+  append_chunk(png.head, "IHDR", {ihdr});
   if (colour_type == ColourType::Palette) {
-    append_chunk(png, "PLTE", {plte});
-    if (!trns.empty()) append_chunk(png, "tRNS", {trns});
+    append_chunk(png.head, "PLTE", {plte});
+    if (!trns.empty()) append_chunk(png.head, "tRNS", {trns});
   }
-  append_image_data(png, row_of, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
-                    static_cast<std::size_t>(pixel_bytes), sub_filter, compression_level, release);
+  filter_rows(png, row_of, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
+              static_cast<std::size_t>(pixel_bytes), sub_filter, release);
+  return png;
+}
+
+// The IDAT chunks: the filtered rows as one zlib stream (RFC 1950), compressed whole by
+// libdeflate, at level 1 about half the time of zlib's fastest (run-length) deflate for a few
+// percent more bytes (Avocado's maps at 4096²: 277 against 517 ms of CPU; bench/RESULTS.md,
+// session 29). Its streams cannot be cut into pieces that join, so an image deflates on the
+// calling thread; the output is not zeroed (its pages are touched only as far as the stream goes).
+Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
+  const std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)> compressor(
+      libdeflate_alloc_compressor(compression_level), &libdeflate_free_compressor);
+  if (!compressor)
+    throw std::runtime_error("PNG encoder: libdeflate refused compression level " + std::to_string(compression_level));
+  const std::size_t bound = libdeflate_zlib_compress_bound(compressor.get(), filtered.size);
+  const auto stream = std::make_unique_for_overwrite<std::uint8_t[]>(bound);
+  const std::size_t length =
+      libdeflate_zlib_compress(compressor.get(), filtered.rows.get(), filtered.size, stream.get(), bound);
+  if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");
+  filtered.rows.reset();  // read no more: not held while the file is written
+  Bytes png = std::move(filtered.head);
+  constexpr std::size_t kChunkBytes = 1u << 20;  // IDAT chunks of 1 MiB: any split reads the same
+  png.reserve(png.size() + length + (length / kChunkBytes + 1) * 12 + 12);  // the chunks and IEND
+  for (std::size_t at = 0; at < length; at += kChunkBytes)
+    append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
   append_chunk(png, "IEND", {});
   return png;
 }
