@@ -77,7 +77,10 @@ struct ConversionReport {
   int textures_baked = 0, textures_reused = 0, textures_shared = 0;
   int textures_removed = 0, images_removed = 0, samplers_removed = 0;
   long images_decoded = 0;  // inputs, and the JPEG base colours decoded again to measure what was written
+  // Each material's stage times summed. Bakes of textures up to 1 Mtexel are made several at once,
+  // one thread each, so the sum can exceed the conversion's wall time, `wall_ms`.
   StageTimes times;
+  double wall_ms = 0;
   bool extension_lists_changed = false;
   // False when there was nothing to convert: the asset can be copied as is.
   bool changed() const { return !materials.empty() || extension_lists_changed; }

@@ -910,6 +910,91 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
 // The bake may write base colour over a diffuse its caller hands over (BakeInputs::
 // overwrite_diffuse): every texel, plane, flag and error figure must equal a bake into a new
 // buffer, on a real asset and on constructed inputs (alpha with a factor; a diffuse that the base
+// Small bakes are made several at once, one thread each, the largest first (convert.cpp prebake);
+// each material's baked images must be the bytes, figures and place in the file that converting
+// it alone gives, and the images must join the file in material order. Four materials with
+// diffuse textures of 8², 64², 16² and 32² texels: the largest-first order is not theirs.
+TEST(ConcurrentBakes, GiveEachMaterialWhatItsOwnConversionGivesInMaterialOrder) {
+  ScratchDir scratch;
+  const int sizes[] = {8, 64, 16, 32};
+  SpecGlossModel built;
+  std::vector<int> diffuse_textures;
+  for (const int n : sizes)
+    diffuse_textures.push_back(built.add_png(Texels(n, n, 3, [&](int x, int y) { return ramp_diffuse(x, y, n, n); }),
+                                             "diffuse" + std::to_string(n)));
+  built.diffuse_texture(diffuse_textures[0])
+      .factor("specularFactor", numbers({0.3, 0.25, 0.2}))
+      .factor("glossinessFactor", tinygltf::Value(0.6));
+  const fs::path file = scratch / "four.gltf";
+  const Asset one_material = built.save_and_load(file);
+  // The same material four times, each on its own texture.
+  const auto with_materials = [&](const std::vector<int>& which) {
+    Asset asset = load_asset(file);
+    const tinygltf::Material legacy = asset.model.materials.at(0);
+    asset.model.materials.clear();
+    for (const int k : which) {
+      tinygltf::Material material = legacy;
+      material.name = "material " + std::to_string(k);
+      tinygltf::Value::Object extension = material.extensions.at(kSpecGloss).Get<tinygltf::Value::Object>();
+      tinygltf::Value::Object info;
+      info["index"] = tinygltf::Value(diffuse_textures[static_cast<size_t>(k)]);
+      extension["diffuseTexture"] = tinygltf::Value(std::move(info));
+      material.extensions[kSpecGloss] = tinygltf::Value(std::move(extension));
+      asset.model.materials.push_back(std::move(material));
+    }
+    return asset;
+  };
+  Asset all = with_materials({0, 1, 2, 3});
+  const ConversionReport together = convert(all);
+  ASSERT_EQ(together.materials.size(), 4u);
+  int last_image = -1;
+  for (int k = 0; k < 4; ++k) {
+    Asset alone = with_materials({k});
+    const ConversionReport own = convert(alone);
+    const auto& pbr = all.model.materials.at(static_cast<size_t>(k)).pbrMetallicRoughness;
+    const auto& own_pbr = alone.model.materials.at(0).pbrMetallicRoughness;
+    for (const auto& [texture, own_texture] :
+         {std::pair{pbr.baseColorTexture.index, own_pbr.baseColorTexture.index},
+          std::pair{pbr.metallicRoughnessTexture.index, own_pbr.metallicRoughnessTexture.index}}) {
+      ASSERT_GE(texture, 0) << "material " << k;
+      ASSERT_GE(own_texture, 0) << "material " << k;
+      const int image = all.model.textures.at(static_cast<size_t>(texture)).source;
+      EXPECT_EQ(
+          all.model.images.at(static_cast<size_t>(image)).image,
+          alone.model.images.at(static_cast<size_t>(alone.model.textures.at(static_cast<size_t>(own_texture)).source))
+              .image)
+          << "material " << k;
+      EXPECT_GT(image, last_image) << "material " << k << ": its images join the file after the earlier materials'";
+      last_image = image;
+    }
+    const MaterialReport &got = together.materials[static_cast<size_t>(k)], &want = own.materials.at(0);
+    ASSERT_TRUE(got.error_a && want.error_a && got.error_b && want.error_b) << "material " << k;
+    EXPECT_EQ(got.error_a->diffuse.mean, want.error_a->diffuse.mean) << "material " << k;
+    EXPECT_EQ(got.error_a->f0.p95, want.error_a->f0.p95) << "material " << k;
+    EXPECT_EQ(got.error_b->diffuse.max, want.error_b->diffuse.max) << "material " << k;
+    EXPECT_EQ(got.outputs.base_color, TextureOutcome::Baked) << "material " << k;
+  }
+  EXPECT_EQ(together.textures_baked, 8);
+
+  // A bake that fails is reported when its material's turn comes, as if made then: the first
+  // failing material in order names the error, whichever bake failed first in time.
+  Asset broken = with_materials({0, 1, 2, 3});
+  for (const int k : {1, 3}) {
+    const int image = broken.model.textures.at(static_cast<size_t>(diffuse_textures[static_cast<size_t>(k)])).source;
+    tinygltf::Image& bad = broken.model.images.at(static_cast<size_t>(image));
+    bad.uri.clear(), bad.as_is = true, bad.mimeType = "image/png";
+    bad.image = Bytes(encode_png(std::vector<std::uint8_t>(3 * sizes[k] * sizes[k], 128), sizes[k], sizes[k], 3, 1));
+    bad.image.resize(bad.image.size() / 2);  // cut in its image data: the header still reads
+  }
+  try {
+    convert(broken);
+    ADD_FAILURE() << "a broken texture was converted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer, pointer("images", broken.model.textures.at(static_cast<size_t>(diffuse_textures[1])).source))
+        << e.what();
+  }
+}
+
 // colour equals; a grey diffuse, whose layout differs from the base colour's and stays untouched).
 TEST(BakeOverDiffuse, GivesTheSameBakeAsANewBuffer) {
   const fs::path avocado = assets_dir() / "Avocado/specgloss";
