@@ -446,7 +446,7 @@ class Converter {
         continue;  // left as spec-gloss (convert_material)
       std::int64_t width = 1, height = 1;
       for (const int image : images_of(legacy)) {
-        const ImageHeader header = read_image_header(encoded_image_bytes(asset_, image));
+        const ImageHeader header = read_image_header(encoded_image_bytes(asset_, image), HeaderDepth::Size);
         width = std::max(width, header.width < 0 ? kSmallBakeTexels : header.width);
         height = std::max(height, header.height < 0 ? kSmallBakeTexels : header.height);
       }
@@ -464,22 +464,32 @@ class Converter {
     for (const Job& job : jobs)
       for (const int image : images_of(*job.legacy)) ++unfinished_reads[image];
     std::set<int> read_later;  // by a larger bake, or by the specular route's roughness bake
-    for (const auto& [i, legacy] : legacy_materials)
-      if (options_.target == Target::Specular || !keys.count(bake_key(legacy, false)))
+    for (const auto& [i, legacy] : legacy_materials) {
+      if (!keys.count(bake_key(legacy, false)))
         for (const int image : images_of(legacy)) read_later.insert(image);
+      else if (options_.target == Target::Specular && legacy.spec_gloss_texture)
+        read_later.insert(image_of(legacy.spec_gloss_texture));
+    }
     std::vector<std::optional<Bake>> made(jobs.size());
     std::vector<std::exception_ptr> failed(jobs.size());
-    parallel_dynamic(static_cast<std::int64_t>(jobs.size()), [&](std::int64_t j) {
-      const Job& job = jobs[static_cast<size_t>(j)];
-      try {
-        made[static_cast<size_t>(j)] = make_bake(*job.legacy, job.material, false);
-      } catch (...) {  // rethrown when its material is converted, as if made then
-        failed[static_cast<size_t>(j)] = std::current_exception();
-      }
-      const std::lock_guard lock(decoded_mutex_);
-      for (const int image : images_of(*job.legacy))
-        if (--unfinished_reads[image] == 0 && !read_later.count(image)) decoded_.erase(image);
-    });
+    // At most kTexelsAtOnce texels of bakes in the making (a 1 Mtexel bake holds ~30 MB while it is
+    // made), however many cores there are.
+    constexpr std::int64_t kTexelsAtOnce = 4 << 20;
+    const std::int64_t at_once = std::max<std::int64_t>(1, kTexelsAtOnce / jobs.front().texels);  // the largest
+    ThreadPool::shared().run(
+        static_cast<std::int64_t>(jobs.size()),
+        [&](std::int64_t j) {
+          const Job& job = jobs[static_cast<size_t>(j)];
+          try {
+            made[static_cast<size_t>(j)] = make_bake(*job.legacy, job.material, false);
+          } catch (...) {  // rethrown when its material is converted, as if made then
+            failed[static_cast<size_t>(j)] = std::current_exception();
+          }
+          const std::lock_guard lock(decoded_mutex_);
+          for (const int image : images_of(*job.legacy))
+            if (--unfinished_reads[image] == 0 && !read_later.count(image)) decoded_.erase(image);
+        },
+        at_once);
     for (size_t j = 0; j < jobs.size(); ++j) {
       if (made[j])
         bakes_.emplace(jobs[j].key, std::move(*made[j]));
@@ -565,11 +575,13 @@ class Converter {
 
   // A baked map's PNG in encode_png's two steps (filter_png, deflate_png). `given`, when set, holds
   // `texels` and is read no more after this: the encoder frees it once filtered, or the preview
-  // keeps it as the decoded image (else it keeps a copy: PNG is lossless, so these are the texels
-  // its bytes decode to), so a large map is not held twice while it compresses.
+  // keeps it as the decoded image once the PNG is made (else it keeps a copy: PNG is lossless, so
+  // these are the texels its bytes decode to), so a large map is not held twice while it compresses.
   struct BakedPng {
     FilteredPng rows;
-    std::shared_ptr<Pixels> decoded;  // for the preview (keep_decoded)
+    TexelBytes held;                       // for the preview: the texels given up, else empty and
+    std::span<const std::uint8_t> texels;  // these are the caller's
+    int width = 0, height = 0, channels = 0;
   };
   BakedPng filter_baked_png(std::span<const std::uint8_t> texels, TexelBytes* given, int width, int height,
                             int channels) {
@@ -580,14 +592,18 @@ class Converter {
       return png;
     }
     png.rows = filter_png(texels, width, height, channels);
-    png.decoded = std::make_shared<Pixels>();
-    png.decoded->width = width, png.decoded->height = height, png.decoded->channels = channels;
-    png.decoded->bytes = given ? std::move(*given) : TexelBytes(texels.begin(), texels.end());
+    if (given) png.held = std::move(*given);  // `texels` stays valid: a moved buffer keeps its memory
+    png.texels = texels, png.width = width, png.height = height, png.channels = channels;
     return png;
   }
   Bytes deflate_baked_png(BakedPng&& png) {
     Bytes bytes = deflate_png(std::move(png.rows), options_.png_compression);
-    if (png.decoded) options_.keep_decoded->keep(image_content_key(bytes), std::move(png.decoded));
+    if (options_.keep_decoded) {
+      auto pixels = std::make_shared<Pixels>();
+      pixels->width = png.width, pixels->height = png.height, pixels->channels = png.channels;
+      pixels->bytes = !png.held.empty() ? std::move(png.held) : TexelBytes(png.texels.begin(), png.texels.end());
+      options_.keep_decoded->keep(image_content_key(bytes), std::move(pixels));
+    }
     return bytes;
   }
 

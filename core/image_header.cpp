@@ -26,7 +26,7 @@ const char* mime_type_of(ImageFormat format) {
 namespace {
 
 // PNG (ISO/IEC 15948): the signature, then IHDR as the first chunk.
-void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
+void read_png(std::span<const std::uint8_t> b, HeaderDepth depth, ImageHeader& header) {
   if (b.size() < 33) {
     header.problem = HeaderProblem::Truncated;
     return;
@@ -51,6 +51,7 @@ void read_png(std::span<const std::uint8_t> b, ImageHeader& header) {
       header.channels = "rgb";
       break;
   }
+  if (depth == HeaderDepth::Size) return;
   // Walk the chunks to IEND: a stream that ends inside one is truncated.
   std::size_t offset = 8;
   while (true) {
@@ -180,11 +181,11 @@ void read_webp(std::span<const std::uint8_t> b, ImageHeader& header) {
 
 }  // namespace
 
-ImageHeader read_image_header(std::span<const std::uint8_t> b) {
+ImageHeader read_image_header(std::span<const std::uint8_t> b, HeaderDepth depth) {
   ImageHeader header;
   header.format = image_format_of(b);
   if (header.format == ImageFormat::Png)
-    read_png(b, header);
+    read_png(b, depth, header);
   else if (header.format == ImageFormat::Jpeg)
     read_jpeg(b, header);
   else if (header.format == ImageFormat::Webp)

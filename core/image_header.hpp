@@ -35,9 +35,12 @@ struct ImageHeader {
   std::string problem_message;  // for Invalid
 };
 
+// How far to read: all of the above, or the size and channels alone, which for PNG is IHDR without
+// the walk to IEND (a caller that only plans a decode touches one page of a mapped file).
+enum class HeaderDepth { Whole, Size };
 // Reads the header of PNG (and walks its chunks to IEND), JPEG (to the start of frame) and WebP;
 // KTX2 and unknown formats get only `format`. Bounded by the bytes there are, whatever they claim.
-ImageHeader read_image_header(std::span<const std::uint8_t> bytes);
+ImageHeader read_image_header(std::span<const std::uint8_t> bytes, HeaderDepth depth = HeaderDepth::Whole);
 
 // Whether a header read without a problem gives a size other than a power of two on either side, 0
 // included (IMAGE_NPOT_DIMENSIONS: WebGL 1.0 section 5.13.8 neither mipmaps nor repeats such textures).

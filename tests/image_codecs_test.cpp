@@ -197,9 +197,9 @@ TEST(LeanCodecs, OddPngLayoutsDecodeAsOpenImageIoDecodesThem) {
                                      "ICC-tagged RGB", 0.0f);
 }
 
-// The decoder leaves the zlib stream's Adler-32 unchecked (core/png.cpp) because each IDAT chunk's
-// CRC-32 covers the same bytes: a changed texel byte is still refused. The stream is stored (zlib
-// level 0), so the change leaves it a valid stream that only the checksums can catch.
+// A changed texel byte under an unchanged chunk CRC is refused, not read as other texels: the stream
+// is stored (zlib level 0), so the change leaves it a valid stream that only the checksums (the
+// chunk's CRC-32, the stream's Adler-32) can catch.
 TEST(LeanCodecs, APngWhoseImageDataChangedUnderItsChunkCrcIsRefused) {
   constexpr int kSize = 16;
   Bytes raw;
