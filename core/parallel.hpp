@@ -28,8 +28,9 @@ class ThreadPool {
 
   // body(i) for every i in [0, count), each once, on the calling thread and any idle workers, at
   // most `max_threads` of them at a time (0: no limit). Returns when all have run; while it waits
-  // the caller runs indices of loops started inside this one, never of unrelated outer loops (a
-  // batch's next file does not pile up on a waiting thread's stack).
+  // the caller runs indices of loops started after this one (inside it, or by another thread since:
+  // another bake's bands), never of older ones (a batch's next file does not pile up on a waiting
+  // thread's stack).
   void run(std::int64_t count, const std::function<void(std::int64_t)>& body, std::int64_t max_threads = 0);
 
   // Workers started, plus one for the caller.
