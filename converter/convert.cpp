@@ -39,12 +39,16 @@ tinygltf::Value number_array_value(std::initializer_list<double> values) {
   return tinygltf::Value(std::move(array));
 }
 
-bool same_mapping(const tinygltf::TextureInfo& a, const tinygltf::TextureInfo& b) {
+// Whether the two textures are sampled differently (texCoord set, KHR_texture_transform): such a
+// material is left as spec-gloss, since one bake grid cannot hold both.
+bool textures_mapped_apart(const LegacyMaterial& legacy) {
+  if (!legacy.diffuse_texture || !legacy.spec_gloss_texture) return false;
   auto transform = [](const tinygltf::TextureInfo& info) {
     const auto it = info.extensions.find(kTextureTransform);
     return it == info.extensions.end() ? tinygltf::Value() : it->second;
   };
-  return a.texCoord == b.texCoord && transform(a) == transform(b);
+  const tinygltf::TextureInfo &a = *legacy.diffuse_texture, &b = *legacy.spec_gloss_texture;
+  return a.texCoord != b.texCoord || transform(a) != transform(b);
 }
 
 class Converter {
@@ -105,8 +109,7 @@ class Converter {
     }
   };
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
-    if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
-        !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture)) {
+    if (textures_mapped_apart(legacy)) {
       entry.outcome = MaterialOutcome::Legacy;
       entry.note =
           "diffuseTexture and specularGlossinessTexture use different texCoord sets or texture transforms; "
@@ -441,9 +444,7 @@ class Converter {
     std::set<std::string> keys;
     for (const auto& [i, legacy] : legacy_materials) {
       if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) continue;  // factors: one solve
-      if (legacy.diffuse_texture && legacy.spec_gloss_texture &&
-          !same_mapping(*legacy.diffuse_texture, *legacy.spec_gloss_texture))
-        continue;  // left as spec-gloss (convert_material)
+      if (textures_mapped_apart(legacy)) continue;                          // left as spec-gloss (convert_material)
       std::int64_t width = 1, height = 1;
       for (const int image : images_of(legacy)) {
         const ImageHeader header = read_image_header(encoded_image_bytes(asset_, image), HeaderDepth::Size);
