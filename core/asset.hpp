@@ -127,6 +127,7 @@ struct WorkCounters {
   std::atomic<long> assets_loaded{0};  // load_asset calls: what a run served from a cache did not do
   std::atomic<long> json_texts_read{0};  // read_json calls (core/json.hpp)
   std::atomic<long> images_decoded{0};
+  std::atomic<long> png_streams_inflated{0};  // PNG image data inflated by libdeflate, not libspng (core/png.cpp)
   std::atomic<long> meshes_decoded{0};
   std::atomic<long> views_decoded{0};  // EXT_meshopt_compression bufferViews
   std::atomic<long> files_opened{0};   // external buffer and image files (FileResources)

@@ -1,7 +1,8 @@
-// The lean codecs behind core/image.hpp for the two formats core glTF allows: libspng for PNG and
-// libjpeg-turbo (TurboJPEG) for JPEG, called directly (DESIGN.md "Images: which library does what").
-// Only core/image.cpp calls these; everyone else goes through decode_image / encode_png (filter_png,
-// deflate_png) / encode_jpeg.
+// The lean codecs behind core/image.hpp for the two formats core glTF allows: libspng for PNG
+// (with libdeflate's inflate and deflate) and libjpeg-turbo (TurboJPEG) for JPEG, called directly
+// (DESIGN.md "Images: which library does what"). Only core/image.cpp (and the codecs' tests) call
+// these; everyone else goes through decode_image / encode_png (filter_png, deflate_png) /
+// encode_jpeg.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -14,7 +15,11 @@ namespace gltf_pbr::codecs {
 
 // Each decoder reads the header, refuses an image above `max_pixels` before allocating, and throws
 // std::runtime_error with the reason on a corrupt or truncated stream (never returns partial texels).
-Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
+// PngInflater::Libspng decodes every PNG through libspng alone: the reference that the libdeflate
+// path is tested against.
+enum class PngInflater { Libdeflate, Libspng };
+Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels,
+                  PngInflater inflater = PngInflater::Libdeflate);
 // std::nullopt for a JPEG that TurboJPEG cannot turn into RGB or grey (CMYK, YCCK): OpenImageIO reads those.
 std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels);
 

@@ -11,9 +11,13 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/asset.hpp"
+#include "core/codecs.hpp"
 #include "core/image.hpp"
 #include "test_support.hpp"
 
@@ -334,6 +338,157 @@ TEST(LeanCodecs, APngFilteredInPartsAndDeflatedWholeReadsBackExactlyInBothDecode
         expect_decoded_as_openimageio_does(png, what, 0.0f);
       }
     }
+}
+
+// --- PNG image data inflated by libdeflate and reconstructed by our code (core/png.cpp) ---
+
+// Rows filtered by PNG spec 9.2-9.4, written here from the spec apart from the decoder: row y with
+// filter type `type_of(y)`, `bpp` bytes a pixel, each row's type byte first.
+Bytes filtered_rows(const Bytes& texels, size_t row_bytes, size_t bpp, const std::function<int(size_t)>& type_of) {
+  Bytes out;
+  const size_t height = texels.size() / row_bytes;
+  for (size_t y = 0; y < height; ++y) {
+    const int type = type_of(y);
+    out.push_back(static_cast<std::uint8_t>(type));
+    for (size_t i = 0; i < row_bytes; ++i) {
+      const auto at = [&](size_t row, size_t column) { return int{texels[row * row_bytes + column]}; };
+      const int a = i >= bpp ? at(y, i - bpp) : 0, b = y > 0 ? at(y - 1, i) : 0,
+                c = i >= bpp && y > 0 ? at(y - 1, i - bpp) : 0;
+      const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+      const int predictor[] = {0, a, b, (a + b) / 2, pa <= pb && pa <= pc ? a : pb <= pc ? b : c};
+      out.push_back(static_cast<std::uint8_t>(at(y, i) - predictor[type]));
+    }
+  }
+  return out;
+}
+
+// A PNG of the given filtered rows, their zlib stream cut into IDAT chunks of `chunk_bytes`.
+Bytes png_of_filtered_rows(int width, int height, int colour_type, const Bytes& filtered, size_t chunk_bytes) {
+  Bytes png = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A}, header;
+  put32(header, static_cast<std::uint32_t>(width)), put32(header, static_cast<std::uint32_t>(height));
+  header.insert(header.end(), {8, static_cast<std::uint8_t>(colour_type), 0, 0, 0});
+  add_chunk(png, "IHDR", header);
+  const Bytes stream = deflated(filtered);
+  for (size_t at = 0; at < stream.size(); at += chunk_bytes)
+    add_chunk(png, "IDAT",
+              Bytes(stream.begin() + static_cast<std::ptrdiff_t>(at),
+                    stream.begin() + static_cast<std::ptrdiff_t>(std::min(stream.size(), at + chunk_bytes))));
+  add_chunk(png, "IEND", {});
+  return png;
+}
+
+// Every filter type, alone and mixed row by row, at every 8-bit layout the libdeflate path reads
+// (grey, grey + alpha, RGB, RGBA), in one IDAT chunk and in many, at widths of one pixel and more:
+// the texels as filtered, equal to libspng's own decode and to OpenImageIO's.
+TEST(LeanCodecs, PngRowsOfEveryFilterTypeReadBackExactlyThroughLibdeflate) {
+  constexpr int kColourType[] = {0, 4, 2, 6};
+  for (size_t bpp = 1; bpp <= 4; ++bpp)
+    for (int width : {1, 2, kW})
+      for (int filter = 0; filter <= 5; ++filter) {  // 5: each row another type
+        const size_t row_bytes = static_cast<size_t>(width) * bpp;
+        Bytes texels(row_bytes * kH);
+        for (size_t i = 0; i < texels.size(); ++i)  // noise over a gradient: no filter predicts it exactly
+          texels[i] = static_cast<std::uint8_t>(i * 7 + (static_cast<std::uint32_t>(i * 2654435761u) >> 27));
+        const Bytes filtered = filtered_rows(
+            texels, row_bytes, bpp, [&](size_t y) { return filter < 5 ? filter : static_cast<int>((y * 3 + 1) % 5); });
+        for (size_t chunk_bytes : {size_t{1} << 20, size_t{7}}) {
+          const Bytes png = png_of_filtered_rows(width, kH, kColourType[bpp - 1], filtered, chunk_bytes);
+          const std::string what = std::to_string(bpp) + " bytes a pixel, width " + std::to_string(width) +
+                                   ", filter " + std::to_string(filter) + ", IDAT chunks of " +
+                                   std::to_string(chunk_bytes) + " bytes";
+          const long inflated = work_counters().png_streams_inflated;
+          const Pixels ours = codecs::decode_png(png, ~std::uint64_t{0});
+          EXPECT_EQ(work_counters().png_streams_inflated, inflated + 1) << what << ": not read by libspng";
+          ASSERT_EQ(ours.channels, static_cast<int>(bpp)) << what;
+          ASSERT_EQ(ours.bytes.size(), texels.size()) << what;
+          EXPECT_TRUE(std::equal(texels.begin(), texels.end(), ours.bytes.begin())) << what;
+          const Pixels reference = codecs::decode_png(png, ~std::uint64_t{0}, codecs::PngInflater::Libspng);
+          EXPECT_TRUE(std::equal(reference.bytes.begin(), reference.bytes.end(), ours.bytes.begin(), ours.bytes.end()))
+              << what;
+          expect_decoded_as_openimageio_does(png, what, 0.0f);
+        }
+      }
+}
+
+// The libdeflate path decides nothing that libspng would decide otherwise: a file it refuses goes
+// to libspng. Each damaged PNG below (cut short anywhere, any byte changed, a chunk dropped, bytes
+// added) is refused by both paths or read by both as the same texels; and the libdeflate path
+// does refuse a changed stream whose chunk CRC was made to match (the Adler-32 catches it).
+TEST(LeanCodecs, ADamagedPngIsReadOrRefusedAsLibspngAloneReadsOrRefusesIt) {
+  Bytes texels(static_cast<size_t>(kW) * 3 * kH);
+  for (size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>(i * 13 % 251);
+  const Bytes png = png_of_filtered_rows(
+      kW, kH, 2, filtered_rows(texels, kW * 3, 3, [](size_t y) { return static_cast<int>(y % 5); }), 64);
+  const auto outcome = [](const Bytes& bytes, codecs::PngInflater inflater) -> std::optional<TexelBytes> {
+    try {
+      return codecs::decode_png(bytes, kDefaultMaxImagePixels, inflater).bytes;
+    } catch (const std::runtime_error&) {
+      return std::nullopt;
+    }
+  };
+  int read = 0, refused = 0;
+  const auto expect_same_outcome = [&](const Bytes& damaged, const std::string& what) {
+    const auto ours = outcome(damaged, codecs::PngInflater::Libdeflate);
+    EXPECT_EQ(ours, outcome(damaged, codecs::PngInflater::Libspng)) << what;
+    ++(ours ? read : refused);
+  };
+  for (size_t length = 0; length < png.size(); ++length)
+    expect_same_outcome(Bytes(png.begin(), png.begin() + static_cast<std::ptrdiff_t>(length)),
+                        "cut to " + std::to_string(length) + " bytes");
+  for (size_t at = 8; at < png.size(); ++at) {
+    Bytes changed = png;
+    changed[at] ^= 0x5A;
+    expect_same_outcome(changed, "byte " + std::to_string(at) + " changed");
+  }
+  const std::vector<Chunk> chunks = chunks_with_correct_crcs(png);
+  const auto rebuilt = [&](const std::function<void(Bytes&, const Chunk&)>& add) {
+    Bytes out(png.begin(), png.begin() + 8);
+    for (const Chunk& chunk : chunks) add(out, chunk);
+    return out;
+  };
+  expect_same_outcome(rebuilt([](Bytes& out, const Chunk& c) {
+                        if (c.type != "IEND") add_chunk(out, c.type.c_str(), c.data);
+                      }),
+                      "no IEND");
+  Bytes trailing = png;
+  trailing.insert(trailing.end(), {1, 2, 3});
+  expect_same_outcome(trailing, "bytes after IEND");
+  bool first_idat = true;
+  expect_same_outcome(rebuilt([&](Bytes& out, const Chunk& c) {  // an ancillary chunk between IDATs
+                        add_chunk(out, c.type.c_str(), c.data);
+                        if (c.type == "IDAT" && std::exchange(first_idat, false)) add_chunk(out, "tEXt", {'a', 0});
+                      }),
+                      "a chunk between IDAT chunks");
+  // The stream re-made under correct CRCs: a row short, a row too many, a filter type of 5, data
+  // after the stream's end, one texel byte changed (only the Adler-32 sees it).
+  const auto with_stream = [&](const Bytes& stream) {
+    Bytes out(png.begin(), png.begin() + 33);  // signature and IHDR
+    add_chunk(out, "IDAT", stream);
+    add_chunk(out, "IEND", {});
+    return out;
+  };
+  const Bytes filtered = filtered_rows(texels, kW * 3, 3, [](size_t) { return 0; });
+  const size_t row = 1 + kW * 3;
+  expect_same_outcome(with_stream(deflated(Bytes(filtered.begin(), filtered.end() - static_cast<std::ptrdiff_t>(row)))),
+                      "a row short");
+  Bytes longer = filtered;
+  longer.insert(longer.end(), filtered.begin(), filtered.begin() + static_cast<std::ptrdiff_t>(row));
+  expect_same_outcome(with_stream(deflated(longer)), "a row too many");
+  Bytes bad_type = filtered;
+  bad_type[row * 3] = 5;
+  expect_same_outcome(with_stream(deflated(bad_type)), "filter type 5");
+  Bytes after = deflated(filtered);
+  after.insert(after.end(), {9, 9, 9});
+  expect_same_outcome(with_stream(after), "data after the stream");
+  uLongf size = compressBound(static_cast<uLong>(filtered.size()));
+  Bytes stored(size);
+  ASSERT_EQ(compress2(stored.data(), &size, filtered.data(), static_cast<uLong>(filtered.size()), 0), Z_OK);
+  stored.resize(size);
+  stored[2 + 5 + 10] ^= 1;  // zlib header, stored block header, then row 0's bytes
+  EXPECT_FALSE(outcome(with_stream(stored), codecs::PngInflater::Libdeflate)) << "a texel changed under the CRC";
+  expect_same_outcome(with_stream(stored), "a texel changed under the CRC");
+  EXPECT_GT(read, 0);
+  EXPECT_GT(refused, 0);
 }
 
 }  // namespace
