@@ -1,6 +1,6 @@
 // PNG: decode through libspng with the tRNS chunk as alpha (as OpenImageIO did), the common
 // layouts' image data inflated by libdeflate (decode_png says why); encode in the smallest lossless
-// colour type with the sub filter, deflated by libdeflate (deflate_png says why). The encoder
+// colour type with the Average filter, deflated by libdeflate (deflate_png says why). The encoder
 // writes the chunks itself: libspng deflates through zlib.
 #include <libdeflate.h>
 #include <spng.h>
@@ -338,13 +338,16 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   png.insert(png.end(), tail, tail + 4);
 }
 
+// The filters the encoder writes (PNG spec 9.2): None for palette images, Average for the rest.
+enum class RowFilter : std::uint8_t { None = 0, Average = 3 };
+
 // The filtered rows (PNG spec 7.3, 9), converted and filtered in parts on the pool into one
 // buffer; it is not zeroed. `row_of(y, scratch)` gives row y as stored: the caller's texels, or
 // their conversion written into `scratch` (room for a row). `release`, when given, holds the
 // texels and is emptied once they are filtered.
 template <class RowOf>
 void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::size_t height, std::size_t pixel_bytes,
-                 bool sub_filter, TexelBytes* release) {
+                 RowFilter filter, TexelBytes* release) {
   const std::size_t row_bytes = width * pixel_bytes, filtered_row_bytes = 1 + row_bytes;
   // Plain heap memory, not texel pages: where texel pages are kept for reuse (a preview), these
   // transient buffers would stay mapped after the encode.
@@ -352,18 +355,26 @@ void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::
   png.rows = std::make_unique_for_overwrite<std::uint8_t[]>(png.size);
   constexpr std::size_t kPartBytes = 1u << 20;
   const std::size_t rows_per_part = std::max<std::size_t>(1, kPartBytes / filtered_row_bytes);
+  const std::vector<std::uint8_t> zeros(row_bytes, 0);  // the row above the first
   parallel_dynamic(static_cast<std::int64_t>((height + rows_per_part - 1) / rows_per_part), [&](std::int64_t part) {
-    std::vector<std::uint8_t> scratch(row_bytes);
+    // Two rows of scratch: a converted row stays the next one's row above.
+    std::vector<std::uint8_t> scratch(2 * row_bytes);
     const std::size_t first = static_cast<std::size_t>(part) * rows_per_part;
+    const std::uint8_t* above = first == 0 ? zeros.data() : row_of(first - 1, scratch.data() + row_bytes);
     for (std::size_t y = first; y < std::min(height, first + rows_per_part); ++y) {
-      const std::uint8_t* row = row_of(y, scratch.data());
+      const std::uint8_t* const row = row_of(y, scratch.data() + (y - first) % 2 * row_bytes);
       std::uint8_t* const out = png.rows.get() + y * filtered_row_bytes;
-      out[0] = sub_filter ? 1 : 0;  // filter type: Sub (each byte less the one a pixel before) or None
+      out[0] = static_cast<std::uint8_t>(filter);
       std::uint8_t* const out_row = out + 1;
-      const std::size_t copied = sub_filter ? std::min(pixel_bytes, row_bytes) : row_bytes;
-      std::memcpy(out_row, row, copied);
-      for (std::size_t i = copied; i < row_bytes; ++i)
-        out_row[i] = static_cast<std::uint8_t>(row[i] - row[i - pixel_bytes]);
+      if (filter == RowFilter::None) {
+        std::memcpy(out_row, row, row_bytes);
+      } else {  // each byte less the mean of the byte a pixel before (0 at the left) and the one above
+        const std::size_t left_edge = std::min(pixel_bytes, row_bytes);
+        for (std::size_t i = 0; i < left_edge; ++i) out_row[i] = static_cast<std::uint8_t>(row[i] - (above[i] >> 1));
+        for (std::size_t i = left_edge; i < row_bytes; ++i)
+          out_row[i] = static_cast<std::uint8_t>(row[i] - ((row[i - pixel_bytes] + above[i]) >> 1));
+      }
+      above = row;
     }
   });
   if (release) TexelBytes().swap(*release);  // the texels are read no more
@@ -436,8 +447,11 @@ FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int heig
     }
     return row;
   };
-  // PNG spec 12.8: palette images compress best unfiltered; the others with the sub filter.
-  const bool sub_filter = colour_type != ColourType::Palette;
+  // PNG spec 12.8: palette images compress best unfiltered. Of the five filters, Average left the
+  // least for libdeflate to do on baked photographic maps, in bytes and in time (Avocado's base
+  // colour at 4096², level 1: 7.81 MB in 168 ms, against Sub's 9.27 MB in 174, Up's 7.90 MB,
+  // Paeth's 8.13 MB; at 2048²: 2.88 MB against 3.11 for Sub; bench/RESULTS.md, session 31).
+  const RowFilter filter = colour_type == ColourType::Palette ? RowFilter::None : RowFilter::Average;
 
   // PNG spec 5.2-5.3 and 11.2: signature, IHDR, PLTE and tRNS here; IDAT and IEND in deflate_png.
   FilteredPng png;
@@ -453,7 +467,7 @@ FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int heig
     if (!trns.empty()) append_chunk(png.head, "tRNS", {trns});
   }
   filter_rows(png, row_of, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
-              static_cast<std::size_t>(pixel_bytes), sub_filter, release);
+              static_cast<std::size_t>(pixel_bytes), filter, release);
   return png;
 }
 
