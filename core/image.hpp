@@ -17,7 +17,7 @@
 namespace gltf_pbr {
 
 // Texel bytes that a decoder or a bake fills completely right after allocating them
-// (core/texel_buffer.hpp: not zeroed first, huge pages when large).
+// (core/texel_buffer.hpp: not zeroed first, pages kept for reuse where that pays).
 using TexelBytes = TexelBuffer<std::uint8_t>;
 
 // Decoded pixels as stored (no colour conversion), channels interleaved, read normalised to

@@ -1,4 +1,4 @@
-// Huge-page backed per-pixel buffers, kept warm between uses (see texel_buffer.hpp).
+// Per-pixel buffers in whole 2 MiB regions, kept warm between uses (see texel_buffer.hpp).
 #include "core/texel_buffer.hpp"
 
 #include <algorithm>
@@ -18,9 +18,16 @@
 namespace gltf_pbr {
 
 namespace {
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
+// Large buffers take whole regions of 2 MiB, so that freed ones join and serve later ones of
+// other sizes. Their pages are the kernel's 4 KiB ones: advised as transparent huge pages
+// (MADV_HUGEPAGE), a fresh mapping took 2.0-2.3 ms per MB at first touch on this VM whenever its
+// memory had been free for a second or more (the host had taken the freed huge pages back, see
+// WarmPages), against 0.4-0.5 ms in 4 KiB pages; a 4096² conversion run after a pause took 0.80
+// against 0.74 s, a 512² preview 0.41 against 0.35, and back to back the two were even
+// (bench/RESULTS.md, session 31).
+constexpr std::size_t kRegion = std::size_t{2} << 20;
 
-std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+std::size_t rounded_to_regions(std::size_t bytes) { return (bytes + kRegion - 1) / kRegion * kRegion; }
 
 #if defined(__linux__)
 
@@ -28,7 +35,7 @@ std::size_t rounded_to_huge_pages(std::size_t bytes) { return (bytes + kHugePage
 // for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
 // freed memory back to the host (virtio-balloon free page reporting) the host's fault too:
 // measured here, 1.0 ms per MB for fresh huge pages against 0.11-0.14 for pages the process freed
-// a moment before, so a 1024^2 render's 50 MB of buffers paid ~50 ms in the first frame alone.
+// a moment before (for 4 KiB pages, see kRegion).
 // Buffers reuse the pages of the ones freed before them (decoded maps before the render's
 // G-buffers): the smallest idle region that holds a request serves it. Regions are never moved
 // together (mremap): a region that spans two mappings cannot be moved on Linux before 6.17, and
@@ -62,7 +69,7 @@ class WarmPages {
       release_from_idle(fit, bytes);
       return base;
     }
-    return map_aligned(bytes);
+    return map_region(bytes);
   }
 
   std::size_t idle_bytes() {
@@ -105,7 +112,7 @@ class WarmPages {
     }
     idle_.push_back({base, bytes});
     while (idle_bytes_ > kIdleTexelLimit) {  // the oldest go first, no more of them than the excess
-      Region& oldest = idle_.front();        // (sizes and the limit are whole huge pages)
+      Region& oldest = idle_.front();        // (sizes and the limit are whole regions)
       const std::size_t excess = std::min(oldest.bytes, idle_bytes_ - kIdleTexelLimit);
       if (munmap(oldest.base, excess) != 0) break;  // (splitting a mapping can fail at vm.max_map_count)
       oldest.base += excess, oldest.bytes -= excess, idle_bytes_ -= excess;
@@ -130,29 +137,19 @@ class WarmPages {
     }
   }
 
-  // A mapping of `bytes` (a multiple of kHugePage) on a huge page boundary: right below the last
-  // one when that range is free, else wherever the kernel puts it.
-  char* map_aligned(std::size_t bytes) {
+  // A mapping of `bytes` (whole regions): right below the last one when that range is free, else
+  // wherever the kernel puts it.
+  char* map_region(std::size_t bytes) {
     if (const auto top = reinterpret_cast<std::uintptr_t>(below_); top > bytes) {
       void* const wanted = reinterpret_cast<void*>(top - bytes);
       void* placed =
           mmap(wanted, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
-      if (placed == wanted) return below_ = advised(static_cast<char*>(placed), bytes);
+      if (placed == wanted) return below_ = static_cast<char*>(placed);
       if (placed != MAP_FAILED) munmap(placed, bytes);  // a kernel before 4.17 took it as a hint only
     }
-    void* mapped = mmap(nullptr, bytes + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    void* const mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (mapped == MAP_FAILED) return nullptr;
-    char* start = static_cast<char*>(mapped);
-    char* aligned =
-        reinterpret_cast<char*>((reinterpret_cast<std::uintptr_t>(start) + kHugePage - 1) & ~(kHugePage - 1));
-    if (aligned > start) munmap(start, static_cast<std::size_t>(aligned - start));
-    if (const std::size_t tail = static_cast<std::size_t>(start + bytes + kHugePage - (aligned + bytes)))
-      munmap(aligned + bytes, tail);
-    return below_ = advised(aligned, bytes);
-  }
-  static char* advised(char* base, std::size_t bytes) {
-    madvise(base, bytes, MADV_HUGEPAGE);  // advice only: without THP the pages stay 4 KiB
-    return base;
+    return below_ = static_cast<char*>(mapped);
   }
 
   std::mutex mutex_;
@@ -172,8 +169,8 @@ WarmPages& warm_pages() {
   return *pages;
 }
 
-void* allocate_large(std::size_t bytes) { return warm_pages().take(rounded_to_huge_pages(bytes)); }
-void free_large(void* pointer, std::size_t bytes) noexcept { warm_pages().give(pointer, rounded_to_huge_pages(bytes)); }
+void* allocate_large(std::size_t bytes) { return warm_pages().take(rounded_to_regions(bytes)); }
+void free_large(void* pointer, std::size_t bytes) noexcept { warm_pages().give(pointer, rounded_to_regions(bytes)); }
 std::size_t idle_large_bytes() { return warm_pages().idle_bytes(); }
 void begin_reuse() { warm_pages().begin_reuse(); }
 void end_reuse() { warm_pages().end_reuse(); }
@@ -181,7 +178,7 @@ void end_reuse() { warm_pages().end_reuse(); }
 #else
 
 void* allocate_large(std::size_t bytes) {
-  return std::aligned_alloc(kHugePage, rounded_to_huge_pages(bytes));
+  return std::aligned_alloc(kRegion, rounded_to_regions(bytes));
 }  // no THP advice here
 void free_large(void* pointer, std::size_t) noexcept { std::free(pointer); }
 std::size_t idle_large_bytes() { return 0; }
@@ -192,14 +189,14 @@ void end_reuse() {}
 }  // namespace
 
 void* allocate_texels(std::size_t bytes) {
-  void* pointer = bytes < kHugePage ? std::malloc(bytes == 0 ? 1 : bytes) : allocate_large(bytes);
+  void* pointer = bytes < kRegion ? std::malloc(bytes == 0 ? 1 : bytes) : allocate_large(bytes);
   if (!pointer) throw std::bad_alloc();
   return pointer;
 }
 
 void free_texels(void* pointer, std::size_t bytes) noexcept {
   if (!pointer) return;
-  if (bytes < kHugePage)
+  if (bytes < kRegion)
     std::free(pointer);
   else
     free_large(pointer, bytes);

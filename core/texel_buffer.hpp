@@ -1,5 +1,5 @@
 // Per-pixel and per-texel buffers that the code filling them initialises (see
-// DefaultInitAllocator), in transparent huge pages when large: the renderer's G-buffers, decoded
+// DefaultInitAllocator), in mappings of their own when large: the renderer's G-buffers, decoded
 // images and baked maps.
 #pragma once
 #include <cstddef>
@@ -11,11 +11,10 @@
 
 namespace gltf_pbr {
 
-// Memory of per-pixel buffers: from 2 MiB up, 2 MiB-aligned and advised as transparent huge
-// pages (Linux madvise MADV_HUGEPAGE), so a fresh 1024^2 buffer takes a few page faults instead
-// of thousands (first touch of 30 MB: 12 ms in 4 KiB pages, 7 ms in huge pages, measured here).
-// While a TexelPageReuse lives, a freed large buffer's pages stay mapped for the next ones, up
-// to kIdleTexelLimit bytes (texel_buffer.cpp says why). `bytes` must be the allocated size.
+// Memory of per-pixel buffers: from 2 MiB up, mappings of whole 2 MiB regions in 4 KiB pages
+// (texel_buffer.cpp says why not transparent huge pages). While a TexelPageReuse lives, a freed
+// large buffer's pages stay mapped for the next ones, up to kIdleTexelLimit bytes
+// (texel_buffer.cpp says why). `bytes` must be the allocated size.
 void* allocate_texels(std::size_t bytes);
 void free_texels(void* pointer, std::size_t bytes) noexcept;
 inline constexpr std::size_t kIdleTexelLimit = std::size_t{256} << 20;
