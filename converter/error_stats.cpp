@@ -20,9 +20,10 @@ ErrorStats summarise(std::vector<float>& values) {
   stats.mean = sum / static_cast<double>(values.size());
   // Nearest-rank percentile.
   const size_t rank = std::min(values.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(values.size())));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank), values.end());
-  stats.p95 = values[rank];
-  stats.max = *std::max_element(values.begin(), values.end());
+  const auto p95 = values.begin() + static_cast<std::ptrdiff_t>(rank);
+  std::nth_element(values.begin(), p95, values.end());
+  stats.p95 = *p95;
+  stats.max = *std::max_element(p95, values.end());  // nth_element left the larger values after it
   return stats;
 }
 
