@@ -27,9 +27,9 @@ namespace {
 // (bench/RESULTS.md, session 31).
 constexpr std::size_t kRegion = std::size_t{2} << 20;
 
-std::size_t rounded_to_regions(std::size_t bytes) { return (bytes + kRegion - 1) / kRegion * kRegion; }
-
 #if defined(__linux__)
+
+std::size_t rounded_to_regions(std::size_t bytes) { return (bytes + kRegion - 1) / kRegion * kRegion; }
 
 // Memory that large buffers gave back, kept mapped for the next ones. A page a process touches
 // for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
@@ -177,9 +177,7 @@ void end_reuse() { warm_pages().end_reuse(); }
 
 #else
 
-void* allocate_large(std::size_t bytes) {
-  return std::aligned_alloc(kRegion, rounded_to_regions(bytes));
-}  // no THP advice here
+void* allocate_large(std::size_t bytes) { return std::malloc(bytes); }
 void free_large(void* pointer, std::size_t) noexcept { std::free(pointer); }
 std::size_t idle_large_bytes() { return 0; }
 void begin_reuse() {}
