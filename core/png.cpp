@@ -128,6 +128,7 @@ bool inflate_and_unfilter(std::span<const std::uint8_t> png, std::size_t width, 
   if (libdeflate_zlib_decompress(inflater.get(), stream.data(), stream.size(), texels.data(), texels.size(), nullptr) !=
       LIBDEFLATE_SUCCESS)
     return false;
+  // By bytes a pixel: `channels` is 1 to 4 here (8-bit grey, grey + alpha, RGB, RGBA).
   static constexpr bool (*kUnfilter[])(std::uint8_t*, std::size_t, std::size_t) = {unfilter_rows<1>, unfilter_rows<2>,
                                                                                    unfilter_rows<3>, unfilter_rows<4>};
   if (!kUnfilter[channels - 1](texels.data(), row_bytes, height)) return false;
@@ -153,7 +154,12 @@ Pixels decode_png(std::span<const std::uint8_t> encoded, std::uint64_t max_pixel
   if (static_cast<std::uint64_t>(header.width) * header.height > max_pixels)
     throw std::runtime_error(too_large(header.width, header.height, max_pixels));
   spng_trns transparency{};
-  const bool has_trns = spng_get_trns(ctx.get(), &transparency) == 0;
+  // Reading tRNS reads every chunk before the first IDAT: a fault there (an unknown critical chunk,
+  // a second IHDR, a PLTE of a wrong length) is the file's error, which the libdeflate path below
+  // would not see.
+  const int trns = spng_get_trns(ctx.get(), &transparency);
+  if (trns != 0 && trns != SPNG_ECHUNKAVAIL) check(trns, "PNG");
+  const bool has_trns = trns == 0;
   const bool wide = header.bit_depth == 16;
 
   // Channels as stored (PNG spec 11.2.2 IHDR colour types), tRNS adding an alpha channel.
@@ -360,7 +366,8 @@ void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::
     // Two rows of scratch: a converted row stays the next one's row above.
     std::vector<std::uint8_t> scratch(2 * row_bytes);
     const std::size_t first = static_cast<std::size_t>(part) * rows_per_part;
-    const std::uint8_t* above = first == 0 ? zeros.data() : row_of(first - 1, scratch.data() + row_bytes);
+    const std::uint8_t* above =
+        first == 0 || filter == RowFilter::None ? zeros.data() : row_of(first - 1, scratch.data() + row_bytes);
     for (std::size_t y = first; y < std::min(height, first + rows_per_part); ++y) {
       const std::uint8_t* const row = row_of(y, scratch.data() + (y - first) % 2 * row_bytes);
       std::uint8_t* const out = png.rows.get() + y * filtered_row_bytes;

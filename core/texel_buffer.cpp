@@ -19,12 +19,12 @@ namespace gltf_pbr {
 
 namespace {
 // Large buffers take whole regions of 2 MiB, so that freed ones join and serve later ones of
-// other sizes. Their pages are the kernel's 4 KiB ones: advised as transparent huge pages
-// (MADV_HUGEPAGE), a fresh mapping took 2.0-2.3 ms per MB at first touch on this VM whenever its
-// memory had been free for a second or more (the host had taken the freed huge pages back, see
-// WarmPages), against 0.4-0.5 ms in 4 KiB pages; a 4096² conversion run after a pause took 0.80
-// against 0.74 s, a 512² preview 0.41 against 0.35, and back to back the two were even
-// (bench/RESULTS.md, session 31).
+// other sizes. They are not advised as transparent huge pages (so with THP in its usual madvise
+// mode their pages are 4 KiB): advised (MADV_HUGEPAGE), a fresh mapping took 2.0-2.3 ms per MB at
+// first touch on this VM whenever its memory had been free for a second or more (the host had
+// taken the freed huge pages back, see WarmPages), against 0.4-0.5 ms in 4 KiB pages; a 4096²
+// conversion after a pause took 0.80 against 0.74 s, a 512² preview 0.41 against 0.35, and back
+// to back the two were even (bench/RESULTS.md, session 31).
 constexpr std::size_t kRegion = std::size_t{2} << 20;
 
 #if defined(__linux__)
@@ -34,8 +34,8 @@ std::size_t rounded_to_regions(std::size_t bytes) { return (bytes + kRegion - 1)
 // Memory that large buffers gave back, kept mapped for the next ones. A page a process touches
 // for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
 // freed memory back to the host (virtio-balloon free page reporting) the host's fault too:
-// measured here, 1.0 ms per MB for fresh huge pages against 0.11-0.14 for pages the process freed
-// a moment before (for 4 KiB pages, see kRegion).
+// measured here, 2.0-2.3 ms per MB for huge pages whose memory had been free for a second, about
+// 0.1 for huge pages the process freed a moment before, and 0.4-0.5 for fresh 4 KiB pages (kRegion).
 // Buffers reuse the pages of the ones freed before them (decoded maps before the render's
 // G-buffers): the smallest idle region that holds a request serves it. Regions are never moved
 // together (mremap): a region that spans two mappings cannot be moved on Linux before 6.17, and

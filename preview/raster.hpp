@@ -58,7 +58,7 @@ static_assert(sizeof(VisibilitySample) == 16);
 
 struct VisibilityBuffer {
   int width = 0, height = 0;
-  TexelBuffer<VisibilitySample> samples;  // huge pages when large (texel_buffer.hpp)
+  TexelBuffer<VisibilitySample> samples;  // not zeroed, pages kept for reuse (texel_buffer.hpp)
 };
 
 struct RasterStats {

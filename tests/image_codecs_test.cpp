@@ -340,6 +340,32 @@ TEST(LeanCodecs, APngFilteredInPartsAndDeflatedWholeReadsBackExactlyInBothDecode
     }
 }
 
+// Rows stored in another form than given (opaque RGBA as RGB, grey RGB as grey) are converted part
+// by part on the pool, each part converting its row above for the Average filter as well: every
+// texel reads back exactly, across the parts' seams.
+TEST(LeanCodecs, RowsConvertedAndFilteredInPartsReadBackExactly) {
+  constexpr int kWidth = 1031, kHeight = 1100;  // RGB: 339 rows a part, 4 parts; grey: 2 parts
+  for (int channels : {4, 3}) {
+    const size_t count = static_cast<size_t>(kWidth) * kHeight, n = static_cast<size_t>(channels);
+    std::vector<std::uint8_t> texels(count * n);
+    for (size_t t = 0; t < count; ++t)
+      for (size_t c = 0; c < n; ++c) {  // opaque colours with noise (far more than 256), or greys
+        const size_t channel = channels == 4 ? c : 0;
+        const std::uint32_t noise = static_cast<std::uint32_t>((t * 3 + channel) * 2654435761u) >> 28;
+        texels[t * n + c] = c == 3 ? 255 : static_cast<std::uint8_t>(t % kWidth / 5 * (channel + 1) + noise);
+      }
+    const std::string what = channels == 4 ? "opaque RGBA, stored as RGB" : "grey RGB, stored as grey";
+    const Bytes png = encode_png(texels, kWidth, kHeight, channels, 1);
+    ASSERT_GT(png.size(), 26u) << what;
+    EXPECT_EQ(png[25], channels == 4 ? 2 : 0) << what << ": IHDR colour type";
+    const Pixels original{kWidth, kHeight, channels, 8, TexelBytes(texels.begin(), texels.end()), {}, {}};
+    const Pixels decoded = decode_image(png, what);
+    ASSERT_EQ(decoded.width, kWidth) << what;
+    ASSERT_EQ(decoded.height, kHeight) << what;
+    for (size_t i = 0; i < count; ++i) ASSERT_EQ(rgba(decoded, i), rgba(original, i)) << what << ", texel " << i;
+  }
+}
+
 // --- PNG image data inflated by libdeflate and reconstructed by our code (core/png.cpp) ---
 
 // Rows filtered by PNG spec 9.2-9.4, written here from the spec apart from the decoder: row y with
@@ -459,6 +485,21 @@ TEST(LeanCodecs, ADamagedPngIsReadOrRefusedAsLibspngAloneReadsOrRefusesIt) {
                         if (c.type == "IDAT" && std::exchange(first_idat, false)) add_chunk(out, "tEXt", {'a', 0});
                       }),
                       "a chunk between IDAT chunks");
+  // Chunks before the image data that libspng refuses under correct CRCs (PNG spec 5.4, 5.6,
+  // 11.2.3): the libdeflate path does not read them, and must refuse the file all the same.
+  const auto with_before_image_data = [&](const char* type, const Bytes& data) {
+    bool added = false;
+    return rebuilt([&](Bytes& out, const Chunk& c) {
+      if (c.type == "IDAT" && !std::exchange(added, true)) add_chunk(out, type, data);
+      add_chunk(out, c.type.c_str(), c.data);
+    });
+  };
+  for (const auto& [damaged, what] : {std::pair{with_before_image_data("ABCD", {1}), "an unknown critical chunk"},
+                                      std::pair{with_before_image_data("IHDR", chunks.front().data), "a second IHDR"},
+                                      std::pair{with_before_image_data("PLTE", {1, 2, 3, 4}), "a PLTE of 4 bytes"}}) {
+    EXPECT_FALSE(outcome(damaged, codecs::PngInflater::Libdeflate)) << what;
+    expect_same_outcome(damaged, what);
+  }
   // The stream re-made under correct CRCs: a row short, a row too many, a filter type of 5, data
   // after the stream's end, one texel byte changed (only the Adler-32 sees it).
   const auto with_stream = [&](const Bytes& stream) {
