@@ -56,6 +56,7 @@ struct SolverSettings {
   int refine_iterations = 12;      // golden-section steps: the bracket shrinks to 0.618^12 of 2/16, ~4e-4
   bool reference_formula = false;  // use solve_reference instead (for comparison only)
   ErrorModel error_model = ErrorModel::NormalIncidence;
+  bool operator==(const SolverSettings&) const = default;
 };
 // Named settings for the tool, the library and the benchmark: error against run time.
 SolverSettings solver_preset(SolverEffort effort, ErrorModel model = ErrorModel::NormalIncidence);

@@ -835,9 +835,11 @@ TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
 
 // The bake's solve cache on inputs that overflow it: thousands of distinct colour pairs per band
 // (slots taken by two queued inputs, answers known without a solve landing in claimed slots), and
-// a second bake on the same pool threads (a new cache generation). Every texel must hold its own
-// input's answer, exactly as solve_batch gives it, under both error models: the appearance model's
-// answer depends on the glossiness, so its cache is keyed on the glossiness byte too.
+// later bakes on the same pool threads: with another specular factor (a new cache generation),
+// with the same factors again (the cache kept), and with only the diffuse factor changed (a new
+// generation: a cache kept across it would give the earlier answers). Every texel must hold its
+// own input's answer, exactly as solve_batch gives it, under both error models: the appearance
+// model's answer depends on the glossiness, so its cache is keyed on the glossiness byte too.
 TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
   constexpr int w = 512, h = 64;
   std::uint32_t state = 12345;
@@ -853,18 +855,20 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
     spec_gloss.bytes.push_back(next());
   }
   for (const ErrorModel model : {ErrorModel::NormalIncidence, ErrorModel::Appearance})
-    for (float specular_factor : {0.04f, 0.7f}) {  // the second bake runs on caches the first one used
+    for (const auto& [specular_factor, diffuse_factor] :
+         {std::pair{0.04f, 1.0f}, std::pair{0.7f, 1.0f}, std::pair{0.7f, 1.0f}, std::pair{0.7f, 0.5f}}) {
       const SolverSettings settings = solver_preset(SolverEffort::Balanced, model);
       BakeInputs in;
       in.diffuse = &diffuse, in.spec_gloss = &spec_gloss;
       in.width = w, in.height = h;
       in.specular_factor = glm::vec3(specular_factor);
+      in.diffuse_factor = glm::vec4(glm::vec3(diffuse_factor), 1.0f);
       const BakedTexels out = bake(in, settings, 0);
       std::vector<SpecGloss> legacy;
       for (int i = 0; i < w * h; ++i) {
         SpecGloss l;
         for (int c = 0; c < 3; ++c) {
-          l.diffuse[c] = srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
+          l.diffuse[c] = diffuse_factor * srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
           l.specular[c] = specular_factor * srgb8_to_linear(spec_gloss.bytes[static_cast<size_t>(i * 4 + c)]);
         }
         l.glossiness = static_cast<float>(spec_gloss.bytes[static_cast<size_t>(i * 4 + 3)]) / 255.0f;  // linear alpha
@@ -879,10 +883,11 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
         const MetalRough e = shortcut ? MetalRough{legacy[i].diffuse, 0.0f, 0.0f} : expected[i];
         for (int c = 0; c < 3; ++c)
           ASSERT_EQ(out.base_color[i * 3 + static_cast<size_t>(c)], to_byte(linear_to_srgb(e.base[c])))
-              << "texel " << i << " channel " << c << ", specular factor " << specular_factor << ", "
-              << static_cast<int>(model);
+              << "texel " << i << " channel " << c << ", specular factor " << specular_factor << ", diffuse factor "
+              << diffuse_factor << ", " << static_cast<int>(model);
         ASSERT_EQ(out.metalness[i], to_byte(e.metalness))
-            << "texel " << i << ", specular factor " << specular_factor << ", " << static_cast<int>(model);
+            << "texel " << i << ", specular factor " << specular_factor << ", diffuse factor " << diffuse_factor << ", "
+            << static_cast<int>(model);
       }
       EXPECT_EQ(shortcuts > 0, specular_factor == 0.04f);
       // Every texel is a sample (0: all), and its error is taken through the cache's slots, or
