@@ -219,9 +219,10 @@ struct ByteTexels {
 
 // What a cached solve and its error depend on besides the texel key: the factors, which inputs
 // the key reads, and the solver's settings. A thread keeps its cache from one bake to the next
-// with the same context (SolveCache::for_this_thread).
+// with the same context (SolveCache::for_this_thread). Like the key, it holds the glossiness only
+// where the answer reads it (the appearance model), and the diffuse factor's colour, not its alpha.
 struct SolveContext {
-  glm::vec4 diffuse_factor;
+  glm::vec3 diffuse_factor;
   glm::vec3 specular_factor;
   float glossiness_factor;
   bool diffuse_texture, spec_gloss_texture, key_glossiness;
@@ -264,7 +265,9 @@ class SolveCache {
   // their colours recur from texture to texture: 394k distinct inputs bake by bake, 237k within
   // each context). Otherwise it is emptied by starting a new generation instead of allocating and
   // zeroing it again (up to 3 MB a thread a texture: a tenth of the run time on VC). Sized to the
-  // texels it will see, a power of two up to kMostEntries; it never shrinks.
+  // texels it will see, a power of two up to kMostEntries; it never shrinks. Nothing inside a
+  // bake's work on a thread may start another bake on the pool: that bake would take this cache
+  // in the middle of the first (and keep or label entries that are not its own).
   static SolveCache& for_this_thread(const SolverSettings& settings, size_t texels, const SolveContext& context) {
     thread_local SolveCache cache;
     cache.settings_ = &settings;
@@ -272,8 +275,11 @@ class SolveCache {
     const bool same_answers = cache.finished_ && cache.context_ == context;
     cache.finished_ = false, cache.context_ = context;
     if (cache.sets_.size() * kWays < size || (!same_answers && ++cache.generation_ == kGenerations)) {
-      cache.sets_.assign(std::max(cache.sets_.size(), size / kWays), Set{});
-      cache.ticket_of_slot_.resize(cache.sets_.size() * kWays), cache.errors_.resize(cache.sets_.size() * kWays);
+      // The side arrays first: were they to fail to grow after the sets did, a later bake would
+      // index them past their end.
+      const size_t sets = std::max(cache.sets_.size(), size / kWays);
+      cache.ticket_of_slot_.resize(sets * kWays), cache.errors_.resize(sets * kWays);
+      cache.sets_.assign(sets, Set{});
       cache.generation_ = 1;  // every entry (generation 0) is empty
     }
     cache.queue_.clear(), cache.claimed_.clear(), cache.spill_.clear();  // an earlier bake may have thrown
@@ -565,9 +571,9 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   const std::int64_t runs = (bands + bands_per_run - 1) / bands_per_run;
   std::atomic<std::int64_t> next_run{0};
   using Cache = SolveCache<typename Texels::Key>;
-  const SolveContext context{in.diffuse_factor,
+  const SolveContext context{glm::vec3(in.diffuse_factor),
                              in.specular_factor,
-                             in.glossiness_factor,
+                             texels_of.key_glossiness ? in.glossiness_factor : 0.0f,
                              in.diffuse != nullptr,
                              in.spec_gloss != nullptr,
                              texels_of.key_glossiness,

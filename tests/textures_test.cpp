@@ -835,11 +835,14 @@ TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
 
 // The bake's solve cache on inputs that overflow it: thousands of distinct colour pairs per band
 // (slots taken by two queued inputs, answers known without a solve landing in claimed slots), and
-// later bakes on the same pool threads: with another specular factor (a new cache generation),
-// with the same factors again (the cache kept), and with only the diffuse factor changed (a new
-// generation: a cache kept across it would give the earlier answers). Every texel must hold its
-// own input's answer, exactly as solve_batch gives it, under both error models: the appearance
-// model's answer depends on the glossiness, so its cache is keyed on the glossiness byte too.
+// later bakes on the same pool threads, each of which keeps the cache of the one before it or
+// starts a new generation (SolveContext): another specular factor (new), the same factors again
+// (kept), a specularGlossiness map half of whose texels are new (kept), only the diffuse factor
+// changed (new), then only the glossiness factor (kept under the normal-incidence model, which
+// reads no glossiness; new under the appearance model). Every texel must hold its own input's
+// answer, exactly as solve_batch gives it, and every error figure must be its stored texel's,
+// under both error models: the appearance model's answer depends on the glossiness, so its cache
+// is keyed on the glossiness byte too. A cache kept across a change that matters fails this.
 TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
   constexpr int w = 512, h = 64;
   std::uint32_t state = 12345;
@@ -854,24 +857,40 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
     for (int c = 0; c < 3; ++c) spec_gloss.bytes.push_back(full ? 255 : next());
     spec_gloss.bytes.push_back(next());
   }
+  Pixels half_new = spec_gloss;  // the second half of its texels other colours
+  for (size_t i = half_new.bytes.size() / 2; i < half_new.bytes.size(); ++i) half_new.bytes[i] = next();
+  struct Bake {
+    float specular_factor, diffuse_factor, glossiness_factor;
+    const Pixels* spec_gloss;
+  };
+  const Bake bakes[] = {{0.04f, 1.0f, 1.0f, &spec_gloss}, {0.7f, 1.0f, 1.0f, &spec_gloss},
+                        {0.7f, 1.0f, 1.0f, &spec_gloss},  {0.7f, 1.0f, 1.0f, &half_new},
+                        {0.7f, 0.5f, 1.0f, &half_new},    {0.7f, 0.5f, 0.6f, &half_new}};
   for (const ErrorModel model : {ErrorModel::NormalIncidence, ErrorModel::Appearance})
-    for (const auto& [specular_factor, diffuse_factor] :
-         {std::pair{0.04f, 1.0f}, std::pair{0.7f, 1.0f}, std::pair{0.7f, 1.0f}, std::pair{0.7f, 0.5f}}) {
+    for (const Bake& made : bakes) {
+      const bool appearance = model == ErrorModel::Appearance;
+      const std::string what =
+          "specular factor " + std::to_string(made.specular_factor) + ", diffuse factor " +
+          std::to_string(made.diffuse_factor) + ", glossiness factor " + std::to_string(made.glossiness_factor) +
+          (made.spec_gloss == &half_new ? ", half new" : "") + (appearance ? ", appearance" : ", normal incidence");
       const SolverSettings settings = solver_preset(SolverEffort::Balanced, model);
       BakeInputs in;
-      in.diffuse = &diffuse, in.spec_gloss = &spec_gloss;
+      in.diffuse = &diffuse, in.spec_gloss = made.spec_gloss;
       in.width = w, in.height = h;
-      in.specular_factor = glm::vec3(specular_factor);
-      in.diffuse_factor = glm::vec4(glm::vec3(diffuse_factor), 1.0f);
+      in.specular_factor = glm::vec3(made.specular_factor);
+      in.diffuse_factor = glm::vec4(glm::vec3(made.diffuse_factor), 1.0f);
+      in.glossiness_factor = made.glossiness_factor;
       const BakedTexels out = bake(in, settings, 0);
+      const TexelBytes& sg = made.spec_gloss->bytes;
       std::vector<SpecGloss> legacy;
       for (int i = 0; i < w * h; ++i) {
         SpecGloss l;
         for (int c = 0; c < 3; ++c) {
-          l.diffuse[c] = diffuse_factor * srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
-          l.specular[c] = specular_factor * srgb8_to_linear(spec_gloss.bytes[static_cast<size_t>(i * 4 + c)]);
+          l.diffuse[c] = made.diffuse_factor * srgb8_to_linear(diffuse.bytes[static_cast<size_t>(i * 3 + c)]);
+          l.specular[c] = made.specular_factor * srgb8_to_linear(sg[static_cast<size_t>(i * 4 + c)]);
         }
-        l.glossiness = static_cast<float>(spec_gloss.bytes[static_cast<size_t>(i * 4 + 3)]) / 255.0f;  // linear alpha
+        // linear alpha, times the factor as the bake multiplies it
+        l.glossiness = made.glossiness_factor * made.spec_gloss->value(static_cast<size_t>(i * 4 + 3));
         legacy.push_back(l);
       }
       std::vector<MetalRough> expected(legacy.size());
@@ -883,31 +902,33 @@ TEST(BakeCache, EveryTexelGetsItsOwnSolveWhenTheCacheOverflowsAndAcrossBakes) {
         const MetalRough e = shortcut ? MetalRough{legacy[i].diffuse, 0.0f, 0.0f} : expected[i];
         for (int c = 0; c < 3; ++c)
           ASSERT_EQ(out.base_color[i * 3 + static_cast<size_t>(c)], to_byte(linear_to_srgb(e.base[c])))
-              << "texel " << i << " channel " << c << ", specular factor " << specular_factor << ", diffuse factor "
-              << diffuse_factor << ", " << static_cast<int>(model);
-        ASSERT_EQ(out.metalness[i], to_byte(e.metalness))
-            << "texel " << i << ", specular factor " << specular_factor << ", diffuse factor " << diffuse_factor << ", "
-            << static_cast<int>(model);
+              << "texel " << i << " channel " << c << ", " << what;
+        ASSERT_EQ(out.metalness[i], to_byte(e.metalness)) << "texel " << i << ", " << what;
       }
-      EXPECT_EQ(shortcuts > 0, specular_factor == 0.04f);
+      EXPECT_EQ(shortcuts > 0, made.specular_factor == 0.04f) << what;
       // Every texel is a sample (0: all), and its error is taken through the cache's slots, or
       // apart for an answer held outside them: the figures must be those of each texel as stored.
-      ErrorAccumulator a(legacy.size()), b(legacy.size());
+      ErrorAccumulator a(legacy.size(), appearance), b(legacy.size());
       for (size_t i = 0; i < legacy.size(); ++i) {
         MetalRough stored;
         for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(out.base_color[i * 3 + static_cast<size_t>(c)]);
         stored.metalness = out.metalness[i] / 255.0f;
+        stored.roughness = 1.0f - legacy[i].glossiness;
         a.set(i, legacy_reflectance(legacy[i], LegacyReading::A), core_reflectance(stored));
+        if (appearance) a.set_appearance(i, appearance_delta_e(legacy_appearance(legacy[i]), core_appearance(stored)));
         b.set(i, legacy_reflectance(legacy[i], LegacyReading::B), core_reflectance(stored));
       }
       for (auto [baked, direct] : {std::pair{out.error_a, a}, std::pair{out.error_b, b}}) {
         const ReflectanceError got = baked.finish(), want = direct.finish();
         // The bake's ΔE2000 lanes are float, delta_e() is double: they agree to 1e-4 of the value.
         const auto close = [](double x, double y) { return std::abs(x - y) <= 1e-4 * std::max(1.0, std::abs(y)); };
-        for (auto [g, e] : {std::pair{got.diffuse, want.diffuse}, std::pair{got.f0, want.f0}})
+        std::vector<std::pair<ErrorStats, ErrorStats>> figures = {{got.diffuse, want.diffuse}, {got.f0, want.f0}};
+        ASSERT_EQ(got.appearance.has_value(), want.appearance.has_value()) << what;
+        if (got.appearance) figures.emplace_back(*got.appearance, *want.appearance);
+        for (const auto& [g, e] : figures)
           EXPECT_TRUE(close(g.mean, e.mean) && close(g.p95, e.p95) && close(g.max, e.max))
-              << g.mean << " " << g.p95 << " " << g.max << " against " << e.mean << " " << e.p95 << " " << e.max
-              << ", model " << static_cast<int>(model) << ", specular factor " << specular_factor;
+              << g.mean << " " << g.p95 << " " << g.max << " against " << e.mean << " " << e.p95 << " " << e.max << ", "
+              << what;
       }
     }
 }
