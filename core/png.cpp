@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/asset.hpp"
+#include "core/byte_order.hpp"
 #include "core/codecs.hpp"
 #include "core/parallel.hpp"
 
@@ -30,10 +31,6 @@ void check(int status, const char* what) {
 // profile, and a bound whatever a chunk's length field claims.
 constexpr std::size_t kChunkLimit = 16u << 20;
 
-std::uint32_t get_be32(const std::uint8_t* in) {
-  return std::uint32_t{in[0]} << 24 | std::uint32_t{in[1]} << 16 | std::uint32_t{in[2]} << 8 | in[3];
-}
-
 // The image data (PNG spec 10.1: the IDAT chunks' data joined, one zlib stream) in `joined`, or
 // in place when it is one chunk; the CRC-32 of each chunk up to the last IDAT checked (PNG spec
 // 5.3). Empty where the chunks are not laid out as the spec says (no IDAT, a chunk running past
@@ -42,16 +39,13 @@ std::span<const std::uint8_t> image_data(std::span<const std::uint8_t> png, std:
   std::vector<std::span<const std::uint8_t>> parts;
   std::size_t total = 0;
   for (std::size_t at = 8; at + 12 <= png.size();) {
-    const std::size_t length = get_be32(&png[at]);
-    if (length > 0x7FFFFFFFu || length > png.size() - at - 12) return {};
     const std::uint8_t* const type = &png[at + 4];
-    if (libdeflate_crc32(0, type, 4 + length) != get_be32(type + 4 + length)) return {};
-    if (std::memcmp(type, "IDAT", 4) == 0) {
-      parts.emplace_back(type + 4, length);
-      total += length;
-    } else if (!parts.empty() || std::memcmp(type, "IEND", 4) == 0) {
-      break;  // PNG spec 5.6: the IDAT chunks are consecutive
-    }
+    const bool idat = std::memcmp(type, "IDAT", 4) == 0;
+    if (!idat && (!parts.empty() || std::memcmp(type, "IEND", 4) == 0)) break;  // PNG spec 5.6: IDATs are consecutive
+    const std::size_t length = big_endian32(png, at);
+    if (length > 0x7FFFFFFFu || length > png.size() - at - 12) return {};
+    if (libdeflate_crc32(0, type, 4 + length) != big_endian32(png, at + 8 + length)) return {};
+    if (idat) parts.emplace_back(type + 4, length), total += length;
     at += 12 + length;
   }
   if (parts.size() <= 1) return parts.empty() ? std::span<const std::uint8_t>() : parts[0];
