@@ -1,9 +1,7 @@
 // The names of the public enumerations, as the tool's options, its reports and the Python module
 // spell them, and the library's version.
-#include <array>
-#include <utility>
-
 #include "api/files.hpp"
+#include "core/enum_names.hpp"
 #include "core/version.hpp"
 #include "gltf_pbr/gltf_pbr.hpp"
 #include "rules/rule_set.hpp"
@@ -11,44 +9,19 @@
 namespace gltf_pbr {
 namespace {
 
-constexpr std::array<std::pair<Target, const char*>, 2> kTargets{{
-    {Target::Metalness, "metalness"},
-    {Target::Specular, "specular"},
-}};
-constexpr std::array<std::pair<SolverEffort, const char*>, 4> kEfforts{{
-    {SolverEffort::Fast, "fast"},
-    {SolverEffort::Balanced, "balanced"},
-    {SolverEffort::Exact, "exact"},
-    {SolverEffort::Reference, "reference"},
-}};
-constexpr std::array<std::pair<ErrorModel, const char*>, 2> kErrorModels{{
-    {ErrorModel::NormalIncidence, "normal-incidence"},
-    {ErrorModel::Appearance, "appearance"},
-}};
-constexpr std::array<std::pair<FileStatus, const char*>, 3> kStatuses{{
-    {FileStatus::Converted, "converted"},
-    {FileStatus::Copied, "copied"},
-    {FileStatus::Failed, "failed"},
-}};
-constexpr std::array<std::pair<ValidationStep, const char*>, 4> kSteps{{
-    {ValidationStep::Structure, "structure"},
-    {ValidationStep::Materials, "materials"},
-    {ValidationStep::Textures, "textures"},
-    {ValidationStep::Meshes, "meshes"},
-}};
-
-template <typename Enum, std::size_t N>
-std::optional<Enum> from_name(const std::array<std::pair<Enum, const char*>, N>& table, std::string_view name) {
-  for (const auto& [value, value_name] : table)
-    if (name == value_name) return value;
-  return std::nullopt;
-}
-template <typename Enum, std::size_t N>
-const char* name_of(const std::array<std::pair<Enum, const char*>, N>& table, Enum value) {
-  for (const auto& [entry, entry_name] : table)
-    if (entry == value) return entry_name;
-  return "?";
-}
+constexpr NameTable<Target, 2> kTargets{{{Target::Metalness, "metalness"}, {Target::Specular, "specular"}}};
+constexpr NameTable<SolverEffort, 4> kEfforts{{{SolverEffort::Fast, "fast"},
+                                               {SolverEffort::Balanced, "balanced"},
+                                               {SolverEffort::Exact, "exact"},
+                                               {SolverEffort::Reference, "reference"}}};
+constexpr NameTable<ErrorModel, 2> kErrorModels{
+    {{ErrorModel::NormalIncidence, "normal-incidence"}, {ErrorModel::Appearance, "appearance"}}};
+constexpr NameTable<FileStatus, 3> kStatuses{
+    {{FileStatus::Converted, "converted"}, {FileStatus::Copied, "copied"}, {FileStatus::Failed, "failed"}}};
+constexpr NameTable<ValidationStep, 4> kSteps{{{ValidationStep::Structure, "structure"},
+                                               {ValidationStep::Materials, "materials"},
+                                               {ValidationStep::Textures, "textures"},
+                                               {ValidationStep::Meshes, "meshes"}}};
 
 }  // namespace
 

@@ -2,15 +2,40 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
+#include <memory>
 
 namespace gltf_pbr::cli {
 
 // 3: the inputs were processed but a requested output (a report, stdout) could not be written.
 enum ExitCode { kAllDone = 0, kSomeFilesFailed = 1, kBadUsage = 2, kCannotWrite = 3 };
 
+// What an InputError escaping a command's body means. For convert and validate, whose files fail one
+// by one inside the body, it is a config or option file: bad usage (2). For compare and preview it is
+// the input the command works on: that input failed (1).
+enum class InputErrors { AreBadUsage, FailTheInput };
+
 // Runs a subcommand's body and turns what escapes it into one message and the exit code of its
 // class: a usage or config error 2, an output that cannot be written 3, anything else 1.
-int run_command(const char* name, const std::function<int()>& body);
+int run_command(const char* name, const std::function<int()>& body,
+                InputErrors input_errors = InputErrors::AreBadUsage);
+
+// Registers subcommand `name`: `declare` adds its options, bound to one Args that outlives parsing.
+// The runner it returns (main calls it after parsing) runs `run` through run_command, or returns -1
+// when another subcommand was given.
+template <typename Args>
+std::function<int()> add_subcommand(CLI::App& app, const char* name, const char* help,
+                                    void (*declare)(CLI::App&, Args&), int (*run)(const Args&),
+                                    InputErrors input_errors = InputErrors::AreBadUsage) {
+  auto args = std::make_shared<Args>();
+  CLI::App* command = app.add_subcommand(name, help);
+  declare(*command, *args);
+  return [=] {
+    return command->parsed() ? run_command(
+                                   name, [&] { return run(*args); }, input_errors)
+                             : -1;
+  };
+}
 
 // Writes text to stdout; throws OutputError with the errno text when it cannot (a full disk,
 // a closed pipe), so a lost report is an error and not a silent exit 0.

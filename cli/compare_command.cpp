@@ -18,59 +18,55 @@ struct CompareArgs {
 
 nlohmann::json stats(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}}; }
 
+// An input that cannot be read or compared fails the run (exit 1: InputErrors::FailTheInput).
 int run(const CompareArgs& args) {
-  try {
-    const Asset legacy = load_asset(args.legacy), converted = load_asset(args.converted);
-    const auto materials = compare_conversion(
-        legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly, args.error_samples);
-    nlohmann::json out = {{"legacy", args.legacy}, {"converted", args.converted}, {"viewer", args.viewer}};
-    nlohmann::json list = nlohmann::json::array();
-    double sum_mean = 0, worst = 0;
-    for (const auto& m : materials) {
-      list.push_back({{"index", m.index},
-                      {"name", m.name},
-                      {"samples", m.samples},
-                      {"deltaE2000", {{"diffuse", stats(m.error.diffuse)}, {"f0", stats(m.error.f0)}}}});
-      sum_mean += 0.5 * (m.error.diffuse.mean + m.error.f0.mean);
-      worst = std::max(worst, m.error.worst());
-    }
-    out["materials"] = list;
-    out["summary"] = {
-        {"materials", materials.size()},
-        {"meanOfMaterialMeans",
-         materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(sum_mean / static_cast<double>(materials.size()))},
-        {"worst", materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst)}};  // null: nothing measured
-    write_stdout(json_text(out));
-    return kAllDone;
-  } catch (const OutputError&) {
-    throw;  // run_command: exit 3
-  } catch (const std::exception& e) {  // an input that cannot be read or compared
-    std::fprintf(stderr, "gltf-pbr compare: %s\n", printable(e.what()).c_str());
-    return kSomeFilesFailed;
+  const Asset legacy = load_asset(args.legacy), converted = load_asset(args.converted);
+  const auto materials = compare_conversion(legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly,
+                                            args.error_samples);
+  nlohmann::json out = {{"legacy", args.legacy}, {"converted", args.converted}, {"viewer", args.viewer}};
+  nlohmann::json list = nlohmann::json::array();
+  double sum_mean = 0, worst = 0;
+  for (const auto& m : materials) {
+    list.push_back({{"index", m.index},
+                    {"name", m.name},
+                    {"samples", m.samples},
+                    {"deltaE2000", {{"diffuse", stats(m.error.diffuse)}, {"f0", stats(m.error.f0)}}}});
+    sum_mean += 0.5 * (m.error.diffuse.mean + m.error.f0.mean);
+    worst = std::max(worst, m.error.worst());
   }
+  out["materials"] = list;
+  out["summary"] = {
+      {"materials", materials.size()},
+      {"meanOfMaterialMeans",
+       materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(sum_mean / static_cast<double>(materials.size()))},
+      {"worst", materials.empty() ? nlohmann::json(nullptr) : nlohmann::json(worst)}};  // null: nothing measured
+  write_stdout(json_text(out));
+  return kAllDone;
+}
+
+constexpr const char* kCompareHelp =
+    R"(Print, as JSON, the ΔE2000 error (diffuse weight and F0 at normal incidence) that a viewer sees in
+CONVERTED against the spec-gloss materials of LEGACY, material by material (same indices), on the
+texels convert bakes: both materials' textures on their larger size, resampled to it where they differ.
+Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.)";
+
+void declare_options(CLI::App& cmd, CompareArgs& args) {
+  cmd.add_option("legacy", args.legacy, "the spec-gloss original")->required();
+  cmd.add_option("converted", args.converted, "its conversion")->required();
+  cmd.add_option("--viewer", args.viewer,
+                 "core: baseColor/metallic/roughness only; full: also KHR_materials_specular and KHR_materials_ior")
+      ->check(CLI::IsMember({"core", "full"}))
+      ->capture_default_str();
+  cmd.add_option("--error-samples", args.error_samples,
+                 "texels sampled per material for the error statistics, as convert samples them (0: all)")
+      ->capture_default_str();
+  add_image_limit_option(cmd);
 }
 
 }  // namespace
 
 std::function<int()> add_compare_command(CLI::App& app) {
-  auto args = std::make_shared<CompareArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "compare",
-      "Print, as JSON, the ΔE2000 error (diffuse weight and F0 at normal incidence) that a viewer sees in\n"
-      "CONVERTED against the spec-gloss materials of LEGACY, material by material (same indices), on the\n"
-      "texels convert bakes: both materials' textures on their larger size, resampled to it where they differ.\n"
-      "Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.");
-  cmd->add_option("legacy", args->legacy, "the spec-gloss original")->required();
-  cmd->add_option("converted", args->converted, "its conversion")->required();
-  cmd->add_option("--viewer", args->viewer,
-                  "core: baseColor/metallic/roughness only; full: also KHR_materials_specular and KHR_materials_ior")
-      ->check(CLI::IsMember({"core", "full"}))
-      ->capture_default_str();
-  cmd->add_option("--error-samples", args->error_samples,
-                  "texels sampled per material for the error statistics, as convert samples them (0: all)")
-      ->capture_default_str();
-  add_image_limit_option(*cmd);
-  return [cmd, args]() -> int { return cmd->parsed() ? run_command("compare", [&] { return run(*args); }) : -1; };
+  return add_subcommand<CompareArgs>(app, "compare", kCompareHelp, declare_options, run, InputErrors::FailTheInput);
 }
 
 }  // namespace gltf_pbr::cli

@@ -24,17 +24,15 @@ namespace {
 
 struct ConvertArgs {
   std::vector<std::string> inputs;
-  std::string output, format, report, target = "metalness", solver = "balanced", preview;
-  std::string error_model = "normal-incidence";
-  bool in_place = false, allow_outside = false, quiet = false, verbose = false, isolate = false;
+  std::string output, format, report, preview;
+  ConversionArgs conversion;
+  // The options bound straight to their field; target, solver, error model and preview lint come
+  // from their names in run.
+  ConvertFileOptions file;
+  bool quiet = false, verbose = false, isolate = false;
   double file_timeout = 0;        // seconds, with --isolate; 0: none
   std::uint64_t file_memory = 0;  // MiB, with --isolate; 0: none
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-  double specular_tolerance = 2.0;
-  int png_compression = 1;
-  int jpeg_quality = 90;
-  size_t error_samples = 1u << 16;
-  int preview_size = 512;
   std::string preview_lint;  // empty: the material rules do not run
   bool no_gallery = false;
   PipelineArgs pipeline;
@@ -46,10 +44,10 @@ struct ConvertArgs {
 std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_under_output,
                                   std::vector<InputFile>& files) {
   const fs::path output = args.output;
-  const bool single_file_output = !args.in_place && is_gltf_file(output) && !fs::is_directory(output);
+  const bool single_file_output = !args.file.replace_input && is_gltf_file(output) && !fs::is_directory(output);
   const std::vector<std::string> inputs = all_inputs(args.inputs, args.pipeline);
   // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
-  FoundInputs found = find_gltf_files(inputs, args.in_place ? fs::path() : output);
+  FoundInputs found = find_gltf_files(inputs, args.file.replace_input ? fs::path() : output);
   skipped_under_output = found.skipped_under_output;
   files = std::move(found.files);
   if (single_file_output && files.size() > 1)
@@ -58,7 +56,7 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
   std::vector<ConvertJob> jobs;
   for (auto& [file, relative] : files) {
     fs::path target;
-    if (args.in_place) {
+    if (args.file.replace_input) {
       target = file;
     } else if (single_file_output) {
       target = output;
@@ -90,67 +88,41 @@ std::string exact_text(double value) {  // every digit the double holds
 // The options a --isolate child takes from this run: everything that shapes a file's result.
 std::vector<std::string> child_options(const ConvertArgs& args) {
   std::vector<std::string> options{"--target",
-                                   args.target,
+                                   args.conversion.target,
                                    "--solver",
-                                   args.solver,
+                                   args.conversion.solver,
                                    "--error-model",
-                                   args.error_model,
+                                   args.conversion.error_model,
                                    "--specular-tolerance",
-                                   exact_text(args.specular_tolerance),
+                                   exact_text(args.file.specular_tolerance),
                                    "--png-compression",
-                                   std::to_string(args.png_compression),
+                                   std::to_string(args.file.png_compression),
                                    "--jpeg-quality",
-                                   std::to_string(args.jpeg_quality),
+                                   std::to_string(args.file.jpeg_quality),
                                    "--error-samples",
-                                   std::to_string(args.error_samples),
+                                   std::to_string(args.file.error_samples),
                                    "--max-image-pixels",
                                    std::to_string(max_image_pixels()),
                                    "--preview-size",
-                                   std::to_string(args.preview_size),
+                                   std::to_string(args.file.preview_size),
                                    "--no-gallery"};  // the run writes the page once, at its end
   if (!args.preview_lint.empty()) options.push_back("--preview-lint=" + args.preview_lint);
-  if (args.allow_outside) options.push_back("--allow-outside-uris");
+  if (args.file.allow_outside_uris) options.push_back("--allow-outside-uris");
   if (!args.pipeline.cache.empty()) options.insert(options.end(), {"--cache", args.pipeline.cache});
   return options;
 }
 
-// A private folder for the children's reports, removed with the run.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    std::string name = (fs::temp_directory_path() / "gltf-pbr-isolate-XXXXXX").string();
-    if (!::mkdtemp(name.data())) throw OutputError("cannot create a folder for child reports: " + name);
-    path_ = name;
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 int run(const ConvertArgs& args) {
-  if (args.output.empty() && !args.in_place) throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
+  if (args.output.empty() && !args.file.replace_input)
+    throw CLI::ValidationError("--output", "give -o/--output, or --in-place");
   if (!args.preview_lint.empty() && args.preview.empty())
     throw CLI::ValidationError("--preview-lint", "checks what --preview draws: give --preview DIR too");
-  if (args.in_place && !args.pipeline.cache.empty())
+  if (args.file.replace_input && !args.pipeline.cache.empty())
     throw CLI::ValidationError("--cache", "--in-place replaces the inputs the cache is keyed by: give -o instead");
-  ConvertFileOptions options;
-  options.target = *target_from_name(args.target);  // CLI::IsMember checked the names
-  options.solver = *solver_effort_from_name(args.solver);
-  options.error_model = *error_model_from_name(args.error_model);
-  options.specular_tolerance = args.specular_tolerance;
-  options.png_compression = args.png_compression;
-  options.jpeg_quality = args.jpeg_quality;
-  options.error_samples = args.error_samples;
-  options.allow_outside_uris = args.allow_outside;
-  options.replace_input = args.in_place;
-  options.preview_size = args.preview_size;
+  ConvertFileOptions options = args.file;
+  options.target = *target_from_name(args.conversion.target);  // CLI::IsMember checked the names
+  options.solver = *solver_effort_from_name(args.conversion.solver);
+  options.error_model = *error_model_from_name(args.conversion.error_model);
   if (!args.preview_lint.empty()) options.preview_lint = lint_profile_from_name(args.preview_lint);
   // Given or not: a --shard 0/1 run is the whole input, and still writes what merge-reports reads.
   const bool sharded = !args.pipeline.shard.empty();
@@ -170,11 +142,11 @@ int run(const ConvertArgs& args) {
   ResultsLog results_log(args.pipeline.results);
   std::optional<ResultCache> cache;  // with --isolate, each child keeps its file in the cache
   if (!args.pipeline.cache.empty() && !args.isolate) cache.emplace(args.pipeline.cache);
-  std::optional<ScratchFolder> scratch;
+  std::optional<TemporaryFolder> scratch;  // the children's reports
   std::vector<nlohmann::json> child_caches(jobs.size());
   ConvertJobFunction in_child;
   if (args.isolate) {
-    scratch.emplace();
+    scratch.emplace("gltf-pbr-isolate-");
     in_child = [&, options = child_options(args), limits = ChildLimits{args.file_timeout, args.file_memory << 20}](
                    std::size_t job, const ConvertJob& convert_job) {
       return convert_in_child(convert_job, options, limits, scratch->path(), job, &child_caches[job]);
@@ -220,89 +192,72 @@ int run(const ConvertArgs& args) {
   return failed ? kSomeFilesFailed : kAllDone;
 }
 
+constexpr const char* kConvertHelp = R"(Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.
+Factors are solved analytically, textures texel by texel; the report gives each material's
+ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten
+(unless --in-place); every output is written to a temporary file and renamed.
+Exit codes: 0 all files converted, 1 some files failed, 2 bad usage, 3 a report or --results could
+not be written.)";
+
+void declare_options(CLI::App& cmd, ConvertArgs& args) {
+  cmd.add_option("inputs", args.inputs, ".gltf/.glb files or directories (searched recursively)");
+  cmd.add_option("-o,--output", args.output,
+                 "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs; "
+                 "a name ending in .gltf or .glb is a file, so several inputs need a folder)");
+  cmd.add_option("--format", args.format, "output format for directory outputs (default: as the input)")
+      ->check(CLI::IsMember({"gltf", "glb"}));
+  cmd.add_flag("--in-place", args.file.replace_input, "replace each input with its conversion (atomically)");
+  add_conversion_options(cmd, args.conversion);
+  cmd.add_option("--specular-tolerance", args.file.specular_tolerance, "ΔE2000 (p95) the metalness fit may miss by")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd.add_option("--preview", args.preview,
+                 "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/, "
+                 "and write DIR/index.html, a page comparing them all (gltf-pbr gallery)");
+  cmd.add_option("--preview-size", args.file.preview_size, "--preview: image width and height in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  cmd.add_flag("--preview-lint{tolerant}", args.preview_lint,
+               "--preview: also run the material rules (validate --only materials) on each input and its output; "
+               "their PBR_* issues go into the preview's report.json and the gallery page (=strict for the strict "
+               "profile)")
+      ->check(CLI::IsMember({"tolerant", "strict"}));
+  cmd.add_flag("--no-gallery", args.no_gallery, "--preview: leave DIR/index.html as it is");
+  cmd.add_option("--report", args.report, "write the JSON report (per file, per material: error, texels, time)");
+  cmd.add_option("--png-compression", args.file.png_compression,
+                 "deflate level 0-9 of baked PNG textures (libdeflate: 1 fast, 9 smallest)")
+      ->check(CLI::Range(0, 9))
+      ->capture_default_str();
+  cmd.add_option("--jpeg-quality", args.file.jpeg_quality,
+                 "quality 1-100 of base colours baked from JPEG diffuse textures")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd.add_option("--error-samples", args.file.error_samples,
+                 "texels sampled per texture for the error statistics (0: all)")
+      ->capture_default_str();
+  add_batch_options(cmd, "converted", args.jobs, args.file.allow_outside_uris);
+  CLI::Option* isolate =
+      cmd.add_flag("--isolate", args.isolate,
+                   "convert each file in a child process: a crash, a hang (--file-timeout) or a runaway allocation "
+                   "(--file-memory) fails that file and the run goes on (about 20 ms more per file)");
+  // Limits only a child process can be held to: refused without --isolate rather than ignored.
+  cmd.add_option("--file-timeout", args.file_timeout, "with --isolate: seconds a file may take (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str()
+      ->needs(isolate);
+  cmd.add_option("--file-memory", args.file_memory,
+                 "with --isolate: MiB of resident memory a file's child may use (0: no limit)")
+      ->capture_default_str()
+      ->needs(isolate);
+  add_pipeline_options(cmd, args.pipeline);
+  cmd.add_flag("-q,--quiet", args.quiet, "print only failures");
+  cmd.add_flag("-v,--verbose", args.verbose, "print every material, not only those with notes");
+}
+
 }  // namespace
 
 std::function<int()> add_convert_command(CLI::App& app) {
-  auto args = std::make_shared<ConvertArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "convert",
-      "Convert KHR_materials_pbrSpecularGlossiness materials to core metal-rough.\n"
-      "Factors are solved analytically, textures texel by texel; the report gives each material's\n"
-      "ΔE2000 error (diffuse weight and F0) against the time it cost. Inputs are never overwritten\n"
-      "(unless --in-place); every output is written to a temporary file and renamed.\n"
-      "Exit codes: 0 all files converted, 1 some files failed, 2 bad usage, 3 a report or --results could\n"
-      "not be written.");
-  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)");
-  cmd->add_option("-o,--output", args->output,
-                  "output file (one input; .gltf or .glb picks the format) or directory (mirrors the inputs; "
-                  "a name ending in .gltf or .glb is a file, so several inputs need a folder)");
-  cmd->add_option("--format", args->format, "output format for directory outputs (default: as the input)")
-      ->check(CLI::IsMember({"gltf", "glb"}));
-  cmd->add_flag("--in-place", args->in_place, "replace each input with its conversion (atomically)");
-  cmd->add_option(
-         "--target", args->target,
-         "metalness: core glTF only; specular: add KHR_materials_specular + KHR_materials_ior to the materials "
-         "whose metalness fit misses by more than --specular-tolerance")
-      ->check(CLI::IsMember({"metalness", "specular"}))
-      ->capture_default_str();
-  cmd->add_option("--solver", args->solver,
-                  "fast | balanced | exact: metalness search effort (error against run time); reference: the archived "
-                  "extension's brightness formula, for comparison")
-      ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
-      ->capture_default_str();
-  cmd->add_option("--error-model", args->error_model,
-                  "normal-incidence: match diffuse weight and F0 at normal incidence; appearance: match the look "
-                  "over view angles, both lobes together (closer on some assets, farther on others: see README)")
-      ->check(CLI::IsMember({"appearance", "normal-incidence"}))
-      ->capture_default_str();
-  cmd->add_option("--specular-tolerance", args->specular_tolerance, "ΔE2000 (p95) the metalness fit may miss by")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_option("--preview", args->preview,
-                  "also draw each file before and after (gltf-pbr preview) into DIR/<input path without extension>/, "
-                  "and write DIR/index.html, a page comparing them all (gltf-pbr gallery)");
-  cmd->add_option("--preview-size", args->preview_size, "--preview: image width and height in pixels")
-      ->check(CLI::Range(16, 8192))
-      ->capture_default_str();
-  cmd->add_flag("--preview-lint{tolerant}", args->preview_lint,
-                "--preview: also run the material rules (validate --only materials) on each input and its output; "
-                "their PBR_* issues go into the preview's report.json and the gallery page (=strict for the strict "
-                "profile)")
-      ->check(CLI::IsMember({"tolerant", "strict"}));
-  cmd->add_flag("--no-gallery", args->no_gallery, "--preview: leave DIR/index.html as it is");
-  cmd->add_option("--report", args->report, "write the JSON report (per file, per material: error, texels, time)");
-  cmd->add_option("--png-compression", args->png_compression,
-                  "deflate level 0-9 of baked PNG textures (libdeflate: 1 fast, 9 smallest)")
-      ->check(CLI::Range(0, 9))
-      ->capture_default_str();
-  cmd->add_option("--jpeg-quality", args->jpeg_quality,
-                  "quality 1-100 of base colours baked from JPEG diffuse textures")
-      ->check(CLI::Range(1, 100))
-      ->capture_default_str();
-  cmd->add_option("--error-samples", args->error_samples,
-                  "texels sampled per texture for the error statistics (0: all)")
-      ->capture_default_str();
-  add_batch_options(*cmd, "converted", args->jobs, args->allow_outside);
-  CLI::Option* isolate =
-      cmd->add_flag("--isolate", args->isolate,
-                    "convert each file in a child process: a crash, a hang (--file-timeout) or a runaway allocation "
-                    "(--file-memory) fails that file and the run goes on (about 20 ms more per file)");
-  // Limits only a child process can be held to: refused without --isolate rather than ignored.
-  cmd->add_option("--file-timeout", args->file_timeout, "with --isolate: seconds a file may take (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str()
-      ->needs(isolate);
-  cmd->add_option("--file-memory", args->file_memory,
-                  "with --isolate: MiB of resident memory a file's child may use (0: no limit)")
-      ->capture_default_str()
-      ->needs(isolate);
-  add_pipeline_options(*cmd, args->pipeline);
-  cmd->add_flag("-q,--quiet", args->quiet, "print only failures");
-  cmd->add_flag("-v,--verbose", args->verbose, "print every material, not only those with notes");
-  return [cmd, args]() -> int {
-    if (!cmd->parsed()) return -1;
-    return run_command("convert", [&] { return run(*args); });
-  };
+  return add_subcommand<ConvertArgs>(app, "convert", kConvertHelp, declare_options, run);
 }
 
 }  // namespace gltf_pbr::cli

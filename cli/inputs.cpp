@@ -98,6 +98,28 @@ void add_image_limit_option(CLI::App& command) {
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
 }
 
+void add_conversion_options(CLI::App& command, ConversionArgs& args) {
+  command
+      .add_option(
+          "--target", args.target,
+          "metalness: core glTF only; specular: add KHR_materials_specular + KHR_materials_ior to the materials "
+          "whose metalness fit misses by more than the specular tolerance (convert: --specular-tolerance)")
+      ->check(CLI::IsMember({"metalness", "specular"}))
+      ->capture_default_str();
+  command
+      .add_option("--solver", args.solver,
+                  "fast | balanced | exact: metalness search effort (error against run time); reference: the archived "
+                  "extension's brightness formula, for comparison")
+      ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
+      ->capture_default_str();
+  command
+      .add_option("--error-model", args.error_model,
+                  "normal-incidence: match diffuse weight and F0 at normal incidence; appearance: match the look "
+                  "over view angles, both lobes together (closer on some assets, farther on others: see README)")
+      ->check(CLI::IsMember({"appearance", "normal-incidence"}))
+      ->capture_default_str();
+}
+
 void add_batch_options(CLI::App& command, const std::string& verb, unsigned& jobs, bool& allow_outside) {
   command
       .add_option("-j,--jobs", jobs,
@@ -109,7 +131,7 @@ void add_batch_options(CLI::App& command, const std::string& verb, unsigned& job
   command.add_flag("--allow-outside-uris", allow_outside, "read buffer/image URIs outside the asset's folder");
 }
 
-int run_command(const char* name, const std::function<int()>& body) {
+int run_command(const char* name, const std::function<int()>& body, InputErrors input_errors) {
   auto say = [name](const std::exception& e) {
     std::fprintf(stderr, "gltf-pbr %s: %s\n", name, printable(e.what()).c_str());
   };
@@ -118,9 +140,9 @@ int run_command(const char* name, const std::function<int()>& body) {
   } catch (const CLI::ValidationError& e) {
     say(e);
     return kBadUsage;
-  } catch (const InputError& e) {  // a config file or an input named on the command line
+  } catch (const InputError& e) {  // a config file, an input named on the command line, or the input worked on
     say(e);
-    return kBadUsage;
+    return input_errors == InputErrors::AreBadUsage ? kBadUsage : kSomeFilesFailed;
   } catch (const OutputError& e) {  // a report or stdout that cannot be written, with its reason
     say(e);
     return kCannotWrite;

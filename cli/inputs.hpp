@@ -23,6 +23,13 @@ std::string counted(std::size_t count, const std::string& noun);
 // --max-image-pixels N, for every command that decodes images (core/image.hpp's limit).
 void add_image_limit_option(CLI::App& command);
 
+// The conversion's settings, as convert and preview take them (--target, --solver, --error-model),
+// spelled as api/names.cpp names them; CLI11 checks the names.
+struct ConversionArgs {
+  std::string target = "metalness", solver = "balanced", error_model = "normal-incidence";
+};
+void add_conversion_options(CLI::App& command, ConversionArgs& args);
+
 // What the batch commands share: -j (files at once), --max-image-pixels and --allow-outside-uris.
 // `verb` says what happens to a file ("converted", "validated").
 void add_batch_options(CLI::App& command, const std::string& verb, unsigned& jobs, bool& allow_outside);

@@ -221,22 +221,21 @@ int run(const MergeArgs& args) {
   return kAllDone;
 }
 
+constexpr const char* kMergeHelp =
+    R"(Join the reports of `convert --shard I/N --report FILE` runs (or the summaries of `validate --shard I/N
+-f json -o DIR`) into the report of one unsharded run: files in the unsharded order, totals
+recounted. Refuses a missing, repeated or foreign shard.
+Exit codes: 0 merged, 2 the reports do not make one run, 3 the output cannot be written.)";
+
+void declare_options(CLI::App& cmd, MergeArgs& args) {
+  cmd.add_option("reports", args.reports, "the shards' --report files, in any order")->required();
+  cmd.add_option("-o,--output", args.output, "write the merged report here (default: standard output)");
+}
+
 }  // namespace
 
 std::function<int()> add_merge_command(CLI::App& app) {
-  auto args = std::make_shared<MergeArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "merge-reports",
-      "Join the reports of `convert --shard I/N --report FILE` runs (or the summaries of `validate --shard I/N\n"
-      "-f json -o DIR`) into the report of one unsharded run: files in the unsharded order, totals\n"
-      "recounted. Refuses a missing, repeated or foreign shard.\n"
-      "Exit codes: 0 merged, 2 the reports do not make one run, 3 the output cannot be written.");
-  cmd->add_option("reports", args->reports, "the shards' --report files, in any order")->required();
-  cmd->add_option("-o,--output", args->output, "write the merged report here (default: standard output)");
-  return [cmd, args]() -> int {
-    if (!cmd->parsed()) return -1;
-    return run_command("merge-reports", [&] { return run(*args); });
-  };
+  return add_subcommand<MergeArgs>(app, "merge-reports", kMergeHelp, declare_options, run);
 }
 
 }  // namespace gltf_pbr::cli

@@ -29,7 +29,7 @@ std::string peak_text(const nlohmann::json& bytes) {
 
 struct PreviewArgs {
   std::string input, output, environment, camera = "auto", brdf = "ggx", legacy_reading = "a", tone_map = "neutral";
-  std::string target = "metalness", solver = "balanced", error_model = "normal-incidence";
+  ConversionArgs conversion;
   int size = 512, width = 0, height = 0;
   double yaw = 35, pitch = 20, fov = 40;
   float exposure = 1.0f;
@@ -51,9 +51,9 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
   text << "preview " << tool_version() << " size " << options.width << "x" << options.height << " yaw " << args.yaw
        << " pitch " << args.pitch << " fov " << args.fov << " camera " << args.camera << " brdf " << args.brdf
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
-       << " sun " << !args.no_sun << " target " << args.target << " solver " << args.solver << " error-model "
-       << args.error_model << " max-image-pixels " << max_image_pixels() << " allow-outside " << args.allow_outside
-       << " lint " << (args.lint.empty() ? "off" : args.lint) << " env ";
+       << " sun " << !args.no_sun << " target " << args.conversion.target << " solver " << args.conversion.solver
+       << " error-model " << args.conversion.error_model << " max-image-pixels " << max_image_pixels()
+       << " allow-outside " << args.allow_outside << " lint " << (args.lint.empty() ? "off" : args.lint) << " env ";
   // The path too: the report names it.
   if (!args.environment.empty())
     text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
@@ -162,9 +162,9 @@ int run(const PreviewArgs& args) {
                                                          : preview::ToneMap::KhronosPbrNeutral;
   options.lighting.exposure = args.exposure;
   options.lighting.sun = !args.no_sun;
-  options.convert.target = *target_from_name(args.target);  // CLI::IsMember checked the names
-  options.convert.solver =
-      solver_preset(*solver_effort_from_name(args.solver), *error_model_from_name(args.error_model));
+  options.convert.target = *target_from_name(args.conversion.target);  // CLI::IsMember checked the names
+  options.convert.solver = solver_preset(*solver_effort_from_name(args.conversion.solver),
+                                         *error_model_from_name(args.conversion.error_model));
   if (args.camera != "auto") {
     if (args.camera == "gltf") {
       options.gltf_camera = 0;
@@ -189,154 +189,90 @@ int run(const PreviewArgs& args) {
     std::fprintf(stderr, "gltf-pbr preview: --lint checks an asset's materials; --grid draws spheres, not an asset\n");
     return kBadUsage;
   }
-  try {
-    if (args.grid) {
-      preview::GridOptions grid;
-      grid.albedo = glm::vec3(args.albedo[0], args.albedo[1], args.albedo[2]);
-      grid.rows = grid.columns = args.grid_count;
-      grid.cell = std::max(16, std::min(options.width, options.height) / args.grid_count);
-      const nlohmann::json grid_report = {
-          {"grid", {{"albedo_linear", args.albedo}, {"rows", "metalness 0..1"}, {"columns", "roughness 0..1"}}}};
-      const DrawnPreview drawn =
-          finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
-      if (!args.quiet) std::fputs(drawn_line("grid", drawn, args.output).c_str(), stderr);
-    } else if (fs::is_directory(args.input)) {
-      return run_folder(args, options);
-    } else {
-      std::optional<ResultCache> cache;
-      if (!args.cache.empty()) cache.emplace(args.cache);
-      const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);
-      if (!args.quiet) std::fputs(done.line.c_str(), stderr);
-    }
-    if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
-    return kAllDone;
-  } catch (const CLI::ValidationError& e) {  // a folder with nothing to draw, two files for one folder
-    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
-    return kBadUsage;
-  } catch (const std::exception& e) {  // bad input (InputError) or an unreadable environment
-    std::fprintf(stderr, "gltf-pbr preview: %s\n", printable(e.what()).c_str());
-    return kSomeFilesFailed;
+  if (args.grid) {
+    preview::GridOptions grid;
+    grid.albedo = glm::vec3(args.albedo[0], args.albedo[1], args.albedo[2]);
+    grid.rows = grid.columns = args.grid_count;
+    grid.cell = std::max(16, std::min(options.width, options.height) / args.grid_count);
+    const nlohmann::json grid_report = {
+        {"grid", {{"albedo_linear", args.albedo}, {"rows", "metalness 0..1"}, {"columns", "roughness 0..1"}}}};
+    const DrawnPreview drawn =
+        finish_preview(preview::render_grid(grid, options), options, "grid", grid_report, args.output);
+    if (!args.quiet) std::fputs(drawn_line("grid", drawn, args.output).c_str(), stderr);
+  } else if (fs::is_directory(args.input)) {
+    return run_folder(args, options);
+  } else {
+    std::optional<ResultCache> cache;
+    if (!args.cache.empty()) cache.emplace(args.cache);
+    const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);
+    if (!args.quiet) std::fputs(done.line.c_str(), stderr);
   }
+  if (!args.no_gallery) write_gallery_page(args.output, args.quiet);
+  return kAllDone;
+}
+
+constexpr const char* kPreviewHelp =
+    R"(Draw IN twice with a CPU deferred renderer, as its legacy spec-gloss materials (before) and as their
+in-process conversion to albedo + metalness (after), and write before.png, after.png, difference.png
+(ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).
+Given a folder, it draws every .gltf and .glb under it, -j at a time, each into DIR/<its path without
+the extension>, and the gallery page over them all.
+Exit codes: 0 done, 1 an input could not be drawn, 2 bad usage, 3 an output cannot be written.)";
+
+void declare_options(CLI::App& cmd, PreviewArgs& args) {
+  cmd.add_option("input", args.input, ".gltf or .glb file, or a folder: every one under it, each into OUT/<its path>");
+  cmd.add_option("-o,--output", args.output, "output folder (also gets index.html, the gallery page)")->required();
+  cmd.add_option("--size", args.size, "image width and height in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  cmd.add_option("--width", args.width, "image width (overrides --size)")->check(CLI::Range(16, 8192));
+  cmd.add_option("--height", args.height, "image height (overrides --size)")->check(CLI::Range(16, 8192));
+  cmd.add_option("--camera", args.camera, "auto (framed on the scene bounds), gltf (the first glTF camera) or N")
+      ->capture_default_str();
+  cmd.add_option("--yaw", args.yaw, "automatic camera: degrees about +Y from +Z")->capture_default_str();
+  cmd.add_option("--pitch", args.pitch, "automatic camera: degrees above the horizon")
+      ->check(CLI::Range(-89.0, 89.0))
+      ->capture_default_str();
+  cmd.add_option("--fov", args.fov, "automatic camera: vertical field of view, degrees")
+      ->check(CLI::Range(5.0, 120.0))
+      ->capture_default_str();
+  cmd.add_option("--env", args.environment, "environment .hdr or .exr (equirectangular); default: built-in sky")
+      ->check(CLI::ExistingFile);
+  cmd.add_flag("--no-sun", args.no_sun, "light by the environment only");
+  cmd.add_option("--brdf", args.brdf, "specular lobe: ggx (glTF Appendix B) or blinn-phong (normalized, (n+2)/8 form)")
+      ->check(CLI::IsMember({"ggx", "blinn-phong"}))
+      ->capture_default_str();
+  cmd.add_option("--legacy-reading", args.legacy_reading,
+                 "before side: a = diffuse (1 - max specular) under the dielectric layer's (1 - F), normalised at "
+                 "normal incidence; b = weighted by (1 - F) of the specular")
+      ->check(CLI::IsMember({"a", "b"}))
+      ->capture_default_str();
+  cmd.add_option("--tone-map", args.tone_map, "neutral (Khronos PBR Neutral), aces or clamp")
+      ->check(CLI::IsMember({"neutral", "aces", "clamp"}))
+      ->capture_default_str();
+  cmd.add_option("--exposure", args.exposure, "linear exposure scale")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  add_conversion_options(cmd, args.conversion);
+  cmd.add_flag("--grid", args.grid, "draw a metalness (rows) x roughness (columns) sphere array instead of IN");
+  cmd.add_option("--albedo", args.albedo, "--grid: linear albedo R G B")->expected(3)->check(CLI::Range(0.0, 1.0));
+  cmd.add_option("--grid-count", args.grid_count, "--grid: spheres per row and column")
+      ->check(CLI::Range(2, 16))
+      ->capture_default_str();
+  cmd.add_flag("--lint{tolerant}", args.lint,
+               "also run the material rules (validate --only materials) on the input and its conversion; their "
+               "PBR_* issues go into report.json and the gallery page (--lint=strict for the strict profile)")
+      ->check(CLI::IsMember({"tolerant", "strict"}));
+  add_batch_options(cmd, "drawn", args.jobs, args.allow_outside);
+  cmd.add_flag("--no-gallery", args.no_gallery, "leave DIR/index.html (the page gltf-pbr gallery writes) as it is");
+  add_cache_option(cmd, args.cache);
+  cmd.add_flag("-q,--quiet", args.quiet, "print nothing on success");
 }
 
 }  // namespace
 
 std::function<int()> add_preview_command(CLI::App& app) {
-  auto args = std::make_shared<PreviewArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "preview",
-      "Draw IN twice with a CPU deferred renderer, as its legacy spec-gloss materials (before) and as their\n"
-      "in-process conversion to albedo + metalness (after), and write before.png, after.png, difference.png\n"
-      "(ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).\n"
-      "Given a folder, it draws every .gltf and .glb under it, -j at a time, each into DIR/<its path without\n"
-      "the extension>, and the gallery page over them all.\n"
-      "Exit codes: 0 done, 1 an input could not be drawn, 2 bad usage.");
-  cmd->add_option("input", args->input,
-                  ".gltf or .glb file, or a folder: every one under it, each into OUT/<its path>");
-  cmd->add_option("-o,--output", args->output, "output folder (also gets index.html, the gallery page)")->required();
-  cmd->add_option("--size", args->size, "image width and height in pixels")
-      ->check(CLI::Range(16, 8192))
-      ->capture_default_str();
-  cmd->add_option("--width", args->width, "image width (overrides --size)")->check(CLI::Range(16, 8192));
-  cmd->add_option("--height", args->height, "image height (overrides --size)")->check(CLI::Range(16, 8192));
-  cmd->add_option("--camera", args->camera, "auto (framed on the scene bounds), gltf (the first glTF camera) or N")
-      ->capture_default_str();
-  cmd->add_option("--yaw", args->yaw, "automatic camera: degrees about +Y from +Z")->capture_default_str();
-  cmd->add_option("--pitch", args->pitch, "automatic camera: degrees above the horizon")
-      ->check(CLI::Range(-89.0, 89.0))
-      ->capture_default_str();
-  cmd->add_option("--fov", args->fov, "automatic camera: vertical field of view, degrees")
-      ->check(CLI::Range(5.0, 120.0))
-      ->capture_default_str();
-  cmd->add_option("--env", args->environment, "environment .hdr or .exr (equirectangular); default: built-in sky")
-      ->check(CLI::ExistingFile);
-  cmd->add_flag("--no-sun", args->no_sun, "light by the environment only");
-  cmd->add_option("--brdf", args->brdf,
-                  "specular lobe: ggx (glTF Appendix B) or blinn-phong (normalized, (n+2)/8 form)")
-      ->check(CLI::IsMember({"ggx", "blinn-phong"}))
-      ->capture_default_str();
-  cmd->add_option("--legacy-reading", args->legacy_reading,
-                  "before side: a = diffuse (1 - max specular) under the dielectric layer's (1 - F), normalised at "
-                  "normal incidence; b = weighted by (1 - F) of the specular")
-      ->check(CLI::IsMember({"a", "b"}))
-      ->capture_default_str();
-  cmd->add_option("--tone-map", args->tone_map, "neutral (Khronos PBR Neutral), aces or clamp")
-      ->check(CLI::IsMember({"neutral", "aces", "clamp"}))
-      ->capture_default_str();
-  cmd->add_option("--exposure", args->exposure, "linear exposure scale")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option("--target", args->target, "conversion target (as gltf-pbr convert)")
-      ->check(CLI::IsMember({"metalness", "specular"}))
-      ->capture_default_str();
-  cmd->add_option("--solver", args->solver, "conversion solver preset (as gltf-pbr convert)")
-      ->check(CLI::IsMember({"fast", "balanced", "exact", "reference"}))
-      ->capture_default_str();
-  cmd->add_option("--error-model", args->error_model, "what the conversion matches (as gltf-pbr convert)")
-      ->check(CLI::IsMember({"appearance", "normal-incidence"}))
-      ->capture_default_str();
-  cmd->add_flag("--grid", args->grid, "draw a metalness (rows) x roughness (columns) sphere array instead of IN");
-  cmd->add_option("--albedo", args->albedo, "--grid: linear albedo R G B")->expected(3)->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--grid-count", args->grid_count, "--grid: spheres per row and column")
-      ->check(CLI::Range(2, 16))
-      ->capture_default_str();
-  cmd->add_flag("--lint{tolerant}", args->lint,
-                "also run the material rules (validate --only materials) on the input and its conversion; their "
-                "PBR_* issues go into report.json and the gallery page (--lint=strict for the strict profile)")
-      ->check(CLI::IsMember({"tolerant", "strict"}));
-  add_batch_options(*cmd, "drawn", args->jobs, args->allow_outside);
-  cmd->add_flag("--no-gallery", args->no_gallery, "leave DIR/index.html (the page gltf-pbr gallery writes) as it is");
-  add_cache_option(*cmd, args->cache);
-  cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
-  return [cmd, args]() -> int { return cmd->parsed() ? run(*args) : -1; };
-}
-
-void write_gallery_page(const fs::path& dir, bool quiet, PageRole role) {
-  preview::GalleryPage page;
-  try {
-    page = preview::write_gallery(dir);
-  } catch (const OutputError& e) {
-    if (role == PageRole::TheResult) throw;
-    std::fprintf(stderr, "warning: the gallery page was not written (the previews were): %s\n",
-                 printable(e.what()).c_str());
-    return;
-  }
-  if (page.outcome == preview::GalleryOutcome::KeptForeignPage) {
-    const std::string why = page.written.string() + " is not a page gltf-pbr wrote, or cannot be read: left as it is";
-    if (role == PageRole::TheResult) throw OutputError(why + "; move it away to write the gallery there");
-    std::fprintf(stderr, "warning: %s (the previews were written; --no-gallery leaves the page alone)\n",
-                 printable(why).c_str());
-    return;
-  }
-  if (quiet) return;
-  std::fprintf(stderr, "%s: a page comparing %s%s\n", printable(page.written.string()).c_str(),
-               counted(static_cast<std::size_t>(page.entries), "preview").c_str(),
-               page.skipped
-                   ? (", " + counted(static_cast<std::size_t>(page.skipped), "unreadable report") + " left out").c_str()
-                   : "");
-}
-
-std::function<int()> add_gallery_command(CLI::App& app) {
-  auto dir = std::make_shared<std::string>();
-  auto quiet = std::make_shared<bool>(false);
-  CLI::App* cmd = app.add_subcommand(
-      "gallery",
-      "Write DIR/index.html: one self-contained page (no server or network; opens from file://) comparing\n"
-      "every preview under DIR (the folders gltf-pbr preview -o and convert --preview write): before and\n"
-      "after with a slider, the difference map with its scale, the figures and each material's outcome,\n"
-      "sortable and filterable, worst first. preview and convert --preview write it themselves; this\n"
-      "rebuilds it, for example once after sharded runs into one folder.\n"
-      "An index.html in DIR that gltf-pbr did not write is never replaced.\n"
-      "Exit codes: 0 written, 2 bad usage, 3 the page cannot be written (or DIR/index.html is not ours).");
-  cmd->add_option("dir", *dir, "a folder of previews")->required()->check(CLI::ExistingDirectory);
-  cmd->add_flag("-q,--quiet", *quiet, "print nothing but errors");
-  return [cmd, dir, quiet]() -> int {
-    if (!cmd->parsed()) return -1;
-    return run_command("gallery", [&] {
-      write_gallery_page(*dir, *quiet, PageRole::TheResult);
-      return kAllDone;
-    });
-  };
+  return add_subcommand<PreviewArgs>(app, "preview", kPreviewHelp, declare_options, run, InputErrors::FailTheInput);
 }
 
 }  // namespace gltf_pbr::cli

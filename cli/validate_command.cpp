@@ -43,13 +43,6 @@ std::vector<std::string> profile_names() {
   return names;
 }
 
-Severity parse_fail_on(const std::string& name) {
-  if (name == "warning") return Severity::Warning;
-  if (name == "info") return Severity::Information;
-  if (name == "hint") return Severity::Hint;
-  return Severity::Error;
-}
-
 bool fails(const Report& report, Severity fail_on) {
   for (const Issue& issue : report.messages)
     if (static_cast<int>(issue.severity) <= static_cast<int>(fail_on)) return true;
@@ -121,7 +114,7 @@ int run(const ValidateArgs& args) {
   }
   options.allow_outside_uris = args.allow_outside;
   options.self_intersections = !args.no_self_intersections;
-  const Severity fail_on = parse_fail_on(args.fail_on);
+  const Severity fail_on = *severity_from_name(args.fail_on);
 
   const bool sharded = !args.pipeline.shard.empty();
   const Shard shard = sharded ? parse_shard(args.pipeline.shard) : Shard{};
@@ -244,52 +237,51 @@ int run(const ValidateArgs& args) {
   return summary["failing"].get<std::size_t>() > 0 ? kSomeFilesFailed : kAllDone;
 }
 
-}  // namespace
+constexpr const char* kValidateHelp =
+    R"(Validate glTF files: structure (the Khronos glTF-Validator's issue codes), physically implausible
+materials (PBR_*: F0, albedo, metalness, from factors and texel by texel), textures (IMAGE_*) and
+meshes (MESH_*, CGAL; Draco meshes included). Rules are data (rules/*.json, built in); --config
+overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage.)";
 
-std::function<int()> add_validate_command(CLI::App& app) {
-  auto args = std::make_shared<ValidateArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "validate",
-      "Validate glTF files: structure (the Khronos glTF-Validator's issue codes), physically implausible\n"
-      "materials (PBR_*: F0, albedo, metalness, from factors and texel by texel), textures (IMAGE_*) and\n"
-      "meshes (MESH_*, CGAL; Draco meshes included). Rules are data (rules/*.json, built in); --config\n"
-      "overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage.");
-  cmd->add_option("inputs", args->inputs, ".gltf/.glb files or directories (searched recursively)");
-  cmd->add_option("-f,--format", args->format,
-                  "text: for people, grouped by material; json: the Khronos validator's report schema; sarif: "
-                  "SARIF 2.1.0 for code scanning")
+void declare_options(CLI::App& cmd, ValidateArgs& args) {
+  cmd.add_option("inputs", args.inputs, ".gltf/.glb files or directories (searched recursively)");
+  cmd.add_option("-f,--format", args.format,
+                 "text: for people, grouped by material; json: the Khronos validator's report schema; sarif: "
+                 "SARIF 2.1.0 for code scanning")
       ->check(CLI::IsMember({"text", "json", "sarif"}))
       ->capture_default_str();
-  cmd->add_option("-o,--output", args->output,
-                  "write to this file (text, sarif) or folder (json: one <input>.report.json per file + "
-                  "summary.json) instead of stdout");
-  cmd->add_option("--config", args->config,
-                  "YAML or JSON config in the Khronos validator's shape: max-issues, ignore, only, override "
-                  "(code: 0-3); and thresholds: {CODE: {name: number}}");
-  cmd->add_option("--profile", args->profile,
-                  "how hard the material rules judge: tolerant warns where a value is clearly wrong for what "
-                  "renders, strict where it leaves the calibrated ranges (rules/materials.json holds both); "
-                  "--config thresholds apply on top")
+  cmd.add_option("-o,--output", args.output,
+                 "write to this file (text, sarif) or folder (json: one <input>.report.json per file + "
+                 "summary.json) instead of stdout");
+  cmd.add_option("--config", args.config,
+                 "YAML or JSON config in the Khronos validator's shape: max-issues, ignore, only, override "
+                 "(code: 0-3); and thresholds: {CODE: {name: number}}");
+  cmd.add_option("--profile", args.profile,
+                 "how hard the material rules judge: tolerant warns where a value is clearly wrong for what "
+                 "renders, strict where it leaves the calibrated ranges (rules/materials.json holds both); "
+                 "--config thresholds apply on top")
       ->check(CLI::IsMember(profile_names()))
       ->capture_default_str();
-  cmd->add_option("--only", args->only, "run only these steps (comma-separated or repeated)")
+  cmd.add_option("--only", args.only, "run only these steps (comma-separated or repeated)")
       ->allow_extra_args(false)
       ->delimiter(',')
       ->check(CLI::IsMember({"structure", "materials", "textures", "meshes"}));
-  cmd->add_option("--fail-on", args->fail_on, "lowest severity that makes the exit code 1")
+  cmd.add_option("--fail-on", args.fail_on, "lowest severity that makes the exit code 1")
       ->check(CLI::IsMember({"error", "warning", "info", "hint"}))
       ->capture_default_str();
-  cmd->add_option("--heatmaps", args->heatmaps,
-                  "write one PNG per failing texture showing where it fails, under DIR/<the input's relative folder>/");
-  cmd->add_flag("--no-self-intersections", args->no_self_intersections,
-                "skip the self-intersection mesh check (the costliest)");
-  add_batch_options(*cmd, "validated", args->jobs, args->allow_outside);
-  add_pipeline_options(*cmd, args->pipeline);
-  cmd->add_flag("-q,--quiet", args->quiet, "print only files that fail");
-  return [cmd, args]() -> int {
-    if (!cmd->parsed()) return -1;
-    return run_command("validate", [&] { return run(*args); });
-  };
+  cmd.add_option("--heatmaps", args.heatmaps,
+                 "write one PNG per failing texture showing where it fails, under DIR/<the input's relative folder>/");
+  cmd.add_flag("--no-self-intersections", args.no_self_intersections,
+               "skip the self-intersection mesh check (the costliest)");
+  add_batch_options(cmd, "validated", args.jobs, args.allow_outside);
+  add_pipeline_options(cmd, args.pipeline);
+  cmd.add_flag("-q,--quiet", args.quiet, "print only files that fail");
+}
+
+}  // namespace
+
+std::function<int()> add_validate_command(CLI::App& app) {
+  return add_subcommand<ValidateArgs>(app, "validate", kValidateHelp, declare_options, run);
 }
 
 }  // namespace gltf_pbr::cli

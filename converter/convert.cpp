@@ -16,6 +16,7 @@
 #include "converter/bake.hpp"
 #include "converter/legacy_material.hpp"
 #include "core/color.hpp"
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "core/image_header.hpp"
@@ -672,33 +673,19 @@ class Converter {
 
 }  // namespace
 
-const char* material_outcome_name(MaterialOutcome outcome) {
-  switch (outcome) {
-    case MaterialOutcome::Legacy:
-      return "legacy";
-    case MaterialOutcome::Metalness:
-      return "metalness";
-    case MaterialOutcome::Specular:
-      return "specular";
-  }
-  return "legacy";
-}
+constexpr NameTable<MaterialOutcome, 3> kMaterialOutcomeNames{{{MaterialOutcome::Legacy, "legacy"},
+                                                               {MaterialOutcome::Metalness, "metalness"},
+                                                               {MaterialOutcome::Specular, "specular"}}};
 
-const char* texture_outcome_name(TextureOutcome outcome) {
-  switch (outcome) {
-    case TextureOutcome::None:
-      return "none";
-    case TextureOutcome::Baked:
-      return "baked";
-    case TextureOutcome::Shared:
-      return "shared";
-    case TextureOutcome::InputReused:
-      return "inputReused";
-    case TextureOutcome::Factor:
-      return "factor";
-  }
-  return "none";
-}
+const char* material_outcome_name(MaterialOutcome outcome) { return name_of(kMaterialOutcomeNames, outcome); }
+
+constexpr NameTable<TextureOutcome, 5> kTextureOutcomeNames{{{TextureOutcome::None, "none"},
+                                                             {TextureOutcome::Baked, "baked"},
+                                                             {TextureOutcome::Shared, "shared"},
+                                                             {TextureOutcome::InputReused, "inputReused"},
+                                                             {TextureOutcome::Factor, "factor"}}};
+
+const char* texture_outcome_name(TextureOutcome outcome) { return name_of(kTextureOutcomeNames, outcome); }
 
 ConversionReport convert(Asset& asset, const ConvertOptions& options) {
   const auto before_used = asset.model.extensionsUsed;

@@ -133,10 +133,25 @@ void install_signal_cleanup() {
       int received = 0;
       sigwait(&signals, &received);
       temporaries_mutex.lock();  // held until _Exit: no temporary is created after this pass
-      for (const std::string& path : temporaries()) ::unlink(path.c_str());
+      std::error_code ignored;
+      for (const std::string& path : temporaries()) fs::remove_all(path, ignored);
       std::_Exit(128 + received);
     }).detach();
   });
+}
+
+TemporaryFolder::TemporaryFolder(const std::string& prefix) {
+  std::string name = (fs::temp_directory_path() / (prefix + "XXXXXX")).string();
+  const std::lock_guard lock(temporaries_mutex);  // as create_temporary: the signal thread sees it or it is not made
+  if (!::mkdtemp(name.data())) throw OutputError("cannot create a temporary folder " + name + ": " + errno_text(errno));
+  path_ = name;
+  temporaries().insert(name);
+}
+
+TemporaryFolder::~TemporaryFolder() {
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+  forget_temporary(path_);
 }
 
 bool writable_by_owner(const fs::path& path) {

@@ -64,8 +64,24 @@ class AtomicWriteSet {
   std::vector<std::pair<fs::path, fs::path>> staged_;  // (temporary, destination)
 };
 
-// Starts the thread that, on SIGINT or SIGTERM, removes every AtomicWriteSet temporary and exits
-// with 128 + the signal. Call it first thing in main, before any other thread exists.
+// A private folder under the system's temporary directory (TMPDIR), named `prefix` and six random
+// characters, removed with its contents when this ends or when the run is interrupted (see
+// install_signal_cleanup). Throws OutputError when it cannot be created.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& prefix);
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  ~TemporaryFolder();
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Starts the thread that, on SIGINT or SIGTERM, removes every AtomicWriteSet temporary and every
+// TemporaryFolder, and exits with 128 + the signal. Call it first thing in main, before any other
+// thread exists.
 void install_signal_cleanup();
 
 // Whether the file's mode lets its owner write it (the mode bits, not access(2): root may write anything).

@@ -6,6 +6,7 @@
 
 #include "core/brdf.hpp"
 #include "core/color.hpp"
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 #include "core/json_pointer.hpp"
 
@@ -105,23 +106,14 @@ class ExtensionReader {
 
 }  // namespace
 
-const char* texture_role_name(TextureRole role) {
-  switch (role) {
-    case TextureRole::BaseColor:
-      return "baseColorTexture";
-    case TextureRole::MetallicRoughness:
-      return "metallicRoughnessTexture";
-    case TextureRole::Diffuse:
-      return "diffuseTexture";
-    case TextureRole::SpecularGlossiness:
-      return "specularGlossinessTexture";
-    case TextureRole::Specular:
-      return "specularTexture";
-    case TextureRole::SpecularColor:
-      return "specularColorTexture";
-  }
-  return "?";
-}
+constexpr NameTable<TextureRole, 6> kTextureRoleNames{{{TextureRole::BaseColor, "baseColorTexture"},
+                                                       {TextureRole::MetallicRoughness, "metallicRoughnessTexture"},
+                                                       {TextureRole::Diffuse, "diffuseTexture"},
+                                                       {TextureRole::SpecularGlossiness, "specularGlossinessTexture"},
+                                                       {TextureRole::Specular, "specularTexture"},
+                                                       {TextureRole::SpecularColor, "specularColorTexture"}}};
+
+const char* texture_role_name(TextureRole role) { return name_of(kTextureRoleNames, role); }
 
 bool MaterialInputs::textured() const {
   return std::any_of(textures.begin(), textures.end(), [](const MaterialTexture& t) { return t.present(); });

@@ -6,24 +6,19 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/enum_names.hpp"
 #include "core/text.hpp"
 #include "core/version.hpp"
 
 namespace gltf_pbr {
 
-const char* severity_name(Severity severity) {
-  switch (severity) {
-    case Severity::Error:
-      return "error";
-    case Severity::Warning:
-      return "warning";
-    case Severity::Information:
-      return "info";
-    case Severity::Hint:
-      return "hint";
-  }
-  return "error";
-}
+constexpr NameTable<Severity, 4> kSeverityNames{{{Severity::Error, "error"},
+                                                 {Severity::Warning, "warning"},
+                                                 {Severity::Information, "info"},
+                                                 {Severity::Hint, "hint"}}};
+
+const char* severity_name(Severity severity) { return name_of(kSeverityNames, severity); }
+std::optional<Severity> severity_from_name(std::string_view name) { return from_name(kSeverityNames, name); }
 
 std::uint64_t Report::count(Severity severity) const {
   std::uint64_t found = 0;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -17,6 +18,7 @@ namespace gltf_pbr {
 enum class Severity : int { Error = 0, Warning = 1, Information = 2, Hint = 3 };
 
 const char* severity_name(Severity severity);  // "error", "warning", "info", "hint"
+std::optional<Severity> severity_from_name(std::string_view name);
 
 struct Issue {
   std::string code;     // Khronos code, or ours with a prefix: PBR_*, IMAGE_*, MESH_*

@@ -2,7 +2,7 @@
 allocates without end (GLTF_PBR_TEST_FAULT, the tests' fault hook) finishes with exactly those three
 failed, each named with its reason, and every other file converted byte-identical to a run without
 --isolate. Then resume: a run with --cache stopped part way, run again, redoes only the files the
-first did not finish, and ends with the same outputs.
+first did not finish, and ends with the same outputs; the stopped run leaves no temporary folder.
 
     python3 isolate_contains_crashes_hangs_and_runaway_memory.py CLI SAMPLES_DIR SHARED_DIR"""
 import hashlib
@@ -59,12 +59,16 @@ try:
 
     # Resume: stop a run (-j 1, so it is part way) once some files are done, then run it again.
     cache, results = work / "cache", work / "first.jsonl"
+    scratch = work / "tmp"  # the run's TMPDIR, where its children's reports go
+    scratch.mkdir()
     first = subprocess.Popen([cli, "convert", str(library), "-o", str(work / "resumed"), "-q", "-j", "1", "--isolate",
-                              "--cache", str(cache), "--results", str(results)])
+                              "--cache", str(cache), "--results", str(results)],
+                             env=dict(os.environ, TMPDIR=str(scratch)))
     while first.poll() is None and (not results.exists() or len(results.read_text().splitlines()) < 10):
         time.sleep(0.01)
     first.send_signal(signal.SIGINT)
     assert first.wait() != 0, "the first run finished before it could be stopped"
+    assert not any(scratch.iterdir()), f"the stopped run left {sorted(scratch.iterdir())}"
     time.sleep(0.5)  # a child converting when the run stopped removes its temporaries and ends
     finished = len(list((cache / "v1" / "entries").glob("*/*")))
     assert 10 <= finished < 60, finished

@@ -630,32 +630,20 @@ class Linker {
     }
   }
 
+  // The vertex count each topology needs (glTF 2.0 §3.7.2.1): at least `minimum`, and a multiple of
+  // `multiple`. A mode outside 0-6 is the schema's to report.
   void incompatible_mode(const PrimitiveModel& primitive, std::int64_t count, const std::string& pointer) {
-    if (count <= 0) return;  // unknown count: nothing to compare
-    static const char* names[] = {"POINTS",    "LINES",          "LINE_LOOP",   "LINE_STRIP",
-                                  "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
-    bool ok = true;
-    switch (primitive.mode) {
-      case 1:
-        ok = count >= 2 && count % 2 == 0;
-        break;
-      case 2:
-      case 3:
-        ok = count >= 2;
-        break;
-      case 4:
-        ok = count >= 3 && count % 3 == 0;
-        break;
-      case 5:
-      case 6:
-        ok = count >= 3;
-        break;
-      default:
-        break;
-    }
-    if (!ok)
-      issues_.at("MESH_PRIMITIVE_INCOMPATIBLE_MODE", pointer,
-                 {arg(count), arg(names[std::clamp(primitive.mode, 0, 6)])});
+    if (count <= 0 || primitive.mode < 0 || primitive.mode > 6) return;  // unknown count: nothing to compare
+    struct Topology {
+      const char* name;
+      std::int64_t minimum, multiple;
+    };
+    static constexpr Topology kTopologies[] = {{"POINTS", 1, 1},      {"LINES", 2, 2},     {"LINE_LOOP", 2, 1},
+                                               {"LINE_STRIP", 2, 1},  {"TRIANGLES", 3, 3}, {"TRIANGLE_STRIP", 3, 1},
+                                               {"TRIANGLE_FAN", 3, 1}};
+    const Topology& topology = kTopologies[primitive.mode];
+    if (count < topology.minimum || count % topology.multiple != 0)
+      issues_.at("MESH_PRIMITIVE_INCOMPATIBLE_MODE", pointer, {arg(count), arg(topology.name)});
   }
 
   void node(std::size_t i) {
