@@ -6,12 +6,7 @@
 # import from the prefix, with the prefix's library.
 #   consumer_project_builds.sh BUILD_DIR VERSION SOURCE_DIR SHARED_DIR CXX_FLAGS PYTHON_OR_EMPTY
 set -euo pipefail
-build=$1
-version=$2
-source=$3
-shared=$4
-cxx_flags=$5
-python=$6
+build=$1 version=$2 source=$3 shared=$4 cxx_flags=$5 python=$6
 # shellcheck source=helpers.sh
 . "$(dirname "$0")/helpers.sh"
 prefix=$(realpath "$(mktemp -d)")  # as the loader prints it

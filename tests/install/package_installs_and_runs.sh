@@ -4,10 +4,7 @@
 # runs on its own: --version, and a WebP conversion through its own image module.
 #   package_installs_and_runs.sh BUILD_DIR VERSION SOURCE_DIR PYTHON_MODULE_BUILT(ON|OFF)
 set -euo pipefail
-build=$1
-version=$2
-source=$3
-python_module=$4
+build=$1 version=$2 source=$3 python_module=$4
 work=$(realpath "$(mktemp -d)")  # as the loader prints it
 trap 'rm -rf "$work"' EXIT
 (cd "$build" && cpack -G DEB -B "$work" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log" >&2; exit 1; }

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """KTX2 images (KHR_texture_basisu) as a real encoder writes them, judged by gltf-pbr validate.
 
-  encoded_images.py GLTF_PBR_CLI SHARED_DIR KTX2_ENCODE_MJS WORK
+  encoded_images.py GLTF_PBR_CLI SHARED_DIR KTX2_ENCODE_MJS
 
 ktx2-encoder (basis_universal) encodes the shared assets' textures, the glTF then names each KTX2
 image through KHR_texture_basisu without a fallback, as glTF-Transform's ktx2 transform does:
@@ -19,18 +19,17 @@ import pathlib
 import shutil
 import subprocess
 import sys
+import tempfile
 
 from PIL import Image
 
-cli, shared, encode_script, work = sys.argv[1:5]
-shared, work = pathlib.Path(shared), pathlib.Path(work)
-failures = []
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
+cli, shared, encode_script = sys.argv[1:4]
+shared = pathlib.Path(shared)
+scratch = tempfile.TemporaryDirectory(prefix="gltf-pbr-ktx2-")  # removed at exit, failed or not
+work = pathlib.Path(scratch.name)
 
 
 def encode(png, target, mode, transfer, mipmaps="mipmaps"):
@@ -124,5 +123,4 @@ for i, ktx2 in ktx2s.items():
 found = ktx2_issues(gltf)
 check(found == [], f"Avocado with unspecified primaries on its linear maps has no KTX2 issue: {found}")
 
-if failures:
-    sys.exit(f"{len(failures)} check(s) failed")
+finish()

@@ -5,6 +5,5 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/../peer/ktx2_encoder.sh"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-exec /usr/bin/python3 "$here/encoded_images.py" "$1" "$2" "$here/../peer/ktx2_encode.mjs" "$work"
+# The script keeps its scratch folder itself: exec leaves no shell to run an EXIT trap.
+exec /usr/bin/python3 "$here/encoded_images.py" "$1" "$2" "$here/../peer/ktx2_encode.mjs"

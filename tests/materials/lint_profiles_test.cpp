@@ -13,11 +13,7 @@
 namespace gltf_pbr {
 namespace {
 
-using test::AssetBuilder;
-using test::describe;
-using test::issues_with;
-using test::problems;
-using test::validate_in_memory;
+using namespace test;  // the builders and report queries of the test support headers
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

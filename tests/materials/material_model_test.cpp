@@ -14,7 +14,7 @@
 namespace gltf_pbr {
 namespace {
 
-using test::AssetBuilder;
+using namespace test;  // the builders and report queries of the test support headers
 
 TEST(MaterialModel, LegacyTexturesAreSrgbInRgbAndLinearInAlpha) {
   AssetBuilder builder;

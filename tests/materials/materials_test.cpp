@@ -17,12 +17,7 @@
 namespace gltf_pbr {
 namespace {
 
-using test::AssetBuilder;
-using test::describe;
-using test::issues_with;
-using test::problems;
-using test::ScratchDir;
-using test::validate_in_memory;
+using namespace test;  // the builders and report queries of the test support headers
 
 const std::string kLegacy = "/extensions/KHR_materials_pbrSpecularGlossiness";
 

@@ -10,9 +10,7 @@
 namespace gltf_pbr {
 namespace {
 
-using test::AssetBuilder;
-using test::describe;
-using test::issues_with;
+using namespace test;  // the builders and report queries of the test support headers
 
 Report texture_checks(const Asset& asset) {
   MaterialCheckOptions options;

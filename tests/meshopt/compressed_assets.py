@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """EXT_meshopt_compression on the shared assets, packed by gltfpack (npm) twice: compressed and not.
 
-  compressed_assets.py GLTF_PBR_CLI SHARED_DIR GLTFPACK WORK
+  compressed_assets.py GLTF_PBR_CLI SHARED_DIR GLTFPACK
 
 Lossless packing (-noq: no quantization, so no filter): the compressed asset must validate with the
 very issues of its uncompressed twin, draw the same previews, and convert (to .gltf and .glb)
@@ -14,19 +14,17 @@ import json
 import pathlib
 import subprocess
 import sys
+import tempfile
 import urllib.parse
 
 from PIL import Image, ImageChops, ImageStat
 
-cli, shared, gltfpack, work = sys.argv[1:5]
-work = pathlib.Path(work)
-failures = []
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from script_checks import check, finish  # noqa: E402
 
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
+cli, shared, gltfpack = sys.argv[1:4]
+scratch = tempfile.TemporaryDirectory(prefix="gltf-pbr-meshopt-")  # removed at exit, failed or not
+work = pathlib.Path(scratch.name)
 
 
 def run(*command):
@@ -151,5 +149,4 @@ for n, source in enumerate(inputs):
 
 check(filters_seen >= {"NONE", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL"},
       f"every filter occurs: {sorted(filters_seen)}")
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

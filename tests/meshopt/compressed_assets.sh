@@ -6,6 +6,5 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/../peer/gltfpack.sh"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-exec /usr/bin/python3 "$here/compressed_assets.py" "$1" "$2" "$GLTF_PBR_GLTFPACK" "$work"
+# The script keeps its scratch folder itself: exec leaves no shell to run an EXIT trap.
+exec /usr/bin/python3 "$here/compressed_assets.py" "$1" "$2" "$GLTF_PBR_GLTFPACK"

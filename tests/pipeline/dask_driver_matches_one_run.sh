@@ -5,11 +5,7 @@
 # and the merged report equal to its report (times aside).
 #   dask_driver_matches_one_run.sh CLI SAMPLES_DIR SHARED_DIR PYTHON SOURCE_DIR
 set -euo pipefail
-cli=$1
-samples=$2
-shared=$3
-python=$4
-source=$5
+cli=$1 samples=$2 shared=$3 python=$4 source=$5
 work=$(mktemp -d)
 pids=()
 cleanup() {

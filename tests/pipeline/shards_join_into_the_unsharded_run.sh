@@ -6,10 +6,7 @@
 # shard; --inputs-from converts exactly the files listed.
 #   shards_join_into_the_unsharded_run.sh CLI SAMPLES_DIR SHARED_DIR PYTHON
 set -euo pipefail
-cli=$1
-samples=$2
-shared=$3
-python=$4
+cli=$1 samples=$2 shared=$3 python=$4
 here=$(dirname "$0")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
