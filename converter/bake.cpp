@@ -658,8 +658,11 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   if (alpha_texels) out.alpha = out.base_color[3];
   if (in.spec_gloss) out.first_roughness = out.roughness[0];
 
+  // Until every map is known to vary: one pass on one thread (a 4096² bake took 13 ms of its wall
+  // time to the end, where the first texels had settled all three).
   const size_t base_channels = static_cast<size_t>(out.base_channels);
-  for (size_t i = 1; i < texels; ++i) {
+  for (size_t i = 1;
+       i < texels && (out.base_constant || (alpha_texels && out.alpha_constant) || out.metal_rough_constant); ++i) {
     const std::uint8_t* base = &out.base_color[i * base_channels];
     out.base_constant = out.base_constant && std::equal(base, base + 3, &out.base_color[0]);
     out.alpha_constant = out.alpha_constant && (!alpha_texels || base[3] == out.alpha);
@@ -701,6 +704,28 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
       texels.error_b.set(first + j, delta_e[j][2], delta_e[j][3]);
     }
   });
+}
+
+std::optional<BakedTexels::Indexed> BakedTexels::metal_rough_indexed() const {
+  // One pass, no hashing: the (roughness, metalness) pair is a 16-bit key, and its slot in the
+  // palette (plus one; 0: not seen yet) sits in a 128 KB table. Interleaving the map, then
+  // scanning it for its colours (hashed) and looking each texel's index up again, took about
+  // 125 ms of CPU for Avocado's 4096² map, on the thread beside the base colour's deflate, against
+  // about 25 here (perf samples; bench/RESULTS.md, session 32).
+  std::vector<std::uint16_t> slot_of(1u << 16, 0);
+  Indexed out;
+  out.indices = TexelBytes(metalness.size());
+  for (size_t i = 0; i < metalness.size(); ++i) {
+    const std::uint8_t rough = roughness.empty() ? first_roughness : roughness[i];
+    std::uint16_t& slot = slot_of[static_cast<size_t>(rough) << 8 | metalness[i]];
+    if (slot == 0) {
+      if (out.palette.size() == 256) return std::nullopt;
+      out.palette.push_back(std::uint32_t{rough} << 8 | std::uint32_t{metalness[i]} << 16 | 0xFF000000u);
+      slot = static_cast<std::uint16_t>(out.palette.size());
+    }
+    out.indices[i] = static_cast<std::uint8_t>(slot - 1);
+  }
+  return out;
 }
 
 TexelBytes BakedTexels::metal_rough() const {

@@ -1,7 +1,9 @@
 // Texel-by-texel baking of spec-gloss textures into baseColor and metallicRoughness texels.
 #pragma once
+#include <cstdint>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -60,6 +62,15 @@ struct BakedTexels {
 
   // The metallicRoughness texels as glTF stores them: RGB, R unused (0), G roughness, B metalness.
   TexelBytes metal_rough() const;
+  // The same map, when it varies (not metal_rough_constant), as palette indices straight from the
+  // planes if it holds at most 256 (roughness, metalness) pairs: colours by first appearance, as
+  // filter_png's scan of metal_rough() finds them (core/image.hpp filter_palette_png), so the file
+  // is the same. std::nullopt above 256. (A constant map of (0, 0) would be a grey image there.)
+  struct Indexed {
+    TexelBytes indices;
+    std::vector<std::uint32_t> palette;  // RGBA packed, little-end first
+  };
+  std::optional<Indexed> metal_rough_indexed() const;
 };
 
 // Every error_sample_stride()-th texel, in texel order, is an error sample: at most

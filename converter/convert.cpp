@@ -387,6 +387,15 @@ class Converter {
       parallel_invoke(
           [&] {
             if (t.metal_rough_constant) return;
+            // A map of at most 256 pairs is indexed from the planes; the preview, which keeps the
+            // texels, and larger maps interleave them for filter_png.
+            if (std::optional<BakedTexels::Indexed> indexed =
+                    options_.keep_decoded ? std::nullopt : t.metal_rough_indexed()) {
+              if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
+              metal_rough = deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height),
+                                        options_.png_compression);
+              return;
+            }
             TexelBytes texels = t.metal_rough();
             // The planes are read no more, unless the error is measured on the metalness below.
             if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);

@@ -25,6 +25,8 @@ std::optional<Pixels> decode_jpeg(std::span<const std::uint8_t> encoded, std::ui
 
 FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels,
                        TexelBytes* release = nullptr);  // freed (and `texels` with it) once filtered
+FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<const std::uint32_t> palette, int width,
+                               int height);
 Bytes deflate_png(FilteredPng&& filtered, int compression_level);
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
 

@@ -124,6 +124,11 @@ FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int heig
   return codecs::filter_png(texels, width, height, channels);
 }
 
+FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<const std::uint32_t> palette, int width,
+                               int height) {
+  return codecs::filter_palette_png(indices, palette, width, height);
+}
+
 FilteredPng filter_png(TexelBytes&& texels, int width, int height, int channels) {
   TexelBytes owned = std::move(texels);
   return codecs::filter_png(owned, width, height, channels, &owned);

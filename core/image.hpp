@@ -91,6 +91,12 @@ struct FilteredPng {
 };
 FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int height, int channels);
 FilteredPng filter_png(TexelBytes&& texels, int width, int height, int channels);  // freed once filtered
+// A palette image from a caller that knows its colours without a scan: a palette index a texel
+// (rows top to bottom) and at most 256 colours, RGBA packed little-end first (an alpha below 255
+// writes tRNS). The same file filter_png writes for those texels when it finds those colours in
+// that order (first appearance).
+FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<const std::uint32_t> palette, int width,
+                               int height);
 Bytes deflate_png(FilteredPng&& filtered, int compression_level);
 
 // Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.

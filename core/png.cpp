@@ -338,6 +338,29 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   png.insert(png.end(), tail, tail + 4);
 }
 
+// PNG spec 5.2-5.3 and 11.2: signature, IHDR, and for a palette image PLTE, with tRNS when a
+// colour is not opaque (`palette` is RGBA packed, little-end first); IDAT and IEND in deflate_png.
+Bytes png_head(int width, int height, ColourType colour_type, std::span<const std::uint32_t> palette) {
+  Bytes head(kSignature, kSignature + sizeof kSignature);
+  std::uint8_t ihdr[13] = {};
+  put_be32(ihdr, static_cast<std::uint32_t>(width));
+  put_be32(ihdr + 4, static_cast<std::uint32_t>(height));
+  ihdr[8] = 8;  // bit depth; compression, filter and interlace methods 0
+  ihdr[9] = static_cast<std::uint8_t>(colour_type);
+  append_chunk(head, "IHDR", {ihdr});
+  if (colour_type != ColourType::Palette) return head;
+  std::vector<std::uint8_t> plte, trns;
+  for (const std::uint32_t rgba : palette) {
+    plte.insert(plte.end(), {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
+                             static_cast<std::uint8_t>(rgba >> 16)});
+    trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
+  }
+  append_chunk(head, "PLTE", {plte});
+  if (std::any_of(trns.begin(), trns.end(), [](std::uint8_t a) { return a != 255; }))
+    append_chunk(head, "tRNS", {trns});
+  return head;
+}
+
 // The filters the encoder writes (PNG spec 9.2): None for palette images, Average for the rest.
 enum class RowFilter : std::uint8_t { None = 0, Average = 3 };
 
@@ -403,16 +426,10 @@ FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int heig
   int kept[3] = {0, channels - 1, 0};
   ColourType colour_type;
   int pixel_bytes = channels;
-  std::vector<std::uint8_t> plte, trns;  // PLTE and tRNS data of a palette image
   if (use.grey && !keep_alpha) {
     colour_type = ColourType::Grey, pixel_bytes = 1;
   } else if (!use.palette.empty() && (colour || keep_alpha)) {
     colour_type = ColourType::Palette, pixel_bytes = 1, conversion = Conversion::PaletteIndex;
-    for (const std::uint32_t rgba : use.palette) {
-      plte.insert(plte.end(), {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
-                               static_cast<std::uint8_t>(rgba >> 16)});
-      if (keep_alpha) trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
-    }
   } else if (use.grey) {
     colour_type = ColourType::GreyAlpha, pixel_bytes = 2;  // kept: 0 and the last
   } else if (alpha && !keep_alpha) {
@@ -454,21 +471,26 @@ FilteredPng filter_png(std::span<const std::uint8_t> texels, int width, int heig
   // Paeth's 8.13 MB; at 2048²: 2.88 MB against 3.11 for Sub; bench/RESULTS.md, session 31).
   const RowFilter filter = colour_type == ColourType::Palette ? RowFilter::None : RowFilter::Average;
 
-  // PNG spec 5.2-5.3 and 11.2: signature, IHDR, PLTE and tRNS here; IDAT and IEND in deflate_png.
   FilteredPng png;
-  png.head.assign(kSignature, kSignature + sizeof kSignature);
-  std::uint8_t ihdr[13] = {};
-  put_be32(ihdr, static_cast<std::uint32_t>(width));
-  put_be32(ihdr + 4, static_cast<std::uint32_t>(height));
-  ihdr[8] = 8;  // bit depth; compression, filter and interlace methods 0
-  ihdr[9] = static_cast<std::uint8_t>(colour_type);
-  append_chunk(png.head, "IHDR", {ihdr});
-  if (colour_type == ColourType::Palette) {
-    append_chunk(png.head, "PLTE", {plte});
-    if (!trns.empty()) append_chunk(png.head, "tRNS", {trns});
-  }
+  png.head = png_head(width, height, colour_type, use.palette);
   filter_rows(png, row_of, static_cast<std::size_t>(width), static_cast<std::size_t>(height),
               static_cast<std::size_t>(pixel_bytes), filter, release);
+  return png;
+}
+
+FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<const std::uint32_t> palette, int width,
+                               int height) {
+  if (palette.empty() || palette.size() > 256 || width < 1 || height < 1 ||
+      indices.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+    throw std::runtime_error("PNG encoder: " + std::to_string(indices.size()) + " indices into " +
+                             std::to_string(palette.size()) + " colours for " + std::to_string(width) + "x" +
+                             std::to_string(height));
+  FilteredPng png;
+  png.head = png_head(width, height, ColourType::Palette, palette);
+  const std::size_t row_bytes = static_cast<std::size_t>(width);
+  filter_rows(
+      png, [&](std::size_t y, std::uint8_t*) { return indices.data() + y * row_bytes; }, row_bytes,
+      static_cast<std::size_t>(height), 1, RowFilter::None, nullptr);
   return png;
 }
 

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <numeric>
+#include <random>
 #include <set>
 
 #include "converter/bake.hpp"
@@ -830,6 +831,50 @@ TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
   for (const auto& [uri, file] : asset.image_files) {
     const auto bytes = file->bytes();
     EXPECT_EQ(Bytes(bytes.begin(), bytes.end()), read_file(gltf.parent_path() / uri)) << uri;
+  }
+}
+
+// The metallicRoughness map indexed straight from the bake's planes is the very file filter_png
+// writes from the interleaved map, whatever the count (from 2) of (roughness, metalness) pairs up to 256,
+// with a roughness plane or a roughness factor; at 257 pairs there is no index (filter_png writes RGB).
+TEST(Textures, AMetallicRoughnessMapIndexedFromItsPlanesIsTheFileFilterPngWrites) {
+  std::mt19937 random(7);
+  for (const int pairs : {2, 37, 256, 257}) {  // one pair is a constant map: factors, no image
+    for (const bool roughness_plane : {true, false}) {
+      if (!roughness_plane && pairs > 256) continue;  // 256 metalness values at most
+      SCOPED_TRACE(std::to_string(pairs) + (roughness_plane ? " pairs" : " metalness values, roughness a factor"));
+      BakedTexels t;
+      t.width = 97, t.height = 61;  // odd sizes: rows of no particular length
+      const std::size_t texels = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height);
+      t.first_roughness = 200;
+      std::vector<std::pair<std::uint8_t, std::uint8_t>> colours;  // (roughness, metalness), all distinct
+      for (int c = 0; c < pairs; ++c)
+        colours.emplace_back(roughness_plane ? static_cast<std::uint8_t>(c / 16 * 15) : t.first_roughness,
+                             static_cast<std::uint8_t>(roughness_plane ? c % 16 * 17 : c));
+      t.metalness.resize(texels);
+      if (roughness_plane) t.roughness.resize(texels);
+      for (std::size_t i = 0; i < texels; ++i) {
+        // Every pair occurs (the first ones in order), the rest at random.
+        const auto& [rough, metal] = colours[i < colours.size() ? i : random() % colours.size()];
+        t.metalness[i] = metal;
+        if (roughness_plane) t.roughness[i] = rough;
+      }
+      const std::optional<BakedTexels::Indexed> indexed = t.metal_rough_indexed();
+      const Bytes interleaved = encode_png(t.metal_rough(), t.width, t.height, 3, 1);
+      if (pairs > 256) {
+        EXPECT_FALSE(indexed.has_value());
+        EXPECT_EQ(interleaved[25], 2);  // IHDR's colour type: RGB (3 is a palette)
+        continue;
+      }
+      ASSERT_TRUE(indexed.has_value());
+      EXPECT_EQ(indexed->palette.size(), static_cast<std::size_t>(pairs));
+      const Bytes from_planes =
+          deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height), 1);
+      EXPECT_EQ(from_planes[25], 3);  // a palette image
+      EXPECT_TRUE(from_planes == interleaved);
+      const Pixels decoded = decode_image(from_planes, "the indexed map");
+      EXPECT_TRUE(decoded.bytes == t.metal_rough());
+    }
   }
 }
 
