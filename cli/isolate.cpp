@@ -109,22 +109,32 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
   posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&files, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   pid_t pid = 0;
-  // /proc/self/exe, not the path it links to: a binary replaced during a long run still starts.
-  const int spawned = ::posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), envp.data());
+  int spawned = 0;
+  // Started through core's start_child: an interrupt of this run stops the child before the
+  // scratch folder it writes its report into is removed. The pidfd also wakes the wait below the
+  // moment the child ends; the 20 ms timeout samples its memory.
+  struct Child {
+    int pidfd = -1;
+    ~Child() {
+      if (pidfd < 0) return;
+      forget_child(pidfd);
+      ::close(pidfd);
+    }
+  } child;
+  child.pidfd = start_child([&] {
+    // /proc/self/exe, not the path it links to: a binary replaced during a long run still starts.
+    spawned = ::posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), envp.data());
+    return spawned == 0 ? static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)) : -1;
+  });
   posix_spawn_file_actions_destroy(&files);
   if (spawned != 0) return finish(std::string("cannot start a child process: ") + std::strerror(spawned));
-
-  // The pidfd wakes the wait the moment the child ends; the 20 ms timeout samples its memory.
-  const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  const int pidfd = child.pidfd;
   int status = 0;
   std::string stopped;
   for (;;) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
     if (done == pid) break;
-    if (done < 0 && errno != EINTR) {
-      if (pidfd >= 0) ::close(pidfd);
-      return finish(std::string("lost the child process: ") + std::strerror(errno));
-    }
+    if (done < 0 && errno != EINTR) return finish(std::string("lost the child process: ") + std::strerror(errno));
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (limits.seconds > 0 && seconds > limits.seconds)
       stopped = "took longer than " + seconds_text(limits.seconds) + " s (--file-timeout): stopped";
@@ -143,7 +153,6 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
       ::usleep(20'000);
     }
   }
-  if (pidfd >= 0) ::close(pidfd);
   const std::string said = last_line(errors);
   std::filesystem::remove(errors, error);
   if (!stopped.empty()) return finish(stopped);

@@ -217,7 +217,8 @@ in-process conversion to albedo + metalness (after), and write before.png, after
 (ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).
 Given a folder, it draws every .gltf and .glb under it, -j at a time, each into DIR/<its path without
 the extension>, and the gallery page over them all.
-Exit codes: 0 done, 1 an input could not be drawn, 2 bad usage, 3 an output cannot be written.)";
+Exit codes: 0 done, 1 an input could not be drawn (in a folder: its previews not written either), 2 bad usage,
+3 the previews of a single input cannot be written.)";
 
 void declare_options(CLI::App& cmd, PreviewArgs& args) {
   cmd.add_option("input", args.input, ".gltf or .glb file, or a folder: every one under it, each into OUT/<its path>");

@@ -1,12 +1,15 @@
 #include "core/files.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -89,6 +92,12 @@ std::set<std::string>& temporaries() {
   return *paths;
 }
 
+// The pidfds of the children that may write into the temporaries (start_child), under the same lock.
+std::set<int>& children() {
+  static auto* pidfds = new std::set<int>;
+  return *pidfds;
+}
+
 std::string errno_text(int error) { return std::strerror(error); }
 
 // Creates a fresh temporary beside `destination` and records it, under one lock, so the signal
@@ -133,19 +142,57 @@ void install_signal_cleanup() {
       int received = 0;
       sigwait(&signals, &received);
       temporaries_mutex.lock();  // held until _Exit: no temporary is created after this pass
+      // The children first: they would otherwise end only with this process (PR_SET_PDEATHSIG),
+      // and one writing its report into a folder removed below would make the folder anew
+      // (AtomicWriteSet creates a destination's folder). No child starts while the lock is held.
+      std::vector<pollfd> running;
+      for (const int pidfd : children()) {
+        ::syscall(SYS_pidfd_send_signal, pidfd, SIGTERM, nullptr, 0);
+        running.push_back({pidfd, POLLIN, 0});  // readable once the child has ended
+      }
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      while (!running.empty() && std::chrono::steady_clock::now() < deadline) {
+        ::poll(running.data(), running.size(), 10);
+        std::erase_if(running, [](const pollfd& wait) { return wait.revents != 0; });
+      }
+      // The run's own threads go on meanwhile: one removing a file from a folder as remove_all
+      // walks it makes remove_all give up with ENOENT, so a folder is removed until it is gone.
       std::error_code ignored;
-      for (const std::string& path : temporaries()) fs::remove_all(path, ignored);
+      for (const std::string& path : temporaries())
+        for (int attempt = 0; attempt < 100 && fs::symlink_status(path, ignored).type() != fs::file_type::not_found;
+             ++attempt)
+          fs::remove_all(path, ignored);
       std::_Exit(128 + received);
     }).detach();
   });
 }
 
+int start_child(const std::function<int()>& spawn) {
+  const std::lock_guard lock(temporaries_mutex);
+  const int pidfd = spawn();
+  if (pidfd >= 0) children().insert(pidfd);
+  return pidfd;
+}
+
+void forget_child(int pidfd) {
+  const std::lock_guard lock(temporaries_mutex);
+  children().erase(pidfd);
+}
+
 TemporaryFolder::TemporaryFolder(const std::string& prefix) {
   std::string name = (fs::temp_directory_path() / (prefix + "XXXXXX")).string();
   const std::lock_guard lock(temporaries_mutex);  // as create_temporary: the signal thread sees it or it is not made
-  if (!::mkdtemp(name.data())) throw OutputError("cannot create a temporary folder " + name + ": " + errno_text(errno));
-  path_ = name;
-  temporaries().insert(name);
+  if (!::mkdtemp(name.data())) {
+    const int error = errno;
+    throw OutputError("cannot create a temporary folder " + name + ": " + errno_text(error));
+  }
+  try {
+    temporaries().insert(name);
+  } catch (...) {
+    ::rmdir(name.c_str());
+    throw;
+  }
+  path_ = std::move(name);
 }
 
 TemporaryFolder::~TemporaryFolder() {

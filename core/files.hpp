@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -79,7 +80,16 @@ class TemporaryFolder {
   fs::path path_;
 };
 
-// Starts the thread that, on SIGINT or SIGTERM, removes every AtomicWriteSet temporary and every
+// A child process that may write into this run's temporaries (convert --isolate's children write
+// their reports into a TemporaryFolder): `spawn` starts it and returns its pidfd (pidfd_open), or
+// -1, under the cleanup's lock, and the pidfd is recorded. Call forget_child(pidfd) once the child
+// is reaped, before closing the pidfd.
+int start_child(const std::function<int()>& spawn);
+void forget_child(int pidfd);
+
+// Starts the thread that, on SIGINT or SIGTERM, stops the recorded children (SIGTERM, then up to a
+// second for them to end: a child's own cleanup removes its temporaries, and one still running
+// would make a removed folder anew), removes every AtomicWriteSet temporary and every
 // TemporaryFolder, and exits with 128 + the signal. Call it first thing in main, before any other
 // thread exists.
 void install_signal_cleanup();

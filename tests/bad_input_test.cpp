@@ -62,6 +62,7 @@ InputError load_error(const fs::path& path, const LoadOptions& options = {}) {
 // Loading `path` must fail naming `pointer`, with `words` in its reason.
 void expect_load_refused(const fs::path& path, const std::string& pointer, const std::string& words,
                          const LoadOptions& options = {}) {
+  SCOPED_TRACE(path.string() + " " + pointer);  // the helper's failures name the case they check
   const InputError e = load_error(path, options);
   EXPECT_EQ(e.pointer, pointer);
   EXPECT_NE(e.reason.find(words), std::string::npos) << e.reason;

@@ -1,5 +1,6 @@
 """What the script tests share: checks that each print a line and are counted, and the exit status.
 
+    sys.dont_write_bytecode = True
     sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
     from script_checks import check, finish
 """

@@ -4,6 +4,7 @@
 // loaded back with load_asset, so the real loader path is used.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -835,45 +836,57 @@ TEST(Textures, ConversionHoldsNoEncodedImagePagesOnceDone) {
 }
 
 // The metallicRoughness map indexed straight from the bake's planes is the very file filter_png
-// writes from the interleaved map, whatever the count (from 2) of (roughness, metalness) pairs up to 256,
-// with a roughness plane or a roughness factor; at 257 pairs there is no index (filter_png writes RGB).
+// writes from the interleaved map, whatever the count (from 2) of (roughness, metalness) pairs up
+// to 256, with a roughness plane or a roughness factor, and in whatever order the colours first
+// appear (shuffled, not by value), also where half of them first appear past the 2^18 texels of
+// filter_png's first scanned part. At 257 pairs there is no index (filter_png writes RGB).
 TEST(Textures, AMetallicRoughnessMapIndexedFromItsPlanesIsTheFileFilterPngWrites) {
   std::mt19937 random(7);
-  for (const int pairs : {2, 37, 256, 257}) {  // one pair is a constant map: factors, no image
-    for (const bool roughness_plane : {true, false}) {
-      if (!roughness_plane && pairs > 256) continue;  // 256 metalness values at most
-      SCOPED_TRACE(std::to_string(pairs) + (roughness_plane ? " pairs" : " metalness values, roughness a factor"));
-      BakedTexels t;
-      t.width = 97, t.height = 61;  // odd sizes: rows of no particular length
-      const std::size_t texels = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height);
-      t.first_roughness = 200;
-      std::vector<std::pair<std::uint8_t, std::uint8_t>> colours;  // (roughness, metalness), all distinct
-      for (int c = 0; c < pairs; ++c)
-        colours.emplace_back(roughness_plane ? static_cast<std::uint8_t>(c / 16 * 15) : t.first_roughness,
-                             static_cast<std::uint8_t>(roughness_plane ? c % 16 * 17 : c));
-      t.metalness.resize(texels);
-      if (roughness_plane) t.roughness.resize(texels);
-      for (std::size_t i = 0; i < texels; ++i) {
-        // Every pair occurs (the first ones in order), the rest at random.
-        const auto& [rough, metal] = colours[i < colours.size() ? i : random() % colours.size()];
-        t.metalness[i] = metal;
-        if (roughness_plane) t.roughness[i] = rough;
+  for (const auto& [width, height] : {std::pair{97, 61}, std::pair{640, 480}}) {
+    for (const int pairs : {2, 37, 256, 257}) {  // one pair is a constant map: factors, no image
+      for (const bool roughness_plane : {true, false}) {
+        if (!roughness_plane && pairs > 256) continue;  // 256 metalness values at most
+        SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(pairs) +
+                     (roughness_plane ? " pairs" : " metalness values, roughness a factor"));
+        BakedTexels t;
+        t.width = width, t.height = height;  // odd sizes: rows of no particular length
+        const std::size_t texels = static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height);
+        t.first_roughness = 200;
+        std::vector<std::pair<std::uint8_t, std::uint8_t>> colours;  // (roughness, metalness), all distinct
+        for (int c = 0; c < pairs; ++c)
+          colours.emplace_back(roughness_plane ? static_cast<std::uint8_t>(c / 16 * 15) : t.first_roughness,
+                               static_cast<std::uint8_t>(roughness_plane ? c % 16 * 17 : c));
+        std::shuffle(colours.begin(), colours.end(), random);
+        // The first half of the colours from the start, in their shuffled order, then at random; the
+        // other half from `late` on (past the first scanned part where the image has more).
+        const std::size_t early = colours.size() - colours.size() / 2;
+        const std::size_t late = texels > (std::size_t{1} << 18) ? (std::size_t{1} << 18) + 1000 : texels / 2;
+        t.metalness.resize(texels);
+        if (roughness_plane) t.roughness.resize(texels);
+        for (std::size_t i = 0; i < texels; ++i) {
+          const std::size_t c = i < early                           ? i
+                                : i < late                          ? random() % early
+                                : i - late < colours.size() - early ? early + (i - late)
+                                                                    : random() % colours.size();
+          t.metalness[i] = colours[c].second;
+          if (roughness_plane) t.roughness[i] = colours[c].first;
+        }
+        const std::optional<BakedTexels::Indexed> indexed = t.metal_rough_indexed();
+        const Bytes interleaved = encode_png(t.metal_rough(), t.width, t.height, 3, 1);
+        if (pairs > 256) {
+          EXPECT_FALSE(indexed.has_value());
+          EXPECT_EQ(interleaved[25], 2);  // IHDR's colour type: RGB (3 is a palette)
+          continue;
+        }
+        ASSERT_TRUE(indexed.has_value());
+        EXPECT_EQ(indexed->palette.size(), static_cast<std::size_t>(pairs));
+        const Bytes from_planes =
+            deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height), 1);
+        EXPECT_EQ(from_planes[25], 3);  // a palette image
+        EXPECT_TRUE(from_planes == interleaved);
+        const Pixels decoded = decode_image(from_planes, "the indexed map");
+        EXPECT_TRUE(decoded.bytes == t.metal_rough());
       }
-      const std::optional<BakedTexels::Indexed> indexed = t.metal_rough_indexed();
-      const Bytes interleaved = encode_png(t.metal_rough(), t.width, t.height, 3, 1);
-      if (pairs > 256) {
-        EXPECT_FALSE(indexed.has_value());
-        EXPECT_EQ(interleaved[25], 2);  // IHDR's colour type: RGB (3 is a palette)
-        continue;
-      }
-      ASSERT_TRUE(indexed.has_value());
-      EXPECT_EQ(indexed->palette.size(), static_cast<std::size_t>(pairs));
-      const Bytes from_planes =
-          deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height), 1);
-      EXPECT_EQ(from_planes[25], 3);  // a palette image
-      EXPECT_TRUE(from_planes == interleaved);
-      const Pixels decoded = decode_image(from_planes, "the indexed map");
-      EXPECT_TRUE(decoded.bytes == t.metal_rough());
     }
   }
 }

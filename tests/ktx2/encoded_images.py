@@ -23,6 +23,7 @@ import tempfile
 
 from PIL import Image
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 from script_checks import check, finish  # noqa: E402
 

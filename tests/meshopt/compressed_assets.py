@@ -19,6 +19,7 @@ import urllib.parse
 
 from PIL import Image, ImageChops, ImageStat
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 from script_checks import check, finish  # noqa: E402
 
