@@ -268,9 +268,8 @@ class SolveCache {
   // texels it will see, a power of two up to kMostEntries; it never shrinks. Nothing inside a
   // bake's work on a thread may start another bake on the pool: that bake would take this cache
   // in the middle of the first (and keep or label entries that are not its own).
-  static SolveCache& for_this_thread(const SolverSettings& settings, size_t texels, const SolveContext& context) {
+  static SolveCache& for_this_thread(size_t texels, const SolveContext& context) {
     thread_local SolveCache cache;
-    cache.settings_ = &settings;
     const size_t size = std::bit_ceil(std::clamp<size_t>(texels, 256, kMostEntries));
     const bool same_answers = cache.finished_ && cache.context_ == context;
     cache.finished_ = false, cache.context_ = context;
@@ -344,7 +343,7 @@ class SolveCache {
   // Solves every queued input in one batch; tickets then name their entries until the next call.
   void solve_queued() {
     std::vector<MetalRough> solved(queue_.size());
-    solve_batch(queue_, solved, *settings_);
+    solve_batch(queue_, solved, context_->settings);
     ticket_entries_.assign(queue_.size(), nullptr);
     for (size_t slot : claimed_) {
       Entry& entry = entry_at(slot);
@@ -391,7 +390,7 @@ class SolveCache {
     if (jobs == 0) return;
     // The normal-incidence run leaves the appearance unmeasured: its entries are not keyed by glossiness.
     error_delta_e_.resize(jobs);
-    errors_measure_.measure(error_texels_, settings_->error_model == ErrorModel::Appearance, error_delta_e_);
+    errors_measure_.measure(error_texels_, context_->settings.error_model == ErrorModel::Appearance, error_delta_e_);
     for (size_t j = 0; j < jobs; ++j) {
       if (error_slots_[j] < 0) continue;
       ErrorSlot& slot = errors_[static_cast<size_t>(error_slots_[j])];
@@ -442,8 +441,7 @@ class SolveCache {
 
   SolveCache() = default;
 
-  const SolverSettings* settings_ = nullptr;
-  std::optional<SolveContext> context_;  // of the last bake
+  std::optional<SolveContext> context_;  // of this bake (and, until it starts, of the last)
   bool finished_ = false;                // the last bake ran to its end (finish())
   std::vector<Set> sets_;
   std::vector<size_t> ticket_of_slot_;
@@ -614,8 +612,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
     cache.measure_errors(set_error);
   };
   run_on_threads(threads, [&] {
-    Cache& cache =
-        Cache::for_this_thread(settings, texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)), context);
+    Cache& cache = Cache::for_this_thread(texels / static_cast<size_t>(std::max<std::int64_t>(1, threads)), context);
     std::vector<std::pair<size_t, size_t>> waiting;  // (texel, ticket) of the band's misses
     bool equal = equals_diffuse.load();              // this thread's texels so far
     for (std::int64_t run; (run = next_run.fetch_add(1)) < runs;)

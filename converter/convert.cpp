@@ -389,17 +389,15 @@ class Converter {
             if (t.metal_rough_constant) return;
             // A map of at most 256 pairs is indexed from the planes; the preview, which keeps the
             // texels, and larger maps interleave them for filter_png.
-            if (std::optional<BakedTexels::Indexed> indexed =
-                    options_.keep_decoded ? std::nullopt : t.metal_rough_indexed()) {
-              if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
-              metal_rough = deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height),
-                                        options_.png_compression);
-              return;
-            }
-            TexelBytes texels = t.metal_rough();
+            const std::optional<BakedTexels::Indexed> indexed =
+                options_.keep_decoded ? std::nullopt : t.metal_rough_indexed();
+            TexelBytes texels = indexed ? TexelBytes() : t.metal_rough();
             // The planes are read no more, unless the error is measured on the metalness below.
             if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
-            metal_rough = deflate_baked_png(filter_baked_png(texels, &texels, t.width, t.height, 3));
+            metal_rough = indexed
+                              ? deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height),
+                                            options_.png_compression)
+                              : deflate_baked_png(filter_baked_png(texels, &texels, t.width, t.height, 3));
           },
           [&] {
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
