@@ -96,6 +96,9 @@ class Converter {
     MetalRough factor_solution;                 // full precision, for factor-only materials
     bool reuse_diffuse = false;                 // baseColor texels equal the diffuse image's: keep its bytes
     int base_color_image = -1, metal_rough_image = -1;
+    // A map whose bytes equal an image an earlier bake wrote (the base colour of two materials that
+    // differ only in glossiness): that image serves it, and every material using it shares it.
+    bool base_color_written_before = false, metal_rough_written_before = false;
     // The encoded maps until the material baked for adds them to the file (in material order,
     // whichever thread made them), and what making them cost it.
     Bytes base_color_bytes, metal_rough_bytes;
@@ -103,10 +106,10 @@ class Converter {
     StageTimes times;
     int baked_for = -1;  // the material whose conversion baked it; later ones share its images
     // What a material using this bake gets in the slot whose image is `image`.
-    TextureOutcome outcome(int image, int material) const {
-      return image < 0               ? TextureOutcome::Factor
-             : baked_for == material ? TextureOutcome::Baked
-                                     : TextureOutcome::Shared;
+    TextureOutcome outcome(int image, bool written_before, int material) const {
+      return image < 0                                  ? TextureOutcome::Factor
+             : baked_for == material && !written_before ? TextureOutcome::Baked
+                                                        : TextureOutcome::Shared;
     }
   };
   void convert_material(tinygltf::Material& material, const LegacyMaterial& legacy, MaterialReport& entry) {
@@ -156,7 +159,7 @@ class Converter {
     } else {
       pbr.baseColorTexture = texture_for(baked.base_color_image, *mapping);
       pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.alpha / 255.0 : 1.0};
-      entry.outputs.base_color = baked.outcome(baked.base_color_image, entry.index);
+      entry.outputs.base_color = baked.outcome(baked.base_color_image, baked.base_color_written_before, entry.index);
     }
     if (t.metal_rough_constant) {
       pbr.metallicFactor = t.metalness[0] / 255.0;
@@ -164,7 +167,8 @@ class Converter {
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
     }
-    entry.outputs.metallic_roughness = baked.outcome(baked.metal_rough_image, entry.index);
+    entry.outputs.metallic_roughness =
+        baked.outcome(baked.metal_rough_image, baked.metal_rough_written_before, entry.index);
   }
 
   // Target specular: whether a material takes the extension route, with the reason in its note.
@@ -230,7 +234,8 @@ class Converter {
         pbr.metallicRoughnessTexture = texture_for(rough.metal_rough_image, *legacy.spec_gloss_texture);
         pbr.roughnessFactor = 1.0;
       }
-      entry.outputs.metallic_roughness = rough.outcome(rough.metal_rough_image, entry.index);
+      entry.outputs.metallic_roughness =
+          rough.outcome(rough.metal_rough_image, rough.metal_rough_written_before, entry.index);
     }
     material.extensions[kSpecular] = tinygltf::Value(std::move(specular));
     tinygltf::Value::Object ior;
@@ -272,10 +277,12 @@ class Converter {
       bake.images_added = true;
       entry.times += bake.times;
       if (!bake.base_color_bytes.empty())
-        bake.base_color_image =
+        std::tie(bake.base_color_image, bake.base_color_written_before) =
             add_image(std::move(bake.base_color_bytes), "baseColor", bake.base_color_jpeg ? "image/jpeg" : "image/png");
       if (!bake.metal_rough_bytes.empty())
-        bake.metal_rough_image = add_image(std::move(bake.metal_rough_bytes), "metallicRoughness", "image/png");
+        std::tie(bake.metal_rough_image, bake.metal_rough_written_before) =
+            add_image(std::move(bake.metal_rough_bytes), "metallicRoughness", "image/png");
+      if (bake.base_color_written_before || bake.metal_rough_written_before) ++report_.textures_shared;
     }
     return bake;
   }
@@ -616,7 +623,11 @@ class Converter {
     return bytes;
   }
 
-  int add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {
+  // The image holding `encoded`, added to the file unless an earlier bake wrote the same bytes
+  // (then true: no image is written twice).
+  std::pair<int, bool> add_image(Bytes encoded, const std::string& role, const std::string& mime_type) {
+    const auto [written, added] = images_written_.try_emplace(image_content_key(encoded), -1);
+    if (!added) return {written->second, true};
     tinygltf::Image image;
     image.mimeType = mime_type;
     image.name = role + "_" + std::to_string(model_.images.size());
@@ -624,7 +635,8 @@ class Converter {
     image.as_is = true;
     model_.images.push_back(std::move(image));
     ++report_.textures_baked;
-    return static_cast<int>(model_.images.size()) - 1;
+    written->second = static_cast<int>(model_.images.size()) - 1;
+    return {written->second, false};
   }
 
   // A texture for a baked image, sampled like the input it came from (sampler, texCoord,
@@ -676,6 +688,7 @@ class Converter {
   std::map<std::string, Bake> bakes_;
   std::map<std::string, std::exception_ptr> failed_bakes_;  // prebake()'s, rethrown in material order
   std::map<std::pair<int, int>, int> textures_;
+  std::map<ImageContentKey, int> images_written_;  // baked images by their bytes
 };
 
 }  // namespace

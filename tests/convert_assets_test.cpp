@@ -240,6 +240,34 @@ TEST(Sharing, IdenticalInputsShareOneOutputTexture) {
   EXPECT_LE(report.textures_baked, 2);
 }
 
+// Glossiness does not enter the normal-incidence solve, so two materials that differ only in it
+// bake the same base colour (and different roughness): that image is written once.
+TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
+  Asset asset = load_asset(asset_file("Duck"));
+  tinygltf::Material glossier = asset.model.materials[0];
+  auto extension = glossier.extensions.at(kSpecGloss).Get<tinygltf::Value::Object>();
+  extension["glossinessFactor"] = tinygltf::Value(0.8);
+  glossier.extensions[kSpecGloss] = tinygltf::Value(std::move(extension));
+  asset.model.materials.push_back(glossier);
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 2u);
+  const auto source = [&](int material, bool base_color) {
+    const auto& pbr = asset.model.materials[static_cast<size_t>(material)].pbrMetallicRoughness;
+    const int texture = base_color ? pbr.baseColorTexture.index : pbr.metallicRoughnessTexture.index;
+    return asset.model.textures.at(static_cast<size_t>(texture)).source;
+  };
+  EXPECT_EQ(source(0, true), source(1, true));
+  EXPECT_NE(source(0, false), source(1, false));
+  EXPECT_EQ(report.materials[0].outputs.base_color, TextureOutcome::Baked);
+  EXPECT_EQ(report.materials[1].outputs.base_color, TextureOutcome::Shared);
+  EXPECT_EQ(report.materials[1].outputs.metallic_roughness, TextureOutcome::Baked);
+  EXPECT_EQ(report.textures_baked, 3);
+  EXPECT_EQ(report.textures_shared, 1);
+  std::set<ImageContentKey> distinct;
+  for (const auto& image : asset.model.images) distinct.insert(image_content_key(image.image));
+  EXPECT_EQ(distinct.size(), asset.model.images.size());
+}
+
 TEST(Fallback, AuthorsOldMetalRoughTexturesAreDroppedWhenUnused) {
   ScratchDir scratch;
   Asset asset = load_asset(asset_file("Avocado"));
