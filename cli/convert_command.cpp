@@ -225,7 +225,8 @@ void declare_options(CLI::App& cmd, ConvertArgs& args) {
   cmd.add_flag("--no-gallery", args.no_gallery, "--preview: leave DIR/index.html as it is");
   cmd.add_option("--report", args.report, "write the JSON report (per file, per material: error, texels, time)");
   cmd.add_option("--png-compression", args.file.png_compression,
-                 "deflate level 0-9 of baked PNG textures (libdeflate: 1 fast, 9 smallest)")
+                 "deflate level 0-9 of baked PNG textures (libdeflate: 1 fast, 9 smallest; images of at most 64 KiB "
+                 "of rows always take 9)")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
   cmd.add_option("--jpeg-quality", args.file.jpeg_quality,

@@ -17,7 +17,8 @@ struct ConvertOptions {
   Target target = Target::Metalness;
   SolverSettings solver;
   double specular_tolerance = 2.0;      // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
-  int png_compression = 1;              // deflate level (libdeflate, 0-9) of baked textures: speed against bytes
+  int png_compression =
+      1;  // deflate level (libdeflate, 0-9) of baked textures: speed against bytes (small ones: 9, core/png.cpp)
   int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
   // When set, every image the conversion decodes (its inputs, and the JPEG base colours it measures

@@ -340,6 +340,26 @@ TEST(LeanCodecs, APngFilteredInPartsAndDeflatedWholeReadsBackExactlyInBothDecode
     }
 }
 
+// An image whose filtered rows fit in 64 KiB deflates at level 9 whatever level was asked (it costs
+// about a millisecond there); a larger one takes the level asked.
+TEST(LeanCodecs, ASmallPngTakesTheSmallestLevelAndALargeOneTheLevelAsked) {
+  const auto grey_ramp = [](int side) {
+    std::vector<std::uint8_t> texels(static_cast<size_t>(side) * static_cast<size_t>(side));
+    for (size_t i = 0; i < texels.size(); ++i)
+      texels[i] = static_cast<std::uint8_t>(i % static_cast<size_t>(side) / 3 + (i * 2654435761u >> 29));
+    return texels;
+  };
+  const std::vector<std::uint8_t> small = grey_ramp(200), large = grey_ramp(400);  // 40,200 and 160,400 row bytes
+  const Bytes small_fast = encode_png(small, 200, 200, 1, 1), small_stored = encode_png(small, 200, 200, 1, 0);
+  EXPECT_EQ(small_fast, encode_png(small, 200, 200, 1, 9));
+  EXPECT_EQ(small_stored, small_fast);
+  EXPECT_LT(small_fast.size(), small.size());
+  const Bytes large_fast = encode_png(large, 400, 400, 1, 1), large_smallest = encode_png(large, 400, 400, 1, 9);
+  EXPECT_GT(large_fast.size(), large_smallest.size());
+  const Pixels decoded = decode_image(small_fast, "small");
+  EXPECT_TRUE(std::equal(small.begin(), small.end(), decoded.bytes.begin(), decoded.bytes.end()));
+}
+
 // Rows stored in another form than given (opaque RGBA as RGB, grey RGB as grey) are converted part
 // by part on the pool, each part converting its row above for the Average filter as well: every
 // texel reads back exactly, across the parts' seams.

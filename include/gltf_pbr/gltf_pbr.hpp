@@ -67,7 +67,8 @@ struct ConvertFileOptions {
   SolverEffort solver = SolverEffort::Balanced;
   ErrorModel error_model = ErrorModel::NormalIncidence;
   double specular_tolerance = 2.0;       // ΔE2000 (p95) a metalness fit may miss by (Target::Specular)
-  int png_compression = 1;               // deflate level 0-9 of baked PNG textures (libdeflate; 9 is smallest)
+  int png_compression = 1;  // deflate level 0-9 of baked PNG textures (libdeflate; 9 is smallest; images of at most 64
+                            // KiB of rows always take 9)
   int jpeg_quality = 90;                 // 1-100, of base colours baked from JPEG diffuse textures
   std::size_t error_samples = 1u << 16;  // texels sampled per texture for the error statistics (0: all)
   bool allow_outside_uris = false;       // read absolute or "../" resource URIs
