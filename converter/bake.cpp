@@ -642,9 +642,8 @@ BakedTexels bake(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.base_color.resize(inputs.overwrite_diffuse ? 0 : texels * static_cast<size_t>(out.base_channels));
   out.metalness.resize(texels);
   if (in.spec_gloss) out.roughness.resize(texels);
-  // The first texel's alpha and roughness: the factors', unless the texels carry them (below).
+  // The first texel's alpha: the factor's, unless the texels carry it (below).
   out.alpha = quantize(in.diffuse_factor.a);
-  out.first_roughness = quantize(1.0f - in.glossiness_factor);
   if (texels == 0) return out;
 
   if (ByteTexels::serves(inputs))

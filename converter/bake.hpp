@@ -43,13 +43,15 @@ struct BakedTexels {
   int base_channels = 4;
   std::uint8_t alpha = 255;  // the first texel's alpha: all of them when alpha_constant
   // Linear metalness, a byte a texel; roughness a byte a texel only when the glossiness varies by
-  // texel (a specularGlossiness texture), else empty and `first_roughness` everywhere. Planes, not
+  // texel (a specularGlossiness texture), else empty and 255 everywhere: the material's
+  // roughnessFactor then carries 1 - glossiness at full precision (glTF 2.0 section 3.9.2 multiplies
+  // the two), so materials that differ only in their glossiness factor share one map. Planes, not
   // the interleaved map, while the bake runs: a third of the memory where the roughness is a factor
   // (CesiumMilkTruck's 2048² map: 4 MB, not 12). Where no later step reads them, convert frees
   // them once interleaved for the encoder, and gives base_color to it (converter/convert.cpp):
   // afterwards only a constant map's first texel is read.
   TexelBytes metalness, roughness;
-  std::uint8_t first_roughness = 0;
+  std::uint8_t first_roughness = 255;
   bool base_constant = true, alpha_constant = true, metal_rough_constant = true;
   // The base colour equals the 8-bit diffuse within the solve's rounding (1 code in RGB; alpha
   // exactly), so the diffuse image can stand for it (the caller also checks the factor); the

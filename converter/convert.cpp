@@ -62,8 +62,10 @@ class Converter {
       const auto extension = model_.materials[i].extensions.find(kSpecGloss);
       if (extension == model_.materials[i].extensions.end()) continue;
       legacy_materials.emplace_back(i, read_legacy_material(asset_, static_cast<int>(i)));
-      for (int image : images_of(legacy_materials.back().second)) ++pending_uses_[image];
     }
+    find_repeated_images(legacy_materials);
+    for (const auto& [i, legacy] : legacy_materials)
+      for (int image : images_of(legacy)) ++pending_uses_[image];
     prebake(legacy_materials);
     for (const auto& [i, legacy] : legacy_materials) {
       auto& material = model_.materials[i];
@@ -161,11 +163,14 @@ class Converter {
       pbr.baseColorFactor = {1.0, 1.0, 1.0, t.alpha_constant ? t.alpha / 255.0 : 1.0};
       entry.outputs.base_color = baked.outcome(baked.base_color_image, baked.base_color_written_before, entry.index);
     }
+    // Where the glossiness is a factor, the map holds roughness 1 and the factor carries it (bake.hpp).
+    const double roughness_factor = legacy.spec_gloss_texture ? 1.0 : legacy.roughness_factor();
     if (t.metal_rough_constant) {
       pbr.metallicFactor = t.metalness[0] / 255.0;
-      pbr.roughnessFactor = t.first_roughness / 255.0;
+      pbr.roughnessFactor = roughness_factor * t.first_roughness / 255.0;
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
+      pbr.roughnessFactor = roughness_factor;
     }
     entry.outputs.metallic_roughness =
         baked.outcome(baked.metal_rough_image, baked.metal_rough_written_before, entry.index);
@@ -212,7 +217,7 @@ class Converter {
       entry.outputs.base_color = TextureOutcome::InputReused;
     }
     pbr.metallicFactor = 0.0;
-    pbr.roughnessFactor = std::clamp(1.0 - legacy.glossiness_factor, 0.0, 1.0);
+    pbr.roughnessFactor = legacy.roughness_factor();
     tinygltf::Value::Object specular;
     specular["specularColorFactor"] =
         number_array_value({legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b});
@@ -248,13 +253,18 @@ class Converter {
   }
 
   // The inputs a bake depends on: identical ones give one output (DESIGN.md: no duplicate textures).
+  // The glossiness factor of a diffuse texture without a specularGlossiness texture enters that
+  // bake only through the appearance model's solve: the map holds roughness 1 and each material's
+  // factor carries its own (a factor-only bake solves the roughness with the rest).
   std::string bake_key(const LegacyMaterial& legacy, bool roughness_only) const {
     const int diffuse_image = image_of(legacy.diffuse_texture), spec_image = image_of(legacy.spec_gloss_texture);
+    const bool glossiness_bakes =
+        !legacy.diffuse_texture || legacy.spec_gloss_texture || options_.solver.error_model == ErrorModel::Appearance;
     char key[256];
     std::snprintf(key, sizeof key, "%d|%d|%a,%a,%a,%a|%a,%a,%a|%a|%d", roughness_only ? -2 : diffuse_image, spec_image,
                   legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b, legacy.diffuse_factor.a,
                   legacy.specular_factor.r, legacy.specular_factor.g, legacy.specular_factor.b,
-                  legacy.glossiness_factor, roughness_only);
+                  glossiness_bakes ? legacy.glossiness_factor : 0.0f, roughness_only);
     return key;
   }
 
@@ -530,9 +540,33 @@ class Converter {
       if (texture) images.push_back(image_of(texture));
     return images;
   }
-  // The image a texture slot reads, or -1 for an empty slot.
+  // The image a texture slot reads, or -1 for an empty slot: the first of the images that hold the
+  // same bytes.
   int image_of(const std::optional<tinygltf::TextureInfo>& texture) const {
-    return texture ? model_.textures[static_cast<size_t>(texture->index)].source : -1;
+    if (!texture) return -1;
+    const int image = model_.textures[static_cast<size_t>(texture->index)].source;
+    const auto same = first_with_same_bytes_.find(image);
+    return same == first_with_same_bytes_.end() ? image : same->second;
+  }
+  // Image entries that hold the same bytes (exporters repeat an image per material) are one input,
+  // decoded once and baked once. Only images of one encoded size can be equal, so only those are
+  // hashed: a file without repeats hashes nothing.
+  void find_repeated_images(const std::vector<std::pair<size_t, LegacyMaterial>>& legacy_materials) {
+    std::map<size_t, std::set<int>> by_size;
+    for (const auto& [i, legacy] : legacy_materials)
+      for (const auto& texture : {legacy.diffuse_texture, legacy.spec_gloss_texture})
+        if (texture) {
+          const int image = model_.textures[static_cast<size_t>(texture->index)].source;
+          by_size[encoded_image_bytes(asset_, image).size()].insert(image);
+        }
+    for (const auto& [size, images] : by_size) {
+      if (size == 0 || images.size() < 2) continue;
+      std::map<ImageContentKey, int> first;
+      for (int image : images) {
+        const int same = first.try_emplace(image_content_key(encoded_image_bytes(asset_, image)), image).first->second;
+        if (same != image) first_with_same_bytes_[image] = same;
+      }
+    }
   }
 
   // Thread-safe (the two images of a bake decode concurrently). Each image decodes once: one read
@@ -683,6 +717,7 @@ class Converter {
   ConversionReport report_;
   std::atomic<long> images_decoded_{0};  // decode() runs on several threads
   std::mutex decoded_mutex_;
+  std::map<int, int> first_with_same_bytes_;  // image -> the first image of the same bytes (repeats only)
   std::map<int, int> pending_uses_;                          // image -> texture reads yet to convert
   std::map<int, std::shared_future<SharedPixels>> decoded_;  // images more than one of them reads
   std::map<std::string, Bake> bakes_;

@@ -240,9 +240,10 @@ TEST(Sharing, IdenticalInputsShareOneOutputTexture) {
   EXPECT_LE(report.textures_baked, 2);
 }
 
-// Glossiness does not enter the normal-incidence solve, so two materials that differ only in it
-// bake the same base colour (and different roughness): that image is written once.
-TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
+// Glossiness does not enter the normal-incidence solve, and a glossiness factor is carried by the
+// roughness factor over a map that holds roughness 1: two materials that differ only in it share
+// one bake, and each keeps its own roughness.
+TEST(Sharing, MaterialsThatDifferOnlyInTheirGlossinessFactorShareOneBake) {
   Asset asset = load_asset(asset_file("Duck"));
   tinygltf::Material glossier = asset.model.materials[0];
   auto extension = glossier.extensions.at(kSpecGloss).Get<tinygltf::Value::Object>();
@@ -251,18 +252,45 @@ TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
   asset.model.materials.push_back(glossier);
   const ConversionReport report = convert(asset);
   ASSERT_EQ(report.materials.size(), 2u);
-  const auto source = [&](int material, bool base_color) {
-    const auto& pbr = asset.model.materials[static_cast<size_t>(material)].pbrMetallicRoughness;
-    const int texture = base_color ? pbr.baseColorTexture.index : pbr.metallicRoughnessTexture.index;
-    return asset.model.textures.at(static_cast<size_t>(texture)).source;
-  };
-  EXPECT_EQ(source(0, true), source(1, true));
-  EXPECT_NE(source(0, false), source(1, false));
+  const auto& a = asset.model.materials[0].pbrMetallicRoughness;
+  const auto& b = asset.model.materials[1].pbrMetallicRoughness;
+  EXPECT_EQ(a.baseColorTexture.index, b.baseColorTexture.index);
+  ASSERT_GE(a.metallicRoughnessTexture.index, 0);
+  EXPECT_EQ(a.metallicRoughnessTexture.index, b.metallicRoughnessTexture.index);
+  EXPECT_NEAR(a.roughnessFactor, 0.7, 1e-6);  // Duck's glossiness 0.3
+  EXPECT_NEAR(b.roughnessFactor, 0.2, 1e-6);
+  EXPECT_EQ(report.materials[1].outputs.base_color, TextureOutcome::Shared);
+  EXPECT_EQ(report.materials[1].outputs.metallic_roughness, TextureOutcome::Shared);
+  EXPECT_EQ(report.textures_baked, 2);
+}
+
+// Two image entries that hold the same file are two bakes' inputs, and the bakes come out
+// byte-identical: the second bake's images are the first's, written once.
+TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
+  Asset asset = load_asset(asset_file("Duck"));
+  asset.model.images.push_back(asset.model.images.at(0));
+  tinygltf::Texture texture = asset.model.textures.at(0);
+  texture.source = static_cast<int>(asset.model.images.size()) - 1;
+  asset.model.textures.push_back(texture);
+  tinygltf::Material copy = asset.model.materials[0];
+  auto extension = copy.extensions.at(kSpecGloss).Get<tinygltf::Value::Object>();
+  auto diffuse = extension.at("diffuseTexture").Get<tinygltf::Value::Object>();
+  diffuse["index"] = tinygltf::Value(static_cast<int>(asset.model.textures.size()) - 1);
+  extension["diffuseTexture"] = tinygltf::Value(std::move(diffuse));
+  copy.extensions[kSpecGloss] = tinygltf::Value(std::move(extension));
+  asset.model.materials.push_back(copy);
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 2u);
+  const auto& a = asset.model.materials[0].pbrMetallicRoughness;
+  const auto& b = asset.model.materials[1].pbrMetallicRoughness;
+  EXPECT_EQ(a.baseColorTexture.index, b.baseColorTexture.index);
+  EXPECT_EQ(a.metallicRoughnessTexture.index, b.metallicRoughnessTexture.index);
   EXPECT_EQ(report.materials[0].outputs.base_color, TextureOutcome::Baked);
   EXPECT_EQ(report.materials[1].outputs.base_color, TextureOutcome::Shared);
-  EXPECT_EQ(report.materials[1].outputs.metallic_roughness, TextureOutcome::Baked);
-  EXPECT_EQ(report.textures_baked, 3);
+  EXPECT_EQ(report.materials[1].outputs.metallic_roughness, TextureOutcome::Shared);
+  EXPECT_EQ(report.textures_baked, 2);
   EXPECT_EQ(report.textures_shared, 1);
+  EXPECT_EQ(report.images_decoded, 1);  // the two image entries hold one file: decoded once
   std::set<ImageContentKey> distinct;
   for (const auto& image : asset.model.images) distinct.insert(image_content_key(image.image));
   EXPECT_EQ(distinct.size(), asset.model.images.size());

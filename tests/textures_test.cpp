@@ -344,15 +344,17 @@ TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
   EXPECT_EQ(base.channels, 3);  // the JPEG has no alpha, so neither has the baked baseColor
   EXPECT_DOUBLE_EQ(pbr.baseColorFactor.at(3), 1.0);
 
-  // Glossiness 1 everywhere: roughness 0. Specular 0.1 sits between plastic and metal: the prior
-  // keeps metalness low (DESIGN.md: it rises from 0 at F0 0.04 to 1 at 0.45).
+  // Glossiness 1 everywhere: roughness 0, carried by the factor (the map holds 1 where the glossiness
+  // is a factor). Specular 0.1 sits between plastic and metal: the prior keeps metalness low
+  // (DESIGN.md: it rises from 0 at F0 0.04 to 1 at 0.45).
   float metalness_max = 0;
   if (pbr.metallicRoughnessTexture.index >= 0) {
+    EXPECT_DOUBLE_EQ(pbr.roughnessFactor, 0.0);
     const Pixels mr = texture_pixels(converted, pbr.metallicRoughnessTexture.index);
     EXPECT_EQ(mr.width, source.width);
     for (int y = 0; y < mr.height; ++y)
       for (int x = 0; x < mr.width; ++x) {
-        ASSERT_EQ(byte_at(mr, x, y, 1), 0) << x << "," << y;
+        ASSERT_EQ(byte_at(mr, x, y, 1), 255) << x << "," << y;
         metalness_max = std::max(metalness_max, mr.at(x, y, 2));
       }
   } else {
