@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "core/color.hpp"
@@ -49,7 +50,7 @@ std::uint64_t mix_bits(std::uint64_t k) {
 // A texel as written, beside the legacy texel it stands for: what an error sample measures.
 struct StoredTexel {
   SpecGloss legacy;
-  std::uint8_t base_srgb[3];
+  glm::vec3 base;  // linear, as a viewer reads it
   std::uint8_t metalness;
 };
 
@@ -78,7 +79,7 @@ class StoredTexelErrors {
     for (size_t j = 0; j < n; ++j) {
       const StoredTexel& texel = texels[j];
       MetalRough stored;
-      for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(texel.base_srgb[c]);
+      stored.base = texel.base;
       stored.metalness = static_cast<float>(texel.metalness) / 255.0f;
       stored.roughness = std::clamp(1.0f - texel.legacy.glossiness, 0.0f, 1.0f);
       const Reflectance converted = core_reflectance(stored);
@@ -374,7 +375,7 @@ class SolveCache {
     if (!known || known->job < 0) {
       StoredTexel& texel = error_texels_.emplace_back();
       texel.legacy = legacy();
-      std::memcpy(texel.base_srgb, entry.base_srgb, 3);
+      for (int c = 0; c < 3; ++c) texel.base[c] = srgb8_to_linear(entry.base_srgb[c]);
       texel.metalness = entry.metalness;
       error_slots_.push_back(slot ? static_cast<std::int64_t>(*slot) : -1);
       if (known) known->job = static_cast<std::int32_t>(error_texels_.size() - 1);
@@ -672,34 +673,57 @@ size_t error_sample_stride(size_t texels, size_t max_error_samples) {
   return max_error_samples == 0 ? 1 : std::max<size_t>(1, texels / max_error_samples);
 }
 
-void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
-                        const SolverSettings& settings) {
-  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
-  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
-    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
+namespace {
+
+// error_a and error_b of every error sample of `texels` as the texel `store(texel, stored)` writes
+// (stored.legacy is the sample's legacy texel), in batches of bounded scratch on the pool
+// (ErrorAccumulator takes each sample once, from any thread).
+template <typename Store>
+std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels& texels, const SolverSettings& settings,
+                                                              Store store) {
   const bool appearance = settings.error_model == ErrorModel::Appearance;
   const size_t samples = texels.sampled_legacy.size();
-  texels.error_a = ErrorAccumulator(samples, appearance);
-  texels.error_b = ErrorAccumulator(samples);
-  // Batches of bounded scratch on the pool (ErrorAccumulator takes each sample once, from any thread).
+  std::pair<ErrorAccumulator, ErrorAccumulator> errors{ErrorAccumulator(samples, appearance),
+                                                       ErrorAccumulator(samples)};
   constexpr size_t kBatch = 4096;
   parallel_dynamic(static_cast<std::int64_t>((samples + kBatch - 1) / kBatch), [&](std::int64_t index) {
     const size_t first = static_cast<size_t>(index) * kBatch;
     std::vector<StoredTexel> batch(std::min(kBatch, samples - first));
     for (size_t j = 0; j < batch.size(); ++j) {
-      const size_t texel = (first + j) * texels.sample_stride;
       batch[j].legacy = texels.sampled_legacy[first + j];
-      std::memcpy(batch[j].base_srgb, &base[texel * static_cast<size_t>(channels)], 3);
-      batch[j].metalness = texels.metalness[texel];
+      store((first + j) * texels.sample_stride, batch[j]);
     }
     std::vector<StoredTexelErrors::DeltaE> delta_e(batch.size());
     StoredTexelErrors().measure(batch, appearance, delta_e);
     for (size_t j = 0; j < batch.size(); ++j) {
-      texels.error_a.set(first + j, delta_e[j][0], delta_e[j][1]);
-      if (appearance) texels.error_a.set_appearance(first + j, delta_e[j][4]);
-      texels.error_b.set(first + j, delta_e[j][2], delta_e[j][3]);
+      errors.first.set(first + j, delta_e[j][0], delta_e[j][1]);
+      if (appearance) errors.first.set_appearance(first + j, delta_e[j][4]);
+      errors.second.set(first + j, delta_e[j][2], delta_e[j][3]);
     }
   });
+  return errors;
+}
+
+}  // namespace
+
+void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                        const SolverSettings& settings) {
+  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
+  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
+    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
+  std::tie(texels.error_a, texels.error_b) = measure_samples(texels, settings, [&](size_t texel, StoredTexel& stored) {
+    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base[texel * static_cast<size_t>(channels) + c]);
+    stored.metalness = texels.metalness[texel];
+  });
+}
+
+std::pair<ReflectanceError, ReflectanceError> dielectric_copy_error(const BakedTexels& texels,
+                                                                    const SolverSettings& settings) {
+  auto [a, b] = measure_samples(texels, settings, [](size_t, StoredTexel& stored) {
+    stored.base = stored.legacy.diffuse;  // the diffuse texel times the diffuse factor: what the viewer reads
+    stored.metalness = 0;
+  });
+  return {a.finish(), b.finish()};
 }
 
 std::optional<BakedTexels::Indexed> BakedTexels::metal_rough_indexed() const {

@@ -5,6 +5,7 @@
 #include <glm/vec4.hpp>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "converter/error_stats.hpp"
@@ -89,5 +90,11 @@ BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_
 // was written.
 void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
                         const SolverSettings& settings);
+
+// The figures (readings A and B, finished) of the dielectric copy on the same samples: the diffuse
+// image kept as it is under the diffuse factor, metallic 0, the roughness 1 - glossiness. What a
+// material gets where the bake's lossy base colour measures worse (converter/convert.cpp).
+std::pair<ReflectanceError, ReflectanceError> dielectric_copy_error(const BakedTexels& texels,
+                                                                    const SolverSettings& settings);
 
 }  // namespace gltf_pbr

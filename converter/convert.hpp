@@ -17,8 +17,7 @@ struct ConvertOptions {
   Target target = Target::Metalness;
   SolverSettings solver;
   double specular_tolerance = 2.0;      // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
-  int png_compression =
-      1;  // deflate level (libdeflate, 0-9) of baked textures: speed against bytes (small ones: 9, core/png.cpp)
+  int png_compression = 1;              // libdeflate level 0-9 of baked PNGs (at least 9 for small ones)
   int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
   // When set, every image the conversion decodes (its inputs, and the JPEG base colours it measures

@@ -20,6 +20,7 @@ using test::assets_dir;
 using test::ScratchDir;
 
 using test::kSpecGloss;
+using test::numbers;
 
 // Every spec-gloss input: the eleven models, the GLB and the Draco variants.
 std::vector<fs::path> spec_gloss_inputs() {
@@ -264,9 +265,9 @@ TEST(Sharing, MaterialsThatDifferOnlyInTheirGlossinessFactorShareOneBake) {
   EXPECT_EQ(report.textures_baked, 2);
 }
 
-// Two image entries that hold the same file are two bakes' inputs, and the bakes come out
-// byte-identical: the second bake's images are the first's, written once.
-TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
+// Exporters repeat an image per material: image entries that hold the same bytes are one input,
+// decoded once and baked once.
+TEST(Sharing, ImageEntriesThatHoldTheSameBytesAreOneInput) {
   Asset asset = load_asset(asset_file("Duck"));
   asset.model.images.push_back(asset.model.images.at(0));
   tinygltf::Texture texture = asset.model.textures.at(0);
@@ -285,15 +286,76 @@ TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
   const auto& b = asset.model.materials[1].pbrMetallicRoughness;
   EXPECT_EQ(a.baseColorTexture.index, b.baseColorTexture.index);
   EXPECT_EQ(a.metallicRoughnessTexture.index, b.metallicRoughnessTexture.index);
-  EXPECT_EQ(report.materials[0].outputs.base_color, TextureOutcome::Baked);
+  EXPECT_EQ(report.materials[1].outputs.base_color, TextureOutcome::Shared);
+  EXPECT_EQ(report.textures_baked, 2);
+  EXPECT_EQ(report.images_decoded, 1);
+  EXPECT_EQ(report.materials[1].times.solve_ms, 0.0);  // nothing solved again
+}
+
+// Two bakes whose maps come out byte-identical: the diffuse factors differ only in an alpha that the
+// RGB diffuse texture does not carry (the factor carries it). The second bake's maps are the
+// first's images, written once.
+TEST(Sharing, ABakedImageEqualToOneAlreadyWrittenIsSharedNotWrittenAgain) {
+  Asset asset = load_asset(asset_file("Duck"));
+  tinygltf::Material translucent = asset.model.materials[0];
+  auto extension = translucent.extensions.at(kSpecGloss).Get<tinygltf::Value::Object>();
+  extension["diffuseFactor"] = numbers({1.0, 1.0, 1.0, 0.5});
+  translucent.extensions[kSpecGloss] = tinygltf::Value(std::move(extension));
+  asset.model.materials.push_back(translucent);
+  const ConversionReport report = convert(asset);
+  ASSERT_EQ(report.materials.size(), 2u);
+  const auto& a = asset.model.materials[0].pbrMetallicRoughness;
+  const auto& b = asset.model.materials[1].pbrMetallicRoughness;
+  EXPECT_EQ(a.baseColorTexture.index, b.baseColorTexture.index);
+  EXPECT_EQ(a.metallicRoughnessTexture.index, b.metallicRoughnessTexture.index);
+  EXPECT_DOUBLE_EQ(b.baseColorFactor.at(3), 0.5);
   EXPECT_EQ(report.materials[1].outputs.base_color, TextureOutcome::Shared);
   EXPECT_EQ(report.materials[1].outputs.metallic_roughness, TextureOutcome::Shared);
   EXPECT_EQ(report.textures_baked, 2);
   EXPECT_EQ(report.textures_shared, 1);
-  EXPECT_EQ(report.images_decoded, 1);  // the two image entries hold one file: decoded once
   std::set<ImageContentKey> distinct;
   for (const auto& image : asset.model.images) distinct.insert(image_content_key(image.image));
   EXPECT_EQ(distinct.size(), asset.model.images.size());
+}
+
+// VC's JPEG diffuse textures over specular 0: re-encoding the baked base colour as JPEG costs more
+// error than the bake removes, so those materials keep their diffuse image as it is, metallic 0,
+// and no image is written for them; its specular-0.57 material still bakes.
+TEST(DielectricCopy, AJpegDiffuseIsKeptAsItIsWhereItsReEncodedBakeMeasuresWorse) {
+  const Asset original = load_asset(asset_file("VC"));
+  Asset asset = original;
+  const ConversionReport report = convert(asset);
+  int kept = 0, baked = 0;
+  for (const MaterialReport& m : report.materials) {
+    const auto& pbr = asset.model.materials[static_cast<size_t>(m.index)].pbrMetallicRoughness;
+    const LegacyMaterial legacy = read_legacy_material(original, m.index);
+    if (m.note.rfind("the diffuse image kept as it is", 0) != 0) {
+      baked += m.outputs.base_color == TextureOutcome::Baked;
+      continue;
+    }
+    ++kept;
+    ASSERT_TRUE(legacy.diffuse_texture);
+    EXPECT_EQ(pbr.baseColorTexture.index, legacy.diffuse_texture->index) << m.name;
+    EXPECT_EQ(m.outputs.base_color, TextureOutcome::InputReused) << m.name;
+    EXPECT_EQ(m.outputs.metallic_roughness, TextureOutcome::Factor) << m.name;
+    EXPECT_EQ(pbr.metallicRoughnessTexture.index, -1) << m.name;
+    EXPECT_EQ(pbr.metallicFactor, 0.0) << m.name;
+    EXPECT_NEAR(pbr.roughnessFactor, 1.0 - legacy.glossiness_factor, 1e-6) << m.name;
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(pbr.baseColorFactor[static_cast<size_t>(c)], legacy.diffuse_factor[c], 1e-6) << m.name;
+    // The note gives both figures; the one reported is the kept image's, and no higher.
+    double copy = 0, as_baked = 0;
+    ASSERT_EQ(std::sscanf(m.note.c_str(),
+                          "the diffuse image kept as it is, metallic 0: diffuse + F0 means %lf ΔE2000, "
+                          "against %lf",
+                          &copy, &as_baked),
+              2)
+        << m.note;
+    EXPECT_LE(copy, as_baked) << m.name;
+    EXPECT_NEAR(m.error_a->diffuse.mean + m.error_a->f0.mean, copy, 0.01) << m.name;
+  }
+  EXPECT_GT(kept, 100);
+  EXPECT_GT(baked, 0);
 }
 
 TEST(Fallback, AuthorsOldMetalRoughTexturesAreDroppedWhenUnused) {

@@ -69,6 +69,13 @@ inline void write_bytes(const fs::path& path, std::span<const std::uint8_t> byte
 
 inline constexpr const char* kSpecGloss = "KHR_materials_pbrSpecularGlossiness";
 
+// A JSON array of numbers, as a factor is written.
+inline tinygltf::Value numbers(std::initializer_list<double> values) {
+  tinygltf::Value::Array array;
+  for (double v : values) array.emplace_back(v);
+  return tinygltf::Value(std::move(array));
+}
+
 // A shared asset's folder: assets/<model>/<variant>.
 inline fs::path model_folder(const std::string& model, const std::string& variant = "specgloss") {
   return assets_dir() / model / variant;

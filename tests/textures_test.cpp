@@ -29,6 +29,7 @@ using test::files_under;
 using test::ScratchDir;
 
 using test::kSpecGloss;
+using test::numbers;
 constexpr const char* kTextureTransform = "KHR_texture_transform";
 
 using Texel = std::array<std::uint8_t, 4>;
@@ -52,12 +53,6 @@ struct Texels {
     return t;
   }
 };
-
-tinygltf::Value numbers(std::initializer_list<double> values) {
-  tinygltf::Value::Array array;
-  for (double v : values) array.emplace_back(v);
-  return tinygltf::Value(std::move(array));
-}
 
 // A legacy document with one spec-gloss material, built up by the test.
 class SpecGlossModel {

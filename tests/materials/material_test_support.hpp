@@ -10,15 +10,10 @@
 #include "core/image.hpp"
 #include "core/report.hpp"
 #include "rules/rule_set.hpp"
+#include "test_support.hpp"
 #include "validators/materials/materials.hpp"
 
 namespace gltf_pbr::test {
-
-inline tinygltf::Value numbers(std::initializer_list<double> values) {
-  tinygltf::Value::Array array;
-  for (double v : values) array.emplace_back(v);
-  return tinygltf::Value(std::move(array));
-}
 
 // A document built in code; images are PNG-encoded bytes (as load_asset keeps them).
 class AssetBuilder {
