@@ -675,14 +675,14 @@ size_t error_sample_stride(size_t texels, size_t max_error_samples) {
 
 namespace {
 
-// error_a and error_b of every error sample of `texels` as the texel `store(texel, stored)` writes
-// (stored.legacy is the sample's legacy texel), in batches of bounded scratch on the pool
-// (ErrorAccumulator takes each sample once, from any thread).
+// error_a and error_b of every `step`-th error sample of `texels` as the texel `store(texel,
+// stored)` writes (stored.legacy is the sample's legacy texel), in batches of bounded scratch on
+// the pool (ErrorAccumulator takes each sample once, from any thread).
 template <typename Store>
 std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels& texels, const SolverSettings& settings,
-                                                              Store store) {
+                                                              size_t step, Store store) {
   const bool appearance = settings.error_model == ErrorModel::Appearance;
-  const size_t samples = texels.sampled_legacy.size();
+  const size_t samples = (texels.sampled_legacy.size() + step - 1) / step;
   std::pair<ErrorAccumulator, ErrorAccumulator> errors{ErrorAccumulator(samples, appearance),
                                                        ErrorAccumulator(samples)};
   constexpr size_t kBatch = 4096;
@@ -690,8 +690,9 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
     const size_t first = static_cast<size_t>(index) * kBatch;
     std::vector<StoredTexel> batch(std::min(kBatch, samples - first));
     for (size_t j = 0; j < batch.size(); ++j) {
-      batch[j].legacy = texels.sampled_legacy[first + j];
-      store((first + j) * texels.sample_stride, batch[j]);
+      const size_t sample = (first + j) * step;
+      batch[j].legacy = texels.sampled_legacy[sample];
+      store(sample * texels.sample_stride, batch[j]);
     }
     std::vector<StoredTexelErrors::DeltaE> delta_e(batch.size());
     StoredTexelErrors().measure(batch, appearance, delta_e);
@@ -704,26 +705,45 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
   return errors;
 }
 
+// The texel as written: 8-bit sRGB `base` with `channels` a texel on the bake's grid, and the
+// bake's metalness.
+auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels) {
+  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
+  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
+    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
+  return [&texels, base, channels](size_t texel, StoredTexel& stored) {
+    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base[texel * static_cast<size_t>(channels) + c]);
+    stored.metalness = texels.metalness[texel];
+  };
+}
+
+// The dielectric copy: the diffuse texel times the diffuse factor (what the viewer reads of the
+// diffuse image under that factor), metalness 0.
+void stored_as_dielectric_copy(size_t, StoredTexel& stored) {
+  stored.base = stored.legacy.diffuse;
+  stored.metalness = 0;
+}
+
 }  // namespace
 
 void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
                         const SolverSettings& settings) {
-  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
-  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
-    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
-  std::tie(texels.error_a, texels.error_b) = measure_samples(texels, settings, [&](size_t texel, StoredTexel& stored) {
-    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base[texel * static_cast<size_t>(channels) + c]);
-    stored.metalness = texels.metalness[texel];
-  });
+  std::tie(texels.error_a, texels.error_b) =
+      measure_samples(texels, settings, 1, stored_as_written(texels, base, channels));
 }
 
-std::pair<ReflectanceError, ReflectanceError> dielectric_copy_error(const BakedTexels& texels,
-                                                                    const SolverSettings& settings) {
-  auto [a, b] = measure_samples(texels, settings, [](size_t, StoredTexel& stored) {
-    stored.base = stored.legacy.diffuse;  // the diffuse texel times the diffuse factor: what the viewer reads
-    stored.metalness = 0;
-  });
-  return {a.finish(), b.finish()};
+void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings) {
+  std::tie(texels.error_a, texels.error_b) = measure_samples(texels, settings, 1, stored_as_dielectric_copy);
+}
+
+WrittenAgainstCopy written_against_copy(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                                        const SolverSettings& settings, size_t samples) {
+  const size_t step = std::max<size_t>(1, texels.sampled_legacy.size() / std::max<size_t>(1, samples));
+  WrittenAgainstCopy out;
+  out.written = measure_samples(texels, settings, step, stored_as_written(texels, base, channels)).first.finish();
+  out.copy = measure_samples(texels, settings, step, stored_as_dielectric_copy).first.finish();
+  out.samples = (texels.sampled_legacy.size() + step - 1) / step;
+  return out;
 }
 
 std::optional<BakedTexels::Indexed> BakedTexels::metal_rough_indexed() const {

@@ -5,7 +5,6 @@
 #include <glm/vec4.hpp>
 #include <optional>
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "converter/error_stats.hpp"
@@ -91,10 +90,18 @@ BakedTexels bake(const BakeInputs& inputs, const SolverSettings& settings, size_
 void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
                         const SolverSettings& settings);
 
-// The figures (readings A and B, finished) of the dielectric copy on the same samples: the diffuse
-// image kept as it is under the diffuse factor, metallic 0, the roughness 1 - glossiness. What a
-// material gets where the bake's lossy base colour measures worse (converter/convert.cpp).
-std::pair<ReflectanceError, ReflectanceError> dielectric_copy_error(const BakedTexels& texels,
-                                                                    const SolverSettings& settings);
+// The dielectric copy on the same samples: the diffuse image kept as it is under the diffuse
+// factor, metallic 0, the roughness 1 - glossiness. error_a and error_b as measure_as_written sets
+// them, for a material that keeps its diffuse image (converter/convert.cpp).
+void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings);
+
+// Reading A's figures of both, finished, on about `samples` of the error samples (every k-th):
+// enough to choose between them at a fraction of a full measure's cost.
+struct WrittenAgainstCopy {
+  ReflectanceError written, copy;
+  size_t samples = 0;
+};
+WrittenAgainstCopy written_against_copy(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                                        const SolverSettings& settings, size_t samples);
 
 }  // namespace gltf_pbr

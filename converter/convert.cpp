@@ -98,7 +98,7 @@ class Converter {
     MetalRough factor_solution;                 // full precision, for factor-only materials
     bool reuse_diffuse = false;                 // baseColor texels equal the diffuse image's: keep its bytes
     // The diffuse image as it is, metallic 0: its JPEG base colour as baked and re-encoded measured
-    // worse (dielectric_copy_error). No image is written; `note` says why.
+    // worse (keeps_diffuse_as_it_is). No image is written; `note` says why.
     bool dielectric_copy = false;
     std::string note;
     int base_color_image = -1, metal_rough_image = -1;
@@ -149,7 +149,7 @@ class Converter {
       ++report_.textures_reused;
       entry.outputs.base_color = TextureOutcome::InputReused;
       entry.outputs.metallic_roughness = TextureOutcome::Factor;
-      entry.note = baked.note;
+      entry.note = entry.note.empty() ? baked.note : entry.note + "; " + baked.note;
       return;
     }
     const BakedTexels& t = baked.texels;
@@ -321,7 +321,6 @@ class Converter {
     const int diffuse_image = image_of(legacy.diffuse_texture), spec_image = image_of(legacy.spec_gloss_texture);
     Bake bake;
     bake.baked_for = material;
-    std::shared_ptr<Pixels> written_base;  // the decode of a JPEG base colour, measured as written
     BakeInputs inputs;
     inputs.diffuse_factor = legacy.diffuse_factor;
     inputs.specular_factor = legacy.specular_factor;
@@ -446,14 +445,23 @@ class Converter {
         // The report gives the error of the texels the file holds: a JPEG's decode (on VC the
         // encoding alone takes the diffuse mean from 0.2-0.6 to 0.7-4.4 ΔE2000), else the bake's
         // own (a factor, or an input image reused within one code of them). Timed with the encoding.
+        std::shared_ptr<Pixels> written;
         if (bake_base && jpeg_base) {
-          written_base = std::make_shared<Pixels>(decode_image(base_color, "the baked baseColor"));
+          written = std::make_shared<Pixels>(decode_image(base_color, "the baked baseColor"));
           ++images_decoded_;
         }
-        if (written_base)
-          measure_as_written(t, written_base->bytes, written_base->channels, options_.solver);
-        else
+        if (written && !legacy.spec_gloss_texture && keeps_diffuse_as_it_is(bake, *written)) {
+          measure_dielectric_copy(t, options_.solver);
+          if (options_.keep_decoded && !metal_rough.empty())  // the preview's copy of a map not written
+            options_.keep_decoded->forget(image_content_key(metal_rough));
+          base_color.clear(), metal_rough.clear();
+        } else if (written) {
+          measure_as_written(t, written->bytes, written->channels, options_.solver);
+          if (options_.keep_decoded) options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
+        } else {
           measure_as_written(t, t.base_color, t.base_channels, options_.solver);
+        }
+        t.sampled_legacy = std::vector<SpecGloss>();  // freed (assigning {} would keep the capacity)
       }
       bake.base_color_bytes = std::move(base_color), bake.base_color_jpeg = jpeg_base;
       bake.metal_rough_bytes = std::move(metal_rough);
@@ -463,41 +471,34 @@ class Converter {
     bake.error_b = bake.texels.error_b.finish();
     bake.extension_a = bake.texels.extension_a.finish();
     bake.extension_b = bake.texels.extension_b.finish();
-    if (written_base && !legacy.spec_gloss_texture) {
-      const auto start = Clock::now();
-      choose_dielectric_copy(bake);
-      bake.times.encode_ms += ms_since(start);  // with the measure of what was written
-    }
-    if (written_base && !bake.dielectric_copy && options_.keep_decoded)
-      options_.keep_decoded->keep(image_content_key(bake.base_color_bytes), std::move(written_base));
-    bake.texels.sampled_legacy = std::vector<SpecGloss>();  // freed (assigning {} would keep the capacity)
     return bake;
   }
 
   // A JPEG diffuse bakes to a JPEG base colour, and the re-encoding can cost more error than the
   // bake removes (VC, specular 0: diffuse means of 1.9-4.4 ΔE2000 as written, 0.3-0.7 for the
-  // diffuse kept as it is). Where the diffuse image kept as it is, metallic 0, measures no worse by
-  // the error model's own figure (the sum of the diffuse and F0 means under normal incidence, the
-  // appearance mean under the appearance model), the material gets that, and no image is written.
-  void choose_dielectric_copy(Bake& bake) const {
-    const auto [copy_a, copy_b] = dielectric_copy_error(bake.texels, options_.solver);
+  // diffuse kept as it is). Where the diffuse image kept as it is, metallic 0, measures no worse
+  // by the error model's own figure (the sum of the diffuse and F0 means under normal incidence,
+  // the appearance mean under the appearance model) on kDecisionSamples of the error samples, the
+  // material gets that, and no image is written. Only where the glossiness is a factor: a
+  // specularGlossiness texture's roughness needs a map anyway.
+  static constexpr size_t kDecisionSamples = 4096;
+  bool keeps_diffuse_as_it_is(Bake& bake, const Pixels& written) const {
+    const WrittenAgainstCopy part =
+        written_against_copy(bake.texels, written.bytes, written.channels, options_.solver, kDecisionSamples);
+    const bool appearance = options_.solver.error_model == ErrorModel::Appearance;
     const auto judged = [&](const ReflectanceError& e) {
-      return options_.solver.error_model == ErrorModel::Appearance && e.appearance ? e.appearance->mean
-                                                                                   : e.diffuse.mean + e.f0.mean;
+      return appearance && e.appearance ? e.appearance->mean : e.diffuse.mean + e.f0.mean;
     };
-    const double baked = judged(bake.error_a), copy = judged(copy_a);
-    if (copy > baked) return;
-    char note[240];
+    const double baked = judged(part.written), copy = judged(part.copy);
+    if (copy > baked) return false;
+    char note[260];
     std::snprintf(note, sizeof note,
                   "the diffuse image kept as it is, metallic 0: %s %.2f ΔE2000, against %.2f for the base colour "
-                  "as baked and re-encoded as JPEG",
-                  copy_a.appearance && options_.solver.error_model == ErrorModel::Appearance ? "appearance mean"
-                                                                                             : "diffuse + F0 means",
-                  copy, baked);
+                  "as baked and re-encoded as JPEG (on %zu error samples)",
+                  appearance ? "appearance mean" : "diffuse + F0 means", copy, baked, part.samples);
     bake.note = note;
     bake.dielectric_copy = true;
-    bake.error_a = copy_a, bake.error_b = copy_b;
-    Bytes().swap(bake.base_color_bytes), Bytes().swap(bake.metal_rough_bytes);
+    return true;
   }
 
   // Small bakes, several at once, one thread each: inside a bake, each of the pool's threads
@@ -614,6 +615,7 @@ class Converter {
       for (int image : images) {
         const int same = first.try_emplace(image_content_key(encoded_image_bytes(asset_, image)), image).first->second;
         if (same != image) first_with_same_bytes_[image] = same;
+        release_encoded_image_pages(asset_, image);  // a repeat is never decoded, which would give them back
       }
     }
   }

@@ -161,6 +161,15 @@ const Pixels& DecodedImages::get(const Asset& asset, int image) {
   return *held->second;
 }
 
+void DecodedImages::forget(const ImageContentKey& key) {
+  const std::lock_guard lock(mutex_);
+  const auto held = by_content_.find(key);
+  if (held == by_content_.end()) return;
+  for (const auto& [image, pixels] : by_image_)
+    if (pixels == held->second.get()) return;  // a reference get() gave out lives as long as this object
+  by_content_.erase(held);
+}
+
 void DecodedImages::keep(const ImageContentKey& key, std::shared_ptr<const Pixels> pixels) {
   const std::lock_guard lock(mutex_);
   by_content_.try_emplace(key, std::move(pixels));

@@ -122,6 +122,7 @@ class DecodedImages {
   // Throws std::runtime_error naming the image when it cannot be decoded.
   const Pixels& get(const Asset& asset, int image);
   void keep(const ImageContentKey& key, std::shared_ptr<const Pixels> pixels);
+  void forget(const ImageContentKey& key);                               // unless get() has handed it out
   std::shared_ptr<const Pixels> find(const ImageContentKey& key) const;  // null when not held
   void clear();  // gives the memory back (get()'s references end here)
 

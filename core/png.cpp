@@ -499,9 +499,10 @@ FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<
 // percent more bytes (Avocado's maps at 4096²: 277 against 517 ms of CPU; bench/RESULTS.md,
 // session 29). Its streams cannot be cut into pieces that join, so an image deflates on the
 // calling thread; the output is not zeroed (its pages are touched only as far as the stream goes).
-// Rows of at most kSmallPngRows bytes (a 256² grey or palette map) take at least level 9: it
-// costs them about 1 ms and saves 5-15% (bench/RESULTS.md, session 33). Above, level 9 costs
-// 20-50 ns a byte more than level 1 (VC: 50 ms of CPU for its 256² maps).
+// Rows of at most kSmallPngRows bytes (a grey or palette map of up to 255², an RGB one of up to
+// 147²) take at least level 9: it costs them about a millisecond and saves 5-15% (bench/RESULTS.md,
+// session 33). Above, level 9 costs 20-50 ns a byte more than level 1: VC's 256² palette maps
+// took 50 ms more CPU, so they stay at the level asked.
 constexpr std::size_t kSmallPngRows = std::size_t{1} << 16;
 constexpr int kSmallPngLevel = 9;
 Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
