@@ -360,6 +360,24 @@ TEST(LeanCodecs, ASmallPngTakesTheSmallestLevelAndALargeOneTheLevelAsked) {
   EXPECT_TRUE(std::equal(small.begin(), small.end(), decoded.bytes.begin(), decoded.bytes.end()));
 }
 
+// The run's decoded images: a map the conversion made and then did not write is forgotten (the
+// preview would hold it to the end), but pixels get() has handed out stay while the object lives.
+TEST(DecodedImages, ForgetGivesBackWhatWasKeptButNotWhatGetHandedOut) {
+  DecodedImages images;
+  const Bytes made = encode_png(std::vector<std::uint8_t>(64 * 64, 7), 64, 64, 1, 1);
+  const ImageContentKey made_key = image_content_key(made);
+  images.keep(made_key, std::make_shared<Pixels>(decode_image(made, "made")));
+  ASSERT_NE(images.find(made_key), nullptr);
+  images.forget(made_key);
+  EXPECT_EQ(images.find(made_key), nullptr);
+
+  const Asset duck = load_asset(test::model_folder("Duck") / "Duck.gltf");
+  const Pixels& read = images.get(duck, 0);
+  const ImageContentKey read_key = image_content_key(encoded_image_bytes(duck, 0));
+  images.forget(read_key);
+  EXPECT_EQ(images.find(read_key).get(), &read);
+}
+
 // Rows stored in another form than given (opaque RGBA as RGB, grey RGB as grey) are converted part
 // by part on the pool, each part converting its row above for the Average filter as well: every
 // texel reads back exactly, across the parts' seams.
