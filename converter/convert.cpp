@@ -454,7 +454,7 @@ class Converter {
           measure_dielectric_copy(t, options_.solver);
           if (options_.keep_decoded && !metal_rough.empty())  // the preview's copy of a map not written
             options_.keep_decoded->forget(image_content_key(metal_rough));
-          base_color.clear(), metal_rough.clear();
+          Bytes().swap(base_color), Bytes().swap(metal_rough);
         } else if (written) {
           measure_as_written(t, written->bytes, written->channels, options_.solver);
           if (options_.keep_decoded) options_.keep_decoded->keep(image_content_key(base_color), std::move(written));

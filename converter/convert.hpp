@@ -61,7 +61,9 @@ struct MaterialReport {
   int index = -1;
   std::string name;
   MaterialOutcome outcome = MaterialOutcome::Legacy;
-  std::string note;      // why, for Legacy and Specular, and for Metalness under Target::Specular's appearance test
+  // Why, for Legacy and Specular, for Metalness under Target::Specular's appearance test, and for
+  // a material that keeps its JPEG diffuse as it is (both figures).
+  std::string note;
   long long texels = 0;  // texels solved (1 for a factor-only material)
   size_t error_samples = 0;
   // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt
