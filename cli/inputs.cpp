@@ -10,6 +10,7 @@
 #include <map>
 
 #include "cli/commands.hpp"
+#include "core/asset.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/image.hpp"
@@ -178,6 +179,25 @@ void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vecto
     if (!fresh)
       throw CLI::ValidationError("input", files[it->second].file.string() + " and " + files[i].file.string() +
                                               " would both be written to " + outputs[i].string() + "; " + remedy);
+  }
+}
+
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path,
+                                const std::string& option) {
+  if (path.empty() || path == "-") return;
+  const fs::path target = resolved(path);
+  const auto refuse = [&](const fs::path& input) {
+    throw CLI::ValidationError(option, "refusing to write " + printable(path) + " over " + printable(input.string()) +
+                                           ", which the run reads");
+  };
+  for (const InputFile& input : files) {
+    if (resolved(input.file) == target) refuse(input.file);
+    const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
+    if (!is_under(target, folder)) continue;
+    const std::optional<Bytes> bytes = read_file(input.file);
+    if (!bytes) continue;  // the run reports the unreadable input itself
+    for (const std::string& uri : external_uris(*bytes).value_or(std::vector<std::string>{}))
+      if (resolved(folder / percent_decode(uri)) == target) refuse(folder / percent_decode(uri));
   }
 }
 

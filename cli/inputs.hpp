@@ -50,6 +50,12 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const std::f
 void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<std::filesystem::path>& outputs,
                            const std::string& remedy = "give their folders instead, or run them separately");
 
+// A run never writes over what it reads: throws CLI::ValidationError when the file that `option`
+// names (--report, --results) is one of the inputs or a file an input names (a buffer, an image).
+// Only inputs in a folder that holds `path` are read for the files they name.
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path,
+                                const std::string& option);
+
 bool is_gltf_file(const std::filesystem::path& path);
 
 // "[done/total] <verb>..." kept on the last line of a terminal (also when quiet: it is erased at the

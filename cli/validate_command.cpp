@@ -134,6 +134,8 @@ int run(const ValidateArgs& args) {
   std::vector<Report> reports(files.size());
   std::optional<ResultCache> cache;
   if (!args.pipeline.cache.empty()) cache.emplace(args.pipeline.cache);
+  refuse_writing_over_inputs(found, args.pipeline.results, "--results");
+  if (!report_folder) refuse_writing_over_inputs(found, args.output, "--output");
   ResultsLog results_log(args.pipeline.results);
   const std::string settings = cache ? run_settings(args, options) : "";
   // A file's report from the cache when it holds one, else validated and stored.

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <future>
+#include <glm/vector_relational.hpp>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -135,7 +136,8 @@ class Converter {
 
     auto& pbr = material.pbrMetallicRoughness;
     pbr = tinygltf::PbrMetallicRoughness();  // the author's old fallback is replaced
-    if (options_.target == Target::Specular && takes_specular_route(baked, entry)) {
+    if (options_.target == Target::Specular && diffuse_factor_is_a_base_color(legacy) &&
+        takes_specular_route(baked, entry)) {
       write_specular_route(material, legacy, baked, entry);
       return;
     }
@@ -353,6 +355,7 @@ class Converter {
       // Asked before the decode, which gives the encoded pages back.
       const bool jpeg_diffuse =
           diffuse_image >= 0 && image_format_of(encoded_image_bytes(asset_, diffuse_image)) == ImageFormat::Jpeg;
+      const bool diffuse_passes = diffuse_image >= 0 && passes_as_base_color(legacy, diffuse_image);
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
       parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },
@@ -387,7 +390,7 @@ class Converter {
 
       start = Clock::now();
       bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
-      bake.reuse_diffuse = !roughness_only && diffuse &&
+      bake.reuse_diffuse = !roughness_only && diffuse && diffuse_passes &&
                            legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
                            bake.texels.equals_diffuse;
       bake.times.solve_ms += ms_since(start);
@@ -450,7 +453,7 @@ class Converter {
           written = std::make_shared<Pixels>(decode_image(base_color, "the baked baseColor"));
           ++images_decoded_;
         }
-        if (written && !legacy.spec_gloss_texture && keeps_diffuse_as_it_is(bake, *written)) {
+        if (written && !legacy.spec_gloss_texture && diffuse_passes && keeps_diffuse_as_it_is(bake, *written)) {
           measure_dielectric_copy(t, options_.solver);
           if (options_.keep_decoded && !metal_rough.empty())  // the preview's copy of a map not written
             options_.keep_decoded->forget(image_content_key(metal_rough));
@@ -472,6 +475,22 @@ class Converter {
     bake.extension_a = bake.texels.extension_a.finish();
     bake.extension_b = bake.texels.extension_b.finish();
     return bake;
+  }
+
+  // Whether the diffuse factor is a valid baseColorFactor (glTF 2.0 schema: [0, 1]), for the routes
+  // that copy it. The solver brings a diffuse above 1 into gamut; a copy could not.
+  static bool diffuse_factor_is_a_base_color(const LegacyMaterial& legacy) {
+    return glm::all(glm::lessThanEqual(glm::vec3(legacy.diffuse_factor), glm::vec3(1.0f)));
+  }
+
+  // Whether the diffuse image may stand as the base colour with its bytes as they are: its header
+  // reads without a problem (a CMYK JPEG is not one glTF allows), its entry declares the media type
+  // its bytes have, and its factor is a valid baseColorFactor. Else the material bakes.
+  bool passes_as_base_color(const LegacyMaterial& legacy, int image) const {
+    const std::span<const std::uint8_t> bytes = encoded_image_bytes(asset_, image);
+    const std::string& declared = asset_.model.images[static_cast<size_t>(image)].mimeType;
+    return read_image_header(bytes, HeaderDepth::Size).problem == HeaderProblem::None &&
+           (declared.empty() || declared == image_mime_of(bytes)) && diffuse_factor_is_a_base_color(legacy);
   }
 
   // A JPEG diffuse bakes to a JPEG base colour, and the re-encoding can cost more error than the

@@ -77,7 +77,7 @@ struct Asset {
 // any more, and the bufferViews that only removed images used (compacting their buffers).
 // Extensions whose references it cannot follow make it keep everything (reported in warnings).
 struct PruneResult {
-  int textures = 0, images = 0, samplers = 0, buffer_views = 0;
+  int textures = 0, images = 0, samplers = 0, buffer_views = 0, buffers = 0;
 };
 PruneResult prune_unused(Asset& asset);
 

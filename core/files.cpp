@@ -252,14 +252,53 @@ void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uin
 }
 
 std::vector<fs::path> AtomicWriteSet::commit() {
-  std::vector<fs::path> written;
+  // How each destination was written, so that a later failure can undo it: a file that did not
+  // exist is removed; one that did is exchanged with the new one (renameat2 RENAME_EXCHANGE, Linux
+  // 3.15), so its old bytes wait under the temporary name until the commit ends. A file system
+  // that cannot exchange names gets a plain rename, which cannot be undone.
+  enum class Placed { Created, Exchanged, Replaced };
+  struct Done {
+    fs::path temporary, destination;
+    Placed placed;
+  };
+  std::vector<Done> done;
+  const auto undo = [&] {
+    std::error_code ignored;
+    for (auto it = done.rbegin(); it != done.rend(); ++it) {
+      if (it->placed == Placed::Created) fs::remove(it->destination, ignored);
+      if (it->placed == Placed::Exchanged) fs::rename(it->temporary, it->destination, ignored);
+    }
+  };
   for (auto& [temporary, destination] : staged_) {
     std::error_code ec;
-    fs::rename(temporary, destination, ec);
-    if (ec) throw OutputError("cannot rename into " + destination.string() + ": " + ec.message());
-    forget_temporary(temporary);
-    temporary.clear();
-    written.push_back(destination);
+    const fs::file_type type = fs::symlink_status(destination, ec).type();
+    // Only a file is exchanged: a folder in the way must fail the rename, not move aside.
+    const bool file = type == fs::file_type::regular || type == fs::file_type::symlink;
+    Placed placed = type == fs::file_type::not_found ? Placed::Created : file ? Placed::Exchanged : Placed::Replaced;
+    int result = placed == Placed::Replaced
+                     ? ::rename(temporary.c_str(), destination.c_str())
+                     : ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, destination.c_str(),
+                                   placed == Placed::Exchanged ? RENAME_EXCHANGE : RENAME_NOREPLACE);
+    if (result != 0 && placed != Placed::Replaced &&
+        (errno == EINVAL || errno == ENOSYS || errno == EEXIST || errno == ENOENT)) {
+      placed = Placed::Replaced;  // no exchange here (or the destination came or went meanwhile)
+      result = ::rename(temporary.c_str(), destination.c_str());
+    }
+    if (result != 0) {
+      const int error = errno;
+      undo();
+      throw OutputError("cannot rename into " + destination.string() + ": " + errno_text(error));
+    }
+    done.push_back({temporary, destination, placed});
+    if (placed != Placed::Exchanged) forget_temporary(temporary), temporary.clear();
+  }
+  std::vector<fs::path> written;
+  for (Done& file : done) {
+    if (file.placed == Placed::Exchanged) {  // the old bytes, no longer needed
+      ::unlink(file.temporary.c_str());
+      forget_temporary(file.temporary);
+    }
+    written.push_back(file.destination);
   }
   staged_.clear();
   return written;

@@ -58,7 +58,10 @@ class AtomicWriteSet {
   ~AtomicWriteSet();
   // Throws OutputError naming the destination and errno's reason when the temporary cannot be written.
   void stage(const fs::path& destination, std::span<const std::uint8_t> bytes);
-  // Renames every staged file into place, in staging order; returns their destinations.
+  // Renames every staged file into place, in staging order; returns their destinations. When a
+  // rename fails, the files already renamed are put back as they were before the commit (a new
+  // one removed, a replaced one restored where the file system can exchange two names) and the
+  // OutputError is thrown.
   std::vector<fs::path> commit();
 
  private:

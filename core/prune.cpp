@@ -175,11 +175,12 @@ PruneResult prune_unused(Asset& asset) {
   // EXT_meshopt_compression views) is copied in offset order, 4-byte aligned (glTF 2.0 section
   // 3.6.2.4: accessor offsets are multiples of their component size, at most 4). A fallback
   // placeholder has no bytes to compact.
-  std::vector<bool> buffer_lost_view(model.buffers.size(), false);
+  std::vector<bool> buffer_lost_view(model.buffers.size(), false), keep_buffer(model.buffers.size(), true);
   for (size_t i = 0; i < keep_view.size(); ++i)
     if (!keep_view[i] && model.bufferViews[i].buffer >= 0 &&
         static_cast<size_t>(model.bufferViews[i].buffer) < model.buffers.size())
       buffer_lost_view[static_cast<size_t>(model.bufferViews[i].buffer)] = true;
+  std::string problem_ignored;  // a malformed extension's view is no compressed source
   for (size_t b = 0; b < model.buffers.size(); ++b) {
     if (!buffer_lost_view[b] || is_meshopt_placeholder(model.buffers[b])) continue;
     struct Range {
@@ -219,8 +220,18 @@ PruneResult prune_unused(Asset& asset) {
     }
     model.buffers[b].data = std::move(compacted);
     model.buffers[b].uri.clear();  // new bytes: save_asset names the file anew
+    // A buffer that held only the released views goes too: glTF 2.0 requires byteLength >= 1.
+    keep_buffer[b] = !ranges.empty();
   }
   const std::vector<int> view_remap = keep_flagged(model.bufferViews, keep_view);
+  const std::vector<int> buffer_remap = keep_flagged(model.buffers, keep_buffer);
+  result.buffers = static_cast<int>(std::count(keep_buffer.begin(), keep_buffer.end(), false));
+  if (result.buffers > 0)
+    for (auto& view : model.bufferViews) {
+      if (const auto source = meshopt_view(view, problem_ignored); source)
+        set_meshopt_source(view, apply(buffer_remap, static_cast<int>(source->buffer)), source->byte_offset);
+      view.buffer = apply(buffer_remap, view.buffer);
+    }
   for (auto& accessor : model.accessors) {
     accessor.bufferView = apply(view_remap, accessor.bufferView);
     if (accessor.sparse.isSparse) {

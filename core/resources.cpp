@@ -23,6 +23,14 @@ const FileResources::External& FileResources::external(const std::string& uri) {
   return externals_.emplace(uri, std::move(entry)).first->second;
 }
 
+std::vector<fs::path> FileResources::files_read() const {
+  const std::lock_guard lock(mutex_);
+  std::vector<fs::path> files;
+  for (const auto& [uri, entry] : externals_)
+    if (entry.resolved.status == UriStatus::Readable) files.push_back(entry.resolved.path);
+  return files;
+}
+
 FileResources::DracoMesh FileResources::draco_mesh(std::span<const std::uint8_t> compressed) {
   if (!keep_draco_meshes_) return decode_draco_mesh(compressed);
   const XXH128_hash_t hash = XXH3_128bits(compressed.data(), compressed.size());

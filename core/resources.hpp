@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "core/files.hpp"
 #include "core/json.hpp"
@@ -44,6 +45,9 @@ class FileResources {
   // map twice). Pages are read as they are touched; as with any mapping, a file truncated while
   // mapped ends the process with SIGBUS when the lost pages are read.
   const External& external(const std::string& uri);
+  // Every file external() has resolved as readable so far: what the asset was read from, which a
+  // save must never overwrite, whether or not the converted asset still names it.
+  std::vector<fs::path> files_read() const;
 
   struct DracoMesh {
     std::shared_ptr<const draco::Mesh> mesh;  // null when the data does not decode
@@ -70,7 +74,7 @@ class FileResources {
   fs::path folder_;
   bool allow_outside_;
   bool keep_draco_meshes_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::map<std::string, External> externals_;  // map: entries stay where they are
   std::map<std::pair<std::uint64_t, std::uint64_t>, DracoMesh> draco_meshes_;
   std::optional<Document> document_;

@@ -204,8 +204,11 @@ std::vector<fs::path> save_asset(Asset& asset, const fs::path& output, bool repl
   const std::string stem = output.stem().string();
   AtomicWriteSet files;
 
-  // Input files this asset came from: never overwritten.
+  // Input files this asset came from, named in it or read by its load (a converted asset may no
+  // longer name the diffuse image it replaced): never overwritten.
   std::set<fs::path> inputs{fs::weakly_canonical(asset.path)};
+  if (asset.resources)
+    for (const fs::path& file : asset.resources->files_read()) inputs.insert(fs::weakly_canonical(file));
   for (const auto& buffer : model.buffers)
     if (!buffer.uri.empty() && !is_data_uri(buffer.uri))
       inputs.insert(fs::weakly_canonical(input_folder / percent_decode(buffer.uri)));

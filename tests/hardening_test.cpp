@@ -979,5 +979,130 @@ TEST(Messages, BadJobCountsAndUnknownCommandsGiveShortClearMessages) {
   EXPECT_NE(unknown.err.find("unknown command 'convrt'"), std::string::npos) << unknown.err;
 }
 
+// Duck with its diffuse image moved to `image_name`, or, with `image_buffer`, into a buffer file of
+// that name read through a bufferView: an input whose files have the names a conversion written
+// beside it would pick (o_baseColor_1.png, o_1.bin for an output o.gltf).
+fs::path duck_with_image_named(const fs::path& folder, const std::string& image_name, bool image_buffer) {
+  const fs::path gltf = copy_model("Duck", folder);
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  fs::rename(folder / "DuckCM.png", folder / image_name);
+  if (image_buffer) {
+    const auto size = fs::file_size(folder / image_name);
+    document["buffers"].push_back({{"uri", image_name}, {"byteLength", size}});
+    document["bufferViews"].push_back({{"buffer", 1}, {"byteLength", size}});
+    document["images"][0] = {{"bufferView", document["bufferViews"].size() - 1}, {"mimeType", "image/png"}};
+  } else {
+    document["images"][0]["uri"] = image_name;
+  }
+  test::write_text(gltf, document.dump());
+  return gltf;
+}
+
+// The validator's error count for a converted file: what the conversion wrote must be valid glTF.
+std::size_t errors_in(const fs::path& gltf) {
+  const Report report = validate_file(gltf, gltf.filename().string(), builtin_rules(), {}, ValidateOptions{});
+  for (const Issue& issue : report.messages)
+    if (issue.severity == Severity::Error) ADD_FAILURE() << gltf << ": " << issue.code << " " << issue.message;
+  return report.count(Severity::Error);
+}
+
+TEST(LostOutputs, AFileTheInputReadsIsNeverTakenForAnOutputsName) {
+  ScratchDir scratch;
+  const auto original = read_file(test::model_folder("Duck") / "DuckCM.png");
+  for (const bool image_buffer : {false, true}) {
+    const fs::path folder = scratch / (image_buffer ? "buffer" : "image");
+    const std::string name = image_buffer ? "o_1.bin" : "o_baseColor_1.png";
+    const fs::path gltf = duck_with_image_named(folder, name, image_buffer);
+    const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(folder / "o.gltf"), scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_file(folder / name), original) << name << " was written over";
+    EXPECT_NO_THROW(load_asset(gltf)) << "the input still loads";
+    EXPECT_EQ(errors_in(folder / "o.gltf"), 0u);
+  }
+}
+
+TEST(LostOutputs, AnImageInItsOwnBufferLeavesNoEmptyBufferWhenItIsBakedAway) {
+  ScratchDir scratch;
+  const fs::path gltf = duck_with_image_named(scratch / "in", "image.bin", true);
+  const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out" / "Duck.gltf"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Asset converted = load_asset(scratch / "out" / "Duck.gltf");
+  ASSERT_EQ(converted.model.buffers.size(), 1u) << "the image's buffer held nothing else";
+  EXPECT_EQ(converted.model.buffers[0].data, read_file(test::model_folder("Duck") / "Duck0.bin"));
+  for (const auto& view : converted.model.bufferViews) EXPECT_EQ(view.buffer, 0);
+  EXPECT_EQ(errors_in(scratch / "out" / "Duck.gltf"), 0u);
+}
+
+TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWritten) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "in");
+  const auto document = read_file(gltf), image = read_file(scratch / "in" / "CesiumLogoFlat.png");
+  for (const std::string& option :
+       {"--report " + quoted(gltf), "--results " + quoted(scratch / "in" / "CesiumLogoFlat.png"),
+        "--report " + quoted(scratch / "in" / "BoxTextured0.bin")}) {
+    const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " " + option, scratch);
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.err;
+    EXPECT_NE(r.err.find("refusing to write"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "out")) << option;
+  }
+  const auto v = run_cli("validate " + quoted(gltf) + " --results " + quoted(gltf), scratch);
+  EXPECT_EQ(v.exit_code, 2) << v.err;
+  EXPECT_EQ(read_file(gltf), document);
+  EXPECT_EQ(read_file(scratch / "in" / "CesiumLogoFlat.png"), image);
+}
+
+TEST(SilentLoss, FactorsOutsideTheSchemaStillConvertIntoAValidFile) {
+  // Above 1 and below 0 in every route that copies a factor: a JPEG diffuse kept as it is, a PNG
+  // diffuse reused, factors only, and the KHR_materials_specular route.
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Duck", scratch / "in");
+  const Pixels duck = decode_image(*read_file(scratch / "in" / "DuckCM.png"), "DuckCM.png");
+  test::write_bytes(scratch / "in" / "duck.jpg", encode_jpeg(duck.bytes, duck.width, duck.height, duck.channels, 95));
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  document["images"].push_back({{"uri", "duck.jpg"}});
+  document["textures"].push_back({{"source", 1}});
+  const auto material = [](nlohmann::json factors, int texture) {
+    if (texture >= 0) factors["diffuseTexture"] = {{"index", texture}};
+    return nlohmann::json{{"extensions", {{test::kSpecGloss, factors}}}, {"alphaMode", "BLEND"}};
+  };
+  document["materials"] = {
+      material({{"diffuseFactor", {1.5, 1.2, 1.0, 1.0}}, {"specularFactor", {0, 0, 0}}, {"glossinessFactor", 0.6}}, 1),
+      material({{"diffuseFactor", {1, 1, 1, 1.7}}, {"specularFactor", {0.04, 0.04, 0.04}}}, 0),
+      material({{"diffuseFactor", {1, 1, 1, -0.5}}, {"specularFactor", {0.04, 0.04, 0.04}}}, 0),
+      material({{"diffuseFactor", {2, -0.5, 0.3, 2}}, {"specularFactor", {-0.5, 2, 0}}, {"glossinessFactor", -1}}, -1)};
+  document["meshes"][0]["primitives"][0]["material"] = 0;
+  for (int m = 1; m < 4; ++m) {
+    document["meshes"][0]["primitives"].push_back(document["meshes"][0]["primitives"][0]);
+    document["meshes"][0]["primitives"][static_cast<size_t>(m)]["material"] = m;
+  }
+  test::write_text(gltf, document.dump());
+  for (const std::string target : {"metalness", "specular"}) {
+    const fs::path out = scratch / target / "Duck.gltf";
+    const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(out) + " --target " + target, scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(errors_in(out), 0u) << target;
+  }
+}
+
+TEST(SilentLoss, ADiffuseImageGltfDoesNotAllowIsBakedNotKeptAsTheBaseColour) {
+  // A CMYK JPEG (IMAGE_DATA_INVALID), and a JPEG declared as image/png: kept as they are, the
+  // converted file would carry the error.
+  ScratchDir scratch;
+  const fs::path cmyk = fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / "hostile_inputs" / "cmyk_jpeg_diffuse.gltf";
+  auto r = run_cli("convert -q " + quoted(cmyk) + " -o " + quoted(scratch / "cmyk" / "out.gltf"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(errors_in(scratch / "cmyk" / "out.gltf"), 0u);
+
+  const fs::path gltf = copy_model("Duck", scratch / "in");
+  const Pixels duck = decode_image(*read_file(scratch / "in" / "DuckCM.png"), "DuckCM.png");
+  test::write_bytes(scratch / "in" / "DuckCM.png", encode_jpeg(duck.bytes, duck.width, duck.height, duck.channels, 95));
+  auto document = nlohmann::json::parse(test::read_text(gltf));
+  document["images"][0]["mimeType"] = "image/png";
+  test::write_text(gltf, document.dump());
+  r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "mime" / "Duck.gltf"), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(errors_in(scratch / "mime" / "Duck.gltf"), 0u);
+}
+
 }  // namespace
 }  // namespace gltf_pbr

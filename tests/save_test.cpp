@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "core/asset.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
 #include "test_support.hpp"
 
 namespace gltf_pbr {
@@ -71,6 +73,37 @@ TEST(SaveRoundTrip, FailedSaveLeavesNoFileBehind) {
   test::write_text(scratch / "not-a-folder", "a file where the output folder should be");
   EXPECT_ANY_THROW(save_asset(asset, scratch / "not-a-folder" / "Box.gltf"));
   EXPECT_EQ(test::files_under(scratch.path()).size(), 1u);
+}
+
+TEST(AtomicWrites, AFailedCommitPutsBackEveryFileItHadAlreadyRenamed) {
+  // An output's side files are renamed before its main file: when a later rename fails (here a
+  // folder stands where the last file goes), the earlier ones must not stay half-written.
+  ScratchDir scratch;
+  test::write_text(scratch / "replaced.png", "the earlier output");
+  fs::create_directories(scratch / "blocked.gltf");
+  const auto bytes = [](const std::string& text) {
+    return std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+  };
+  const std::string replacement = "a new output", created = "a new file";
+  {
+    AtomicWriteSet files;
+    files.stage(scratch / "replaced.png", bytes(replacement));
+    files.stage(scratch / "created.bin", bytes(created));
+    files.stage(scratch / "blocked.gltf", bytes(created));
+    EXPECT_THROW(files.commit(), OutputError);
+  }
+  EXPECT_EQ(test::read_text(scratch / "replaced.png"), "the earlier output");
+  EXPECT_FALSE(fs::exists(scratch / "created.bin"));
+  EXPECT_TRUE(fs::is_directory(scratch / "blocked.gltf"));
+  EXPECT_EQ(test::files_under(scratch.path()).size(), 1u) << "no temporary is left";
+
+  AtomicWriteSet files;  // and a commit that succeeds replaces and creates, leaving no temporary
+  files.stage(scratch / "replaced.png", bytes(replacement));
+  files.stage(scratch / "created.bin", bytes(created));
+  EXPECT_EQ(files.commit().size(), 2u);
+  EXPECT_EQ(test::read_text(scratch / "replaced.png"), replacement);
+  EXPECT_EQ(test::read_text(scratch / "created.bin"), created);
+  EXPECT_EQ(test::files_under(scratch.path()).size(), 2u);
 }
 
 }  // namespace
