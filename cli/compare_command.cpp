@@ -48,7 +48,9 @@ constexpr const char* kCompareHelp =
     R"(Print, as JSON, the ΔE2000 error (diffuse weight and F0 at normal incidence) that a viewer sees in
 CONVERTED against the spec-gloss materials of LEGACY, material by material (same indices), on the
 texels convert bakes: both materials' textures on their larger size, resampled to it where they differ.
-Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.)";
+Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.
+A material left as spec-gloss is measured as a viewer shows it: by its core fallback, since neither
+viewer reads the archived extension (convert's report says null for it: it converted nothing).)";
 
 void declare_options(CLI::App& cmd, CompareArgs& args) {
   cmd.add_option("legacy", args.legacy, "the spec-gloss original")->required();

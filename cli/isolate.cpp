@@ -177,8 +177,11 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
     std::string failure;
     if (result.status == FileStatus::Failed) {
       const nlohmann::json& what = entry.at("error");
-      const std::string pointer = what.value("pointer", "");
-      failure = (pointer.empty() ? "" : pointer + ": ") + what.value("reason", "failed");
+      // Where in the file, as InputError words it: a JSON pointer, or a byte offset.
+      std::string where = what.value("pointer", "");
+      if (where.empty() && what.contains("offset") && what["offset"].is_number_unsigned())
+        where = "byte " + std::to_string(what["offset"].get<std::uint64_t>());
+      failure = (where.empty() ? "" : where + ": ") + what.value("reason", "failed");
     }
     result.entry = std::move(entry);
     if (result.cached) result.entry->erase("cached");  // file_json marks it again

@@ -48,7 +48,9 @@ std::vector<MaterialComparison> compare_conversion(const Asset& legacy, const As
                        "material missing in the converted asset");
     // Strict, as convert reads it: non-finite or malformed legacy factors are refused, named.
     const MaterialInputs before = read_material_inputs(legacy, static_cast<int>(i), MaterialReading::Strict);
-    const MaterialInputs after = read_material_inputs(converted.model, static_cast<int>(i));
+    // Neither viewer reads the archived extension: a material the conversion left as spec-gloss
+    // shows its core fallback (white metal when it has none), which is the error a viewer sees.
+    const MaterialInputs after = read_material_inputs(converted.model, static_cast<int>(i), SpecGlossReading::Ignored);
     RoleTextures before_textures = decoded_textures(before, legacy, images);
     RoleTextures after_textures = decoded_textures(after, converted, images);
 

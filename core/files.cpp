@@ -225,7 +225,8 @@ AtomicWriteSet::~AtomicWriteSet() {
 
 void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uint8_t> bytes) {
   std::error_code ec;
-  if (!destination.parent_path().empty()) fs::create_directories(destination.parent_path(), ec);
+  if (!destination.parent_path().empty() && !fs::create_directories(destination.parent_path(), ec) && ec)
+    throw OutputError("cannot create the folder " + destination.parent_path().string() + ": " + ec.message());
   auto fail = [&](int error) { throw OutputError("cannot write " + destination.string() + ": " + errno_text(error)); };
   const auto [fd, temporary] = create_temporary(destination);
   if (fd < 0) fail(-fd);

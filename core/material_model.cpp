@@ -121,7 +121,8 @@ bool MaterialInputs::textured() const {
 
 namespace {
 
-MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::string* strict_file) {
+MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::string* strict_file,
+                           SpecGlossReading spec_gloss = SpecGlossReading::Read) {
   const tinygltf::Material& material = model.materials.at(static_cast<size_t>(index));
   MaterialInputs in;
   in.index = index;
@@ -150,7 +151,8 @@ MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::s
                                      in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)]);
 
   const std::string extensions_pointer = in.pointer + "/extensions/";
-  if (auto it = material.extensions.find(kSpecGlossExtension); it != material.extensions.end()) {
+  if (auto it = material.extensions.find(kSpecGlossExtension);
+      it != material.extensions.end() && spec_gloss == SpecGlossReading::Read) {
     // The archived extension replaces the core model in the viewers that support it; the core
     // material is only its fallback.
     in.model = MaterialModel::SpecGloss;
@@ -183,8 +185,8 @@ MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::s
 
 }  // namespace
 
-MaterialInputs read_material_inputs(const tinygltf::Model& model, int index) {
-  return read_inputs(model, index, nullptr);
+MaterialInputs read_material_inputs(const tinygltf::Model& model, int index, SpecGlossReading spec_gloss) {
+  return read_inputs(model, index, nullptr, spec_gloss);
 }
 
 MaterialInputs read_material_inputs(const Asset& asset, int index, MaterialReading reading) {

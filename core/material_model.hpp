@@ -81,7 +81,12 @@ enum class MaterialReading {
   // file and the JSON pointer.
   Strict,
 };
-MaterialInputs read_material_inputs(const tinygltf::Model& model, int index);  // Tolerant
+// Which model a viewer shades: the archived extension where the viewer reads it (validate, the
+// legacy side), or the core material alone, as a viewer of converted output sees one that kept the
+// extension (its fallback).
+enum class SpecGlossReading { Read, Ignored };
+MaterialInputs read_material_inputs(const tinygltf::Model& model, int index,
+                                    SpecGlossReading spec_gloss = SpecGlossReading::Read);  // Tolerant
 MaterialInputs read_material_inputs(const Asset& asset, int index, MaterialReading reading);
 
 // Raw texel values as stored (RGBA in [0, 1]; absent textures read 1), one per role.

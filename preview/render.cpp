@@ -255,13 +255,18 @@ nlohmann::json preview_report(const PreviewResult& r, const PreviewOptions& opti
                       {"note",
                        "the process's peak so far (getrusage), not this preview's alone: under "
                        "convert --preview it includes the conversions and other files"}};
+  // A picture of nothing has no difference to measure: its figures are null, not 0, and no pass.
+  const bool compared = r.metrics.pixels_compared > 0;
+  const auto measured_figure = [&](auto value) { return compared ? nlohmann::json(value) : nlohmann::json(nullptr); };
   report["difference"] = {
       {"delta_e_2000",
-       {{"mean", r.metrics.delta_e_mean}, {"p95", r.metrics.delta_e_p95}, {"max", r.metrics.delta_e_max}}},
-      {"flip", {{"mean", r.metrics.flip_mean}, {"pixels_per_degree", kFlipPixelsPerDegree}}},
-      {"rms_db", r.metrics.rms_db},
+       {{"mean", measured_figure(r.metrics.delta_e_mean)},
+        {"p95", measured_figure(r.metrics.delta_e_p95)},
+        {"max", measured_figure(r.metrics.delta_e_max)}}},
+      {"flip", {{"mean", measured_figure(r.metrics.flip_mean)}, {"pixels_per_degree", kFlipPixelsPerDegree}}},
+      {"rms_db", measured_figure(r.metrics.rms_db)},
       {"rms_db_fail_above", -22.0},
-      {"rms_pass", r.metrics.rms_db <= -22.0},
+      {"rms_pass", measured_figure(r.metrics.rms_db <= -22.0)},
       {"pixels_compared", r.metrics.pixels_compared}};
   const PreviewTimes& t = r.times;
   report["times_ms"] = {{"convert", t.convert_ms}, {"scene", t.scene_ms},     {"environment", t.environment_ms},

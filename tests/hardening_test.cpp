@@ -483,7 +483,10 @@ TEST(LostOutputs, AnOutputThatCannotBeWrittenNamesItAndTheReason) {
       scratch);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("output " + (scratch / "a-file" / "Box.gltf").string()), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << r.err;
+  // The step that failed: making the folder, not writing the file into it.
+  EXPECT_NE(r.err.find("cannot create the folder " + (scratch / "a-file").string() + ": Not a directory"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(LostOutputs, InputsThatShareAFileNameAreRefusedNotWrittenOverEachOther) {
@@ -664,11 +667,14 @@ TEST(SilentLoss, TrailingBytesAfterTheJsonAreRefusedByConvertAsValidateReportsTh
 TEST(SilentLoss, AnEmptyGlbIsNamedAsAnEmptyContainerNotAsJson) {
   ScratchDir scratch;
   test::write_text(scratch / "empty.glb", "");
-  const auto r = run_cli("convert " + quoted(scratch / "empty.glb") + " -o " + quoted(scratch / "out"), scratch);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err.find("JSON"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("byte 0: not a GLB: 0 bytes"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("1 file: "), std::string::npos) << r.err;
+  for (const std::string isolate : {"", " --isolate"}) {  // a child's failure keeps its byte offset too
+    const auto r =
+        run_cli("convert " + quoted(scratch / "empty.glb") + " -o " + quoted(scratch / "out") + isolate, scratch);
+    EXPECT_EQ(r.exit_code, 1) << isolate;
+    EXPECT_EQ(r.err.find("JSON"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("byte 0: not a GLB: 0 bytes"), std::string::npos) << isolate << "\n" << r.err;
+    EXPECT_NE(r.err.find("1 file: "), std::string::npos) << r.err;
+  }
 }
 
 TEST(SilentLoss, AnImageDataUriOfAnyTypeIsReadAsDataAndKeptAsItWas) {
@@ -694,6 +700,24 @@ TEST(SilentLoss, PreviewOfASceneWithNothingToDrawIsNotAPass) {
   const auto r = run_cli("preview " + quoted(gltf) + " -o " + quoted(scratch / "preview"), scratch);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("nothing to draw"), std::string::npos) << r.err;
+}
+
+TEST(SilentLoss, ConvertsPreviewOfASceneWithNothingToDrawReportsNullFiguresNotZeros) {
+  ScratchDir scratch;
+  const fs::path gltf = edited_box(scratch, [](nlohmann::json& d) {
+    d["scenes"] = {{{"nodes", nlohmann::json::array()}}};
+  });
+  const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --preview " +
+                             quoted(scratch / "preview") + " --preview-size 32",
+                         scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;  // the conversion itself succeeded
+  const auto report = nlohmann::json::parse(test::read_text(scratch / "preview" / "Box" / "report.json"));
+  const nlohmann::json& difference = report["difference"];
+  EXPECT_EQ(difference["pixels_compared"], 0);
+  for (const char* figure :
+       {"/delta_e_2000/mean", "/delta_e_2000/p95", "/delta_e_2000/max", "/flip/mean", "/rms_db", "/rms_pass"})
+    EXPECT_TRUE(difference[nlohmann::json::json_pointer(figure)].is_null()) << figure << ": " << difference;
+  EXPECT_NE(report["scene"]["warnings"].dump().find("nothing to draw"), std::string::npos) << report["scene"];
 }
 
 TEST(Messages, LibraryTextComesOutAsOneLineWithoutAbsolutePaths) {
@@ -770,6 +794,14 @@ TEST(MeasuredFigures, AMaterialLeftAsSpecGlossHasNullErrorsNotZeros) {
   EXPECT_TRUE(material["deltaE2000"]["readingA"].is_null()) << material.dump();
   EXPECT_TRUE(material["deltaE2000"]["readingB"].is_null()) << material.dump();
   EXPECT_NE(r.err.find("not measured"), std::string::npos) << r.err;
+  // compare measures what a core viewer shows of it: BoxTextured's core fallback (the diffuse
+  // texture, metallic 0: F0 0.04 against the legacy's 0.2), not a spec-gloss material compared with
+  // itself, which gave 0.
+  const auto c = run_cli("compare " + quoted(gltf) + " " + quoted(scratch / "out" / "BoxTextured.gltf"), scratch);
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const auto compared = nlohmann::json::parse(c.out)["materials"][0]["deltaE2000"];
+  EXPECT_GT(compared["f0"]["mean"].get<double>(), 10.0) << compared;
+  EXPECT_GT(compared["diffuse"]["mean"].get<double>(), 0.5) << compared;
 }
 
 TEST(MeasuredFigures, ImagesDecodedCountsEachFilesOwnDecodesWhateverRunsBesideIt) {

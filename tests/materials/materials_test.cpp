@@ -517,4 +517,30 @@ TEST(MaterialPlausibility, UserConfigChangesSeveritiesThresholdsAndSilencesCodes
 }
 
 }  // namespace
+TEST(Materials, TheUvMappingNoteNamesTexturesCombinedAtEqualUvNeverASingleOne) {
+  // A white base colour (too bright for a dielectric) through KHR_texture_transform alone: one
+  // texture is checked texel by texel, so nothing was combined and no note says so. With a
+  // metallicRoughness map read through another texCoord set, the two meet at equal UV: noted.
+  const std::vector<std::uint8_t> white(16 * 3, 255);
+  std::vector<std::uint8_t> rough;  // metalness 0, roughness 0.5
+  for (int i = 0; i < 16; ++i) rough.insert(rough.end(), {0, 128, 0});
+  for (const bool second_texture : {false, true}) {
+    AssetBuilder builder;
+    auto& material = builder.metal_rough(glm::vec4(1.0f), 0.0, 0.5);
+    material.pbrMetallicRoughness.baseColorTexture.index = builder.add_png(4, 4, 3, white);
+    tinygltf::Value::Object transform;
+    transform["scale"] = numbers({2.0, 2.0});
+    material.pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+        tinygltf::Value(std::move(transform));
+    if (second_texture) {
+      material.pbrMetallicRoughness.metallicRoughnessTexture.index = builder.add_png(4, 4, 3, rough);
+      material.pbrMetallicRoughness.metallicRoughnessTexture.texCoord = 1;
+    }
+    const auto bright =
+        issues_with(validate_in_memory(builder.asset(), builtin_rules(LintProfile::Strict)), "PBR_ALBEDO_TOO_BRIGHT");
+    ASSERT_EQ(bright.size(), 1u) << second_texture;
+    EXPECT_EQ(bright[0].message.find("combined at equal UV") != std::string::npos, second_texture) << bright[0].message;
+  }
+}
+
 }  // namespace gltf_pbr

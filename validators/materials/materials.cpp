@@ -503,17 +503,20 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
     }
 
     // Texels of textures read through different texCoord sets or KHR_texture_transform meet at
-    // different UVs on the mesh; combined at equal UV they are not what renders. Say so.
+    // different UVs on the mesh; combined at equal UV they are not what renders. Say so. A single
+    // texture is checked texel by texel, whatever maps it onto the mesh.
     std::string mapping_note;
     {
       std::set<int> tex_coords;
       bool transformed = false;
+      int textures = 0;
       for (int role = 0; role < kTextureRoleCount; ++role) {
         if (!pixels[static_cast<size_t>(role)]) continue;
+        ++textures;
         tex_coords.insert(material.textures[static_cast<size_t>(role)].tex_coord);
         transformed |= material.textures[static_cast<size_t>(role)].transformed;
       }
-      if (tex_coords.size() > 1 || transformed)
+      if (textures > 1 && (tex_coords.size() > 1 || transformed))
         mapping_note =
             " (its textures use different texCoord sets or KHR_texture_transform: texels were combined at equal UV, "
             "not as the mesh maps them)";
