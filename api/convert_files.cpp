@@ -224,9 +224,8 @@ FileResult convert_or_throw(const ConvertJob& job, const ConvertFileOptions& opt
     preview_options.width = preview_options.height = options.preview_size;
     preview::PreviewResult drawn = preview::render_pair(*original, asset, preview_options, &decoded);
     drawn.conversion = result.report;  // the report names each material's outcome, error and time
-    if (drawn.metrics.pixels_compared == 0)  // as `preview` says it, without failing the conversion
-      drawn.scene.warnings.push_back("nothing to draw: the scene has no visible triangles");
-    result.preview_complete = drawn.scene.warnings.empty();
+    result.preview_complete = drawn.scene.warnings.empty();  // an empty scene's preview is complete
+    if (drew_nothing(drawn)) drawn.scene.warnings.push_back(kNothingToDraw);
     nlohmann::json report = preview::preview_report(drawn, preview_options);
     report["input"] = job.input.string();
     report["material_issues"] = std::move(issues);

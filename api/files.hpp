@@ -81,6 +81,11 @@ DrawnPreview preview_one(const fs::path& input, const fs::path& out_dir, const p
 nlohmann::json material_issues(const Asset& input, const Asset& converted, std::optional<LintProfile> lint,
                                DecodedImages* decoded = nullptr);
 
+// A picture of nothing compares equal to itself: that is no pass. `preview` refuses one;
+// `convert --preview`, whose conversion stands, reports it with null figures and this warning.
+inline constexpr const char* kNothingToDraw = "nothing to draw: the scene has no visible triangles";
+inline bool drew_nothing(const preview::PreviewResult& result) { return result.metrics.pixels_compared == 0; }
+
 // The tail of preview_one for any drawn result (the tool's --grid too): refuses a picture of
 // nothing, adds `extra` and "input": name to the report, and writes the folder.
 DrawnPreview finish_preview(preview::PreviewResult result, const preview::PreviewOptions& options,

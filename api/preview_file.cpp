@@ -10,9 +10,7 @@ namespace gltf_pbr {
 
 DrawnPreview finish_preview(preview::PreviewResult result, const preview::PreviewOptions& options,
                             const std::string& name, nlohmann::json extra, const fs::path& out_dir) {
-  // A picture of nothing compares equal to itself: that is not a pass.
-  if (std::none_of(result.covered.begin(), result.covered.end(), [](std::uint8_t c) { return c != 0; }))
-    throw InputError(name, "", "nothing to draw: the scene has no visible triangles");
+  if (drew_nothing(result)) throw InputError(name, "", kNothingToDraw);
   nlohmann::json report = preview::preview_report(result, options);
   report["input"] = name;
   if (extra.is_object()) report.update(extra);

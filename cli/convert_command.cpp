@@ -139,8 +139,9 @@ int run(const ConvertArgs& args) {
   std::vector<ConvertJob> jobs;
   for (const std::size_t position : positions) jobs.push_back(planned[position]);
 
-  refuse_writing_over_inputs(inputs, args.report, "--report");
-  refuse_writing_over_inputs(inputs, args.pipeline.results, "--results");
+  const RunReads reads{args.file.allow_outside_uris, args.pipeline.inputs_from};
+  refuse_writing_over_inputs(inputs, args.report, "--report", reads);
+  refuse_writing_over_inputs(inputs, args.pipeline.results, "--results", reads);
   ResultsLog results_log(args.pipeline.results);
   std::optional<ResultCache> cache;  // with --isolate, each child keeps its file in the cache
   if (!args.pipeline.cache.empty() && !args.isolate) cache.emplace(args.pipeline.cache);

@@ -182,22 +182,27 @@ void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vecto
   }
 }
 
-void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path,
-                                const std::string& option) {
-  if (path.empty() || path == "-") return;
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path, const std::string& option,
+                                const RunReads& reads) {
+  std::error_code ec;
+  if (path.empty() || !fs::exists(path, ec)) return;  // a file that is not there is read by no one
   const fs::path target = resolved(path);
   const auto refuse = [&](const fs::path& input) {
     throw CLI::ValidationError(option, "refusing to write " + printable(path) + " over " + printable(input.string()) +
                                            ", which the run reads");
   };
+  if (!reads.inputs_from.empty() && reads.inputs_from != "-" && resolved(reads.inputs_from) == target)
+    refuse(reads.inputs_from);
   for (const InputFile& input : files) {
     if (resolved(input.file) == target) refuse(input.file);
     const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
-    if (!is_under(target, folder)) continue;
+    if (!reads.allow_outside_uris && !is_under(target, folder)) continue;
     const std::optional<Bytes> bytes = read_file(input.file);
     if (!bytes) continue;  // the run reports the unreadable input itself
-    for (const std::string& uri : external_uris(*bytes).value_or(std::vector<std::string>{}))
-      if (resolved(folder / percent_decode(uri)) == target) refuse(folder / percent_decode(uri));
+    for (const std::string& uri : external_uris(*bytes).value_or(std::vector<std::string>{})) {
+      const ResolvedUri named = resolve_uri(folder, uri, reads.allow_outside_uris);
+      if (named.status == UriStatus::Readable && resolved(named.path) == target) refuse(named.path);
+    }
   }
 }
 

@@ -50,11 +50,17 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const std::f
 void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vector<std::filesystem::path>& outputs,
                            const std::string& remedy = "give their folders instead, or run them separately");
 
+// What a run reads besides its inputs' own files, for refuse_writing_over_inputs.
+struct RunReads {
+  bool allow_outside_uris = false;  // the inputs may name files outside their folders
+  std::string inputs_from;          // --inputs-from's list ("-": standard input)
+};
 // A run never writes over what it reads: throws CLI::ValidationError when the file that `option`
-// names (--report, --results) is one of the inputs or a file an input names (a buffer, an image).
-// Only inputs in a folder that holds `path` are read for the files they name.
-void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path,
-                                const std::string& option);
+// names (--report, --results, validate's --output) is one of the inputs, a file an input names (a
+// buffer, an image) or the input list. Only an existing file can be one; only inputs whose folder
+// holds it (any input, where URIs may leave their folder) are read for the files they name.
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path, const std::string& option,
+                                const RunReads& reads);
 
 bool is_gltf_file(const std::filesystem::path& path);
 

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <string_view>
 
+#include "core/error.hpp"
 #include "core/files.hpp"
 
 extern char** environ;
@@ -177,10 +178,9 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
     std::string failure;
     if (result.status == FileStatus::Failed) {
       const nlohmann::json& what = entry.at("error");
-      // Where in the file, as InputError words it: a JSON pointer, or a byte offset.
-      std::string where = what.value("pointer", "");
-      if (where.empty() && what.contains("offset") && what["offset"].is_number_unsigned())
-        where = "byte " + std::to_string(what["offset"].get<std::uint64_t>());
+      std::optional<std::uint64_t> offset;
+      if (what.contains("offset") && what["offset"].is_number_unsigned()) offset = what["offset"].get<std::uint64_t>();
+      const std::string where = InputError::where(what.value("pointer", ""), offset);
       failure = (where.empty() ? "" : where + ": ") + what.value("reason", "failed");
     }
     result.entry = std::move(entry);

@@ -106,12 +106,6 @@ int run(const ValidateArgs& args) {
     for (const std::string& step : args.only) options.steps.insert(*validation_step_from_name(step));  // CLI11 checked
   }
   options.heatmaps_dir = args.heatmaps;
-  if (!args.heatmaps.empty()) {
-    std::error_code error;
-    fs::create_directories(args.heatmaps, error);
-    if (error || !fs::is_directory(args.heatmaps))
-      throw CLI::ValidationError("--heatmaps", args.heatmaps + ": cannot create the folder (" + error.message() + ")");
-  }
   options.allow_outside_uris = args.allow_outside;
   options.self_intersections = !args.no_self_intersections;
   const Severity fail_on = *severity_from_name(args.fail_on);
@@ -132,10 +126,18 @@ int run(const ValidateArgs& args) {
   }
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
+  // Nothing is written (folders included) before the run is known not to write over its inputs.
+  const RunReads reads{args.allow_outside, args.pipeline.inputs_from};
+  refuse_writing_over_inputs(found, args.pipeline.results, "--results", reads);
+  if (!report_folder) refuse_writing_over_inputs(found, args.output, "--output", reads);
+  if (!args.heatmaps.empty()) {
+    std::error_code error;
+    fs::create_directories(args.heatmaps, error);
+    if (error || !fs::is_directory(args.heatmaps))
+      throw CLI::ValidationError("--heatmaps", args.heatmaps + ": cannot create the folder (" + error.message() + ")");
+  }
   std::optional<ResultCache> cache;
   if (!args.pipeline.cache.empty()) cache.emplace(args.pipeline.cache);
-  refuse_writing_over_inputs(found, args.pipeline.results, "--results");
-  if (!report_folder) refuse_writing_over_inputs(found, args.output, "--output");
   ResultsLog results_log(args.pipeline.results);
   const std::string settings = cache ? run_settings(args, options) : "";
   // A file's report from the cache when it holds one, else validated and stored.

@@ -136,7 +136,7 @@ class Converter {
 
     auto& pbr = material.pbrMetallicRoughness;
     pbr = tinygltf::PbrMetallicRoughness();  // the author's old fallback is replaced
-    if (options_.target == Target::Specular && diffuse_factor_is_a_base_color(legacy) &&
+    if (options_.target == Target::Specular && route_copies_diffuse_validly(legacy) &&
         takes_specular_route(baked, entry)) {
       write_specular_route(material, legacy, baked, entry);
       return;
@@ -145,7 +145,7 @@ class Converter {
     if (baked.dielectric_copy) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
       pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b,
-                             legacy.diffuse_factor.a};
+                             factor_alpha(legacy)};
       pbr.metallicFactor = 0.0;
       pbr.roughnessFactor = legacy.roughness_factor();
       ++report_.textures_reused;
@@ -160,7 +160,7 @@ class Converter {
                                                                        : nullptr;
     if (!mapping) {  // factors only, at full precision
       const MetalRough& f = baked.factor_solution;
-      pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, static_cast<double>(legacy.diffuse_factor.a)};
+      pbr.baseColorFactor = {f.base.r, f.base.g, f.base.b, factor_alpha(legacy)};
       pbr.metallicFactor = f.metalness;
       pbr.roughnessFactor = f.roughness;
       return;
@@ -168,14 +168,14 @@ class Converter {
     // A texture that came out constant becomes a factor (even one equal to the diffuse image);
     // one equal to the diffuse image reuses it. An alpha the diffuse texture does not carry is the
     // factor's, as it is.
-    const double alpha = t.base_channels == 3 ? legacy.diffuse_factor.a : t.alpha / 255.0;
+    const double alpha = t.base_channels == 3 ? factor_alpha(legacy) : t.alpha / 255.0;
     if (t.base_constant && t.alpha_constant) {
       pbr.baseColorFactor = {srgb8_to_linear(t.base_color[0]), srgb8_to_linear(t.base_color[1]),
                              srgb8_to_linear(t.base_color[2]), alpha};
       entry.outputs.base_color = TextureOutcome::Factor;
     } else if (baked.reuse_diffuse) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
-      pbr.baseColorFactor = {1.0, 1.0, 1.0, static_cast<double>(legacy.diffuse_factor.a)};
+      pbr.baseColorFactor = {1.0, 1.0, 1.0, factor_alpha(legacy)};
       ++report_.textures_reused;
       entry.outputs.base_color = TextureOutcome::InputReused;
     } else {
@@ -231,7 +231,7 @@ class Converter {
     entry.outcome = MaterialOutcome::Specular;
     auto& pbr = material.pbrMetallicRoughness;
     pbr.baseColorFactor = {legacy.diffuse_factor.r, legacy.diffuse_factor.g, legacy.diffuse_factor.b,
-                           legacy.diffuse_factor.a};
+                           factor_alpha(legacy)};
     if (legacy.diffuse_texture) {
       pbr.baseColorTexture = *legacy.diffuse_texture;
       entry.outputs.base_color = TextureOutcome::InputReused;
@@ -477,20 +477,39 @@ class Converter {
     return bake;
   }
 
-  // Whether the diffuse factor is a valid baseColorFactor (glTF 2.0 schema: [0, 1]), for the routes
-  // that copy it. The solver brings a diffuse above 1 into gamut; a copy could not.
+  // The diffuse factor's alpha as a baseColorFactor's: at most 1, which is what viewers make of a
+  // larger one where no texture alpha multiplies it (the routes that copy a texture check that).
+  static double factor_alpha(const LegacyMaterial& legacy) { return std::min(1.0, double{legacy.diffuse_factor.a}); }
+
+  // Whether the diffuse factor is a valid baseColorFactor (glTF 2.0 schema: [0, 1]; the strict read
+  // has made it non-negative), for the routes that copy it over the diffuse texture. The solver
+  // brings a diffuse above 1 into gamut; a copy could not, nor undo an alpha above 1 that
+  // multiplies the texture's.
   static bool diffuse_factor_is_a_base_color(const LegacyMaterial& legacy) {
-    return glm::all(glm::lessThanEqual(glm::vec3(legacy.diffuse_factor), glm::vec3(1.0f)));
+    return glm::all(glm::lessThanEqual(legacy.diffuse_factor, glm::vec4(1.0f)));
   }
 
   // Whether the diffuse image may stand as the base colour with its bytes as they are: its header
-  // reads without a problem (a CMYK JPEG is not one glTF allows), its entry declares the media type
-  // its bytes have, and its factor is a valid baseColorFactor. Else the material bakes.
+  // reads without a problem (a CMYK JPEG is not one glTF allows), every image entry holding those
+  // bytes declares the media type they have (materials that share a bake may each name another
+  // entry), and its factor is a valid baseColorFactor. Else the material bakes.
   bool passes_as_base_color(const LegacyMaterial& legacy, int image) const {
     const std::span<const std::uint8_t> bytes = encoded_image_bytes(asset_, image);
-    const std::string& declared = asset_.model.images[static_cast<size_t>(image)].mimeType;
-    return read_image_header(bytes, HeaderDepth::Size).problem == HeaderProblem::None &&
-           (declared.empty() || declared == image_mime_of(bytes)) && diffuse_factor_is_a_base_color(legacy);
+    if (read_image_header(bytes, HeaderDepth::Size).problem != HeaderProblem::None ||
+        !diffuse_factor_is_a_base_color(legacy))
+      return false;
+    const std::string mime = image_mime_of(bytes);
+    for (size_t i = 0; i < model_.images.size(); ++i) {
+      const auto same = first_with_same_bytes_.find(static_cast<int>(i));
+      const int first = same == first_with_same_bytes_.end() ? static_cast<int>(i) : same->second;
+      if (first == image && !model_.images[i].mimeType.empty() && model_.images[i].mimeType != mime) return false;
+    }
+    return true;
+  }
+  // The KHR_materials_specular route copies the diffuse factor and texture as they are.
+  bool route_copies_diffuse_validly(const LegacyMaterial& legacy) const {
+    return legacy.diffuse_texture ? passes_as_base_color(legacy, image_of(legacy.diffuse_texture))
+                                  : diffuse_factor_is_a_base_color(legacy);
   }
 
   // A JPEG diffuse bakes to a JPEG base colour, and the re-encoding can cost more error than the

@@ -74,7 +74,8 @@ struct Asset {
 };
 
 // Document garbage collection: removes textures, images and samplers that nothing references
-// any more, and the bufferViews that only removed images used (compacting their buffers).
+// any more, and the bufferViews that only removed images used (compacting their buffers, and
+// removing a buffer left with none of its bytes: glTF requires byteLength >= 1).
 // Extensions whose references it cannot follow make it keep everything (reported in warnings).
 struct PruneResult {
   int textures = 0, images = 0, samplers = 0, buffer_views = 0, buffers = 0;

@@ -263,32 +263,50 @@ std::vector<fs::path> AtomicWriteSet::commit() {
     Placed placed;
   };
   std::vector<Done> done;
+  // Undoes what `done` placed; names any old file that could not go back where it was.
   const auto undo = [&] {
-    std::error_code ignored;
+    std::string kept;
     for (auto it = done.rbegin(); it != done.rend(); ++it) {
-      if (it->placed == Placed::Created) fs::remove(it->destination, ignored);
-      if (it->placed == Placed::Exchanged) fs::rename(it->temporary, it->destination, ignored);
+      std::error_code ec;
+      if (it->placed == Placed::Created) fs::remove(it->destination, ec);
+      if (it->placed != Placed::Exchanged) continue;
+      fs::rename(it->temporary, it->destination, ec);
+      if (ec) {  // its only copy: kept, not removed with the temporaries
+        forget_temporary(it->temporary);
+        for (auto& [temporary, destination] : staged_)
+          if (temporary == it->temporary) temporary.clear();
+        kept += "; the earlier " + it->destination.string() + " is kept as " + it->temporary.string();
+      }
     }
+    return kept;
   };
   for (auto& [temporary, destination] : staged_) {
     std::error_code ec;
     const fs::file_type type = fs::symlink_status(destination, ec).type();
     // Only a file is exchanged: a folder in the way must fail the rename, not move aside.
-    const bool file = type == fs::file_type::regular || type == fs::file_type::symlink;
-    Placed placed = type == fs::file_type::not_found ? Placed::Created : file ? Placed::Exchanged : Placed::Replaced;
+    Placed placed = type == fs::file_type::not_found                                   ? Placed::Created
+                    : type == fs::file_type::regular || type == fs::file_type::symlink ? Placed::Exchanged
+                                                                                       : Placed::Replaced;
     int result = placed == Placed::Replaced
                      ? ::rename(temporary.c_str(), destination.c_str())
                      : ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, destination.c_str(),
                                    placed == Placed::Exchanged ? RENAME_EXCHANGE : RENAME_NOREPLACE);
-    if (result != 0 && placed != Placed::Replaced &&
-        (errno == EINVAL || errno == ENOSYS || errno == EEXIST || errno == ENOENT)) {
-      placed = Placed::Replaced;  // no exchange here (or the destination came or went meanwhile)
-      result = ::rename(temporary.c_str(), destination.c_str());
+    if (result != 0 && placed != Placed::Replaced) {
+      const int error = errno;
+      if (error == EEXIST || (placed == Placed::Exchanged && (error == EINVAL || error == ENOSYS))) {
+        // The destination came meanwhile, or the file system cannot exchange: replaced for good.
+        placed = Placed::Replaced;
+        result = ::rename(temporary.c_str(), destination.c_str());
+      } else if (error == EINVAL || error == ENOSYS || error == ENOENT) {
+        // No renameat2 flags here (or the destination went meanwhile): a plain rename creates it.
+        placed = Placed::Created;
+        result = ::rename(temporary.c_str(), destination.c_str());
+      }
     }
     if (result != 0) {
       const int error = errno;
-      undo();
-      throw OutputError("cannot rename into " + destination.string() + ": " + errno_text(error));
+      const std::string kept = undo();
+      throw OutputError("cannot rename into " + destination.string() + ": " + errno_text(error) + kept);
     }
     done.push_back({temporary, destination, placed});
     if (placed != Placed::Exchanged) forget_temporary(temporary), temporary.clear();

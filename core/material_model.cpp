@@ -162,6 +162,14 @@ MaterialInputs read_inputs(const tinygltf::Model& model, int index, const std::s
     reader.number("glossinessFactor", &in.glossiness);
     reader.texture("diffuseTexture", TextureRole::Diffuse, model);
     reader.texture("specularGlossinessTexture", TextureRole::SpecularGlossiness, model);
+    if (strict_file) {
+      // The schema bounds these factors to [0, 1], and a file outside it still converts. A negative
+      // one reads as 0, which renders the same (no light is negative; an alpha below 0 is as
+      // transparent as 0). Above 1 stays: a measured gold's F0 is 1.022, and an alpha factor above 1
+      // scales a texture's alpha before viewers clamp the product.
+      in.diffuse = glm::max(in.diffuse, glm::vec4(0.0f));
+      in.legacy_specular = glm::max(in.legacy_specular, glm::vec3(0.0f));
+    }
     // The fallback's textures are not what this model shades.
     in.textures[static_cast<size_t>(TextureRole::BaseColor)] = {};
     in.textures[static_cast<size_t>(TextureRole::MetallicRoughness)] = {};

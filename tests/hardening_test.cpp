@@ -1011,20 +1011,35 @@ TEST(Messages, BadJobCountsAndUnknownCommandsGiveShortClearMessages) {
   EXPECT_NE(unknown.err.find("unknown command 'convrt'"), std::string::npos) << unknown.err;
 }
 
-// Duck with its diffuse image moved to `image_name`, or, with `image_buffer`, into a buffer file of
-// that name read through a bufferView: an input whose files have the names a conversion written
-// beside it would pick (o_baseColor_1.png, o_1.bin for an output o.gltf).
-fs::path duck_with_image_named(const fs::path& folder, const std::string& image_name, bool image_buffer) {
+// Duck with its diffuse image moved to a file named `name`: an image file, or a buffer read through
+// a bufferView. As buffer 1, the buffer holds a second, unused view too, so the conversion keeps it
+// compacted and names it anew; as buffer 0, before Duck0.bin, the conversion empties it.
+enum class ImagePlace { File, BufferKeptAfterTheMesh, BufferOnlyBeforeTheMesh };
+fs::path duck_with_image_in(const fs::path& folder, const std::string& name, ImagePlace place) {
   const fs::path gltf = copy_model("Duck", folder);
   auto document = nlohmann::json::parse(test::read_text(gltf));
-  fs::rename(folder / "DuckCM.png", folder / image_name);
-  if (image_buffer) {
-    const auto size = fs::file_size(folder / image_name);
-    document["buffers"].push_back({{"uri", image_name}, {"byteLength", size}});
-    document["bufferViews"].push_back({{"buffer", 1}, {"byteLength", size}});
-    document["images"][0] = {{"bufferView", document["bufferViews"].size() - 1}, {"mimeType", "image/png"}};
+  fs::rename(folder / "DuckCM.png", folder / name);
+  if (place == ImagePlace::File) {
+    document["images"][0]["uri"] = name;
   } else {
-    document["images"][0]["uri"] = image_name;
+    auto bytes = *read_file(folder / name);
+    const size_t image_size = bytes.size();
+    const bool first = place == ImagePlace::BufferOnlyBeforeTheMesh;
+    if (!first) {  // the unused view's 4 bytes, 4-aligned after the image
+      bytes.resize((image_size + 3) / 4 * 4 + 4, 7);
+      test::write_bytes(folder / name, bytes);
+    }
+    const nlohmann::json buffer = {{"uri", name}, {"byteLength", bytes.size()}};
+    if (first) {
+      for (auto& view : document["bufferViews"]) view["buffer"] = 1;
+      document["buffers"].insert(document["buffers"].begin(), buffer);
+    } else {
+      document["buffers"].push_back(buffer);
+    }
+    const int image_buffer = first ? 0 : 1;
+    document["bufferViews"].push_back({{"buffer", image_buffer}, {"byteLength", image_size}});
+    document["images"][0] = {{"bufferView", document["bufferViews"].size() - 1}, {"mimeType", "image/png"}};
+    if (!first) document["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", bytes.size() - 4}, {"byteLength", 4}});
   }
   test::write_text(gltf, document.dump());
   return gltf;
@@ -1039,29 +1054,41 @@ std::size_t errors_in(const fs::path& gltf) {
 }
 
 TEST(LostOutputs, AFileTheInputReadsIsNeverTakenForAnOutputsName) {
+  // Named as the output's new files would be: its baked base colour, and its compacted buffer 1.
   ScratchDir scratch;
-  const auto original = read_file(test::model_folder("Duck") / "DuckCM.png");
-  for (const bool image_buffer : {false, true}) {
-    const fs::path folder = scratch / (image_buffer ? "buffer" : "image");
-    const std::string name = image_buffer ? "o_1.bin" : "o_baseColor_1.png";
-    const fs::path gltf = duck_with_image_named(folder, name, image_buffer);
+  for (const ImagePlace place : {ImagePlace::File, ImagePlace::BufferKeptAfterTheMesh}) {
+    const fs::path folder = scratch / (place == ImagePlace::File ? "image" : "buffer");
+    const std::string name = place == ImagePlace::File ? "o_baseColor_1.png" : "o_1.bin";
+    const fs::path gltf = duck_with_image_in(folder, name, place);
+    const auto before = read_file(folder / name);
     const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(folder / "o.gltf"), scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(read_file(folder / name), original) << name << " was written over";
+    EXPECT_EQ(read_file(folder / name), before) << name << " was written over";
     EXPECT_NO_THROW(load_asset(gltf)) << "the input still loads";
     EXPECT_EQ(errors_in(folder / "o.gltf"), 0u);
   }
 }
 
 TEST(LostOutputs, AnImageInItsOwnBufferLeavesNoEmptyBufferWhenItIsBakedAway) {
+  // The image's buffer is buffer 0: removing it moves every other view's buffer index.
   ScratchDir scratch;
-  const fs::path gltf = duck_with_image_named(scratch / "in", "image.bin", true);
+  const fs::path gltf = duck_with_image_in(scratch / "in", "image.bin", ImagePlace::BufferOnlyBeforeTheMesh);
   const auto r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out" / "Duck.gltf"), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Asset converted = load_asset(scratch / "out" / "Duck.gltf");
   ASSERT_EQ(converted.model.buffers.size(), 1u) << "the image's buffer held nothing else";
   EXPECT_EQ(converted.model.buffers[0].data, read_file(test::model_folder("Duck") / "Duck0.bin"));
   for (const auto& view : converted.model.bufferViews) EXPECT_EQ(view.buffer, 0);
+  const Asset original = load_asset(test::model_folder("Duck") / "Duck.gltf");
+  ASSERT_EQ(converted.model.accessors.size(), original.model.accessors.size());
+  const auto accessor_bytes = [](const tinygltf::Model& model, size_t accessor) {
+    const auto& view = model.bufferViews.at(static_cast<size_t>(model.accessors.at(accessor).bufferView));
+    const auto& data = model.buffers.at(static_cast<size_t>(view.buffer)).data;
+    const auto first = data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset);
+    return std::vector<std::uint8_t>(first, first + static_cast<std::ptrdiff_t>(view.byteLength));
+  };
+  for (size_t a = 0; a < original.model.accessors.size(); ++a)
+    EXPECT_EQ(accessor_bytes(converted.model, a), accessor_bytes(original.model, a)) << "accessor " << a;
   EXPECT_EQ(errors_in(scratch / "out" / "Duck.gltf"), 0u);
 }
 
@@ -1079,6 +1106,21 @@ TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWrit
   }
   const auto v = run_cli("validate " + quoted(gltf) + " --results " + quoted(gltf), scratch);
   EXPECT_EQ(v.exit_code, 2) << v.err;
+  test::write_text(scratch / "list.txt", gltf.string() + "\n");  // the input list is read too
+  const auto listed = run_cli("convert -q --inputs-from " + quoted(scratch / "list.txt") + " -o " +
+                                  quoted(scratch / "out") + " --report " + quoted(scratch / "list.txt"),
+                              scratch);
+  EXPECT_EQ(listed.exit_code, 2) << listed.err;
+  EXPECT_EQ(test::read_text(scratch / "list.txt"), gltf.string() + "\n");
+  // A report beside the input that is no file of it is written, new or over an old one.
+  test::write_text(scratch / "in" / "old.json", "an earlier report");
+  for (const char* name : {"new.json", "old.json"}) {
+    const auto beside = run_cli(
+        "convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --report " + quoted(scratch / "in" / name),
+        scratch);
+    EXPECT_EQ(beside.exit_code, 0) << name << "\n" << beside.err;
+    EXPECT_TRUE(nlohmann::json::parse(test::read_text(scratch / "in" / name)).contains("files")) << name;
+  }
   EXPECT_EQ(read_file(gltf), document);
   EXPECT_EQ(read_file(scratch / "in" / "CesiumLogoFlat.png"), image);
 }
@@ -1121,9 +1163,14 @@ TEST(SilentLoss, ADiffuseImageGltfDoesNotAllowIsBakedNotKeptAsTheBaseColour) {
   // converted file would carry the error.
   ScratchDir scratch;
   const fs::path cmyk = fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / "hostile_inputs" / "cmyk_jpeg_diffuse.gltf";
-  auto r = run_cli("convert -q " + quoted(cmyk) + " -o " + quoted(scratch / "cmyk" / "out.gltf"), scratch);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(errors_in(scratch / "cmyk" / "out.gltf"), 0u);
+  for (const std::string target : {"metalness", "specular"}) {  // the specular route copies the diffuse too
+    const fs::path out = scratch / "cmyk" / target / "out.gltf";
+    const auto r =
+        run_cli("convert -q " + quoted(cmyk) + " -o " + quoted(out) + " --target " + target + " --specular-tolerance 0",
+                scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(errors_in(out), 0u) << target;
+  }
 
   const fs::path gltf = copy_model("Duck", scratch / "in");
   const Pixels duck = decode_image(*read_file(scratch / "in" / "DuckCM.png"), "DuckCM.png");
@@ -1131,9 +1178,14 @@ TEST(SilentLoss, ADiffuseImageGltfDoesNotAllowIsBakedNotKeptAsTheBaseColour) {
   auto document = nlohmann::json::parse(test::read_text(gltf));
   document["images"][0]["mimeType"] = "image/png";
   test::write_text(gltf, document.dump());
-  r = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "mime" / "Duck.gltf"), scratch);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(errors_in(scratch / "mime" / "Duck.gltf"), 0u);
+  for (const std::string target : {"metalness", "specular"}) {
+    const fs::path out = scratch / "mime" / target / "Duck.gltf";
+    const auto r =
+        run_cli("convert -q " + quoted(gltf) + " -o " + quoted(out) + " --target " + target + " --specular-tolerance 0",
+                scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(errors_in(out), 0u) << target;
+  }
 }
 
 }  // namespace

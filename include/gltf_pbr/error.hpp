@@ -23,10 +23,14 @@ struct GLTF_PBR_API InputError : std::runtime_error {
         pointer(std::move(pointer_)),
         reason(std::move(reason_)) {}
   InputError(std::string file_, ByteOffset at, std::string reason_)
-      : std::runtime_error(file_ + ": byte " + std::to_string(at.value) + ": " + reason_),
+      : std::runtime_error(file_ + ": " + where(std::string(), at.value) + ": " + reason_),
         file(std::move(file_)),
         reason(std::move(reason_)),
         offset(at.value) {}
+  // Where in the file, as messages say it: the JSON pointer, or "byte N"; empty when neither is known.
+  static std::string where(const std::string& pointer, std::optional<std::uint64_t> offset) {
+    return offset ? "byte " + std::to_string(*offset) : pointer;
+  }
   std::string file, pointer, reason;
   std::optional<std::uint64_t> offset;  // set instead of pointer by the ByteOffset constructor
 };

@@ -516,7 +516,6 @@ TEST(MaterialPlausibility, UserConfigChangesSeveritiesThresholdsAndSilencesCodes
         << issue.message;
 }
 
-}  // namespace
 TEST(Materials, TheUvMappingNoteNamesTexturesCombinedAtEqualUvNeverASingleOne) {
   // A white base colour (too bright for a dielectric) through KHR_texture_transform alone: one
   // texture is checked texel by texel, so nothing was combined and no note says so. With a
@@ -543,4 +542,5 @@ TEST(Materials, TheUvMappingNoteNamesTexturesCombinedAtEqualUvNeverASingleOne) {
   }
 }
 
+}  // namespace
 }  // namespace gltf_pbr
