@@ -1160,17 +1160,20 @@ TEST(SilentLoss, FactorsOutsideTheSchemaStillConvertIntoAValidFile) {
 
 TEST(SilentLoss, ADiffuseImageGltfDoesNotAllowIsBakedNotKeptAsTheBaseColour) {
   // A CMYK JPEG (IMAGE_DATA_INVALID), and a JPEG declared as image/png: kept as they are, the
-  // converted file would carry the error.
+  // converted file would carry the error. The specular route copies the diffuse too.
   ScratchDir scratch;
-  const fs::path cmyk = fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / "hostile_inputs" / "cmyk_jpeg_diffuse.gltf";
-  for (const std::string target : {"metalness", "specular"}) {  // the specular route copies the diffuse too
-    const fs::path out = scratch / "cmyk" / target / "out.gltf";
-    const auto r =
-        run_cli("convert -q " + quoted(cmyk) + " -o " + quoted(out) + " --target " + target + " --specular-tolerance 0",
-                scratch);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(errors_in(out), 0u) << target;
-  }
+  const auto converts_into_valid_files = [&](const fs::path& input, const std::string& folder) {
+    for (const std::string target : {"metalness", "specular"}) {
+      const fs::path out = scratch / folder / target / input.filename();
+      const auto r = run_cli(
+          "convert -q " + quoted(input) + " -o " + quoted(out) + " --target " + target + " --specular-tolerance 0",
+          scratch);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      EXPECT_EQ(errors_in(out), 0u) << folder << ", " << target;
+    }
+  };
+  converts_into_valid_files(fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / "hostile_inputs" / "cmyk_jpeg_diffuse.gltf",
+                            "cmyk");
 
   const fs::path gltf = copy_model("Duck", scratch / "in");
   const Pixels duck = decode_image(*read_file(scratch / "in" / "DuckCM.png"), "DuckCM.png");
@@ -1178,14 +1181,7 @@ TEST(SilentLoss, ADiffuseImageGltfDoesNotAllowIsBakedNotKeptAsTheBaseColour) {
   auto document = nlohmann::json::parse(test::read_text(gltf));
   document["images"][0]["mimeType"] = "image/png";
   test::write_text(gltf, document.dump());
-  for (const std::string target : {"metalness", "specular"}) {
-    const fs::path out = scratch / "mime" / target / "Duck.gltf";
-    const auto r =
-        run_cli("convert -q " + quoted(gltf) + " -o " + quoted(out) + " --target " + target + " --specular-tolerance 0",
-                scratch);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(errors_in(out), 0u) << target;
-  }
+  converts_into_valid_files(gltf, "mime");
 }
 
 }  // namespace
