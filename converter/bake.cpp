@@ -568,7 +568,8 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   constexpr std::int64_t kBandRows = 16;
   // A lookup's set is a random line of a cache of up to 1 MiB a thread: the load of it was a
   // quarter of the band loop's time (perf, Avocado at 4096²). Each lookup starts the load of the
-  // set of the texel this far ahead (6% less CPU there, 2-4% on Avocado and VC; bench/RESULTS.md).
+  // set of the texel this far ahead: 6-9% less CPU where one core bakes, nothing measurable where
+  // two bake one file (bench/RESULTS.md).
   constexpr size_t kPrefetchAhead = 16;
   const std::int64_t bands = (in.height + kBandRows - 1) / kBandRows;
   const std::int64_t threads = std::min(ThreadPool::shared().threads(), bands);
