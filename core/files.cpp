@@ -258,29 +258,26 @@ std::vector<fs::path> AtomicWriteSet::commit() {
   // 3.15), so its old bytes wait under the temporary name until the commit ends. A file system
   // that cannot exchange names gets a plain rename, which cannot be undone.
   enum class Placed { Created, Exchanged, Replaced };
-  struct Done {
-    fs::path temporary, destination;
-    Placed placed;
-  };
-  std::vector<Done> done;
+  std::vector<std::pair<size_t, Placed>> done;  // (index in staged_, how)
   // Undoes what `done` placed; names any old file that could not go back where it was.
   const auto undo = [&] {
     std::string kept;
     for (auto it = done.rbegin(); it != done.rend(); ++it) {
+      auto& [temporary, destination] = staged_[it->first];
       std::error_code ec;
-      if (it->placed == Placed::Created) fs::remove(it->destination, ec);
-      if (it->placed != Placed::Exchanged) continue;
-      fs::rename(it->temporary, it->destination, ec);
+      if (it->second == Placed::Created) fs::remove(destination, ec);
+      if (it->second != Placed::Exchanged) continue;
+      fs::rename(temporary, destination, ec);
       if (ec) {  // its only copy: kept, not removed with the temporaries
-        forget_temporary(it->temporary);
-        for (auto& [temporary, destination] : staged_)
-          if (temporary == it->temporary) temporary.clear();
-        kept += "; the earlier " + it->destination.string() + " is kept as " + it->temporary.string();
+        kept += "; the earlier " + destination.string() + " is kept as " + temporary.string();
+        forget_temporary(temporary);
+        temporary.clear();
       }
     }
     return kept;
   };
-  for (auto& [temporary, destination] : staged_) {
+  for (size_t k = 0; k < staged_.size(); ++k) {
+    auto& [temporary, destination] = staged_[k];
     std::error_code ec;
     const fs::file_type type = fs::symlink_status(destination, ec).type();
     // Only a file is exchanged: a folder in the way must fail the rename, not move aside.
@@ -291,33 +288,29 @@ std::vector<fs::path> AtomicWriteSet::commit() {
                      ? ::rename(temporary.c_str(), destination.c_str())
                      : ::renameat2(AT_FDCWD, temporary.c_str(), AT_FDCWD, destination.c_str(),
                                    placed == Placed::Exchanged ? RENAME_EXCHANGE : RENAME_NOREPLACE);
-    if (result != 0 && placed != Placed::Replaced) {
-      const int error = errno;
-      if (error == EEXIST || (placed == Placed::Exchanged && (error == EINVAL || error == ENOSYS))) {
-        // The destination came meanwhile, or the file system cannot exchange: replaced for good.
-        placed = Placed::Replaced;
-        result = ::rename(temporary.c_str(), destination.c_str());
-      } else if (error == EINVAL || error == ENOSYS || error == ENOENT) {
-        // No renameat2 flags here (or the destination went meanwhile): a plain rename creates it.
-        placed = Placed::Created;
-        result = ::rename(temporary.c_str(), destination.c_str());
-      }
+    if (result != 0 && placed != Placed::Replaced &&
+        (errno == EINVAL || errno == ENOSYS || errno == EEXIST || errno == ENOENT)) {
+      // No renameat2 flags on this file system, or the destination came or went meanwhile: a plain
+      // rename, which creates or replaces it as it now stands.
+      placed =
+          fs::symlink_status(destination, ec).type() == fs::file_type::not_found ? Placed::Created : Placed::Replaced;
+      result = ::rename(temporary.c_str(), destination.c_str());
     }
     if (result != 0) {
       const int error = errno;
       const std::string kept = undo();
       throw OutputError("cannot rename into " + destination.string() + ": " + errno_text(error) + kept);
     }
-    done.push_back({temporary, destination, placed});
+    done.emplace_back(k, placed);
     if (placed != Placed::Exchanged) forget_temporary(temporary), temporary.clear();
   }
   std::vector<fs::path> written;
-  for (Done& file : done) {
-    if (file.placed == Placed::Exchanged) {  // the old bytes, no longer needed
-      ::unlink(file.temporary.c_str());
-      forget_temporary(file.temporary);
+  for (const auto& [k, placed] : done) {
+    if (placed == Placed::Exchanged) {  // the old bytes, no longer needed
+      ::unlink(staged_[k].first.c_str());
+      forget_temporary(staged_[k].first);
     }
-    written.push_back(file.destination);
+    written.push_back(staged_[k].second);
   }
   staged_.clear();
   return written;
