@@ -140,8 +140,11 @@ int run(const ConvertArgs& args) {
   for (const std::size_t position : positions) jobs.push_back(planned[position]);
 
   const RunReads reads{args.file.allow_outside_uris, args.pipeline.inputs_from};
-  refuse_writing_over_inputs(inputs, args.report, "--report", reads);
-  refuse_writing_over_inputs(inputs, args.pipeline.results, "--results", reads);
+  std::vector<PlannedOutput> written{{args.report, "--report"}, {args.pipeline.results, "--results"}};
+  for (const ConvertJob& job : jobs)
+    if (!job.preview_dir.empty())
+      for (const char* name : preview::kPreviewFiles) written.push_back({job.preview_dir / name, "--preview"});
+  refuse_writing_over_inputs(inputs, written, reads);
   ResultsLog results_log(args.pipeline.results);
   std::optional<ResultCache> cache;  // with --isolate, each child keeps its file in the cache
   if (!args.pipeline.cache.empty() && !args.isolate) cache.emplace(args.pipeline.cache);

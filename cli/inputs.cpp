@@ -182,26 +182,39 @@ void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vecto
   }
 }
 
-void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path, const std::string& option,
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<const PlannedOutput> outputs,
                                 const RunReads& reads) {
-  std::error_code ec;
-  if (path.empty() || !fs::exists(path, ec)) return;  // a file that is not there is read by no one
-  const fs::path target = resolved(path);
-  const auto refuse = [&](const fs::path& input) {
-    throw CLI::ValidationError(option, "refusing to write " + printable(path) + " over " + printable(input.string()) +
-                                           ", which the run reads");
+  // Only a file that is there can be one the run reads: a fresh run checks nothing further.
+  std::map<fs::path, const PlannedOutput*> existing;  // by resolved path
+  for (const PlannedOutput& output : outputs) {
+    std::error_code ec;
+    if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
+  }
+  if (existing.empty()) return;
+  const auto refuse_if_written = [&](const fs::path& read) {
+    const auto written = existing.find(resolved(read));
+    if (written == existing.end()) return;
+    const PlannedOutput& output = *written->second;
+    throw CLI::ValidationError(output.option, "refusing to write " + printable(output.path.string()) + " over " +
+                                                  printable(read.string()) + ", which the run reads");
   };
-  if (!reads.inputs_from.empty() && reads.inputs_from != "-" && resolved(reads.inputs_from) == target)
-    refuse(reads.inputs_from);
+  // Paths compare element by element, so the outputs inside a folder follow it in the map.
+  const auto holds_an_output = [&](const fs::path& folder) {
+    const fs::path root = resolved(folder);
+    const auto first = existing.lower_bound(root);
+    return first != existing.end() &&
+           std::mismatch(root.begin(), root.end(), first->first.begin(), first->first.end()).first == root.end();
+  };
+  if (!reads.inputs_from.empty() && reads.inputs_from != "-") refuse_if_written(reads.inputs_from);
   for (const InputFile& input : files) {
-    if (resolved(input.file) == target) refuse(input.file);
+    refuse_if_written(input.file);
     const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
-    if (!reads.allow_outside_uris && !is_under(target, folder)) continue;
+    if (!reads.allow_outside_uris && !holds_an_output(folder)) continue;
     const std::optional<Bytes> bytes = read_file(input.file);
     if (!bytes) continue;  // the run reports the unreadable input itself
     for (const std::string& uri : external_uris(*bytes).value_or(std::vector<std::string>{})) {
       const ResolvedUri named = resolve_uri(folder, uri, reads.allow_outside_uris);
-      if (named.status == UriStatus::Readable && resolved(named.path) == target) refuse(named.path);
+      if (named.status == UriStatus::Readable) refuse_if_written(named.path);
     }
   }
 }

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -55,11 +56,16 @@ struct RunReads {
   bool allow_outside_uris = false;  // the inputs may name files outside their folders
   std::string inputs_from;          // --inputs-from's list ("-": standard input)
 };
-// A run never writes over what it reads: throws CLI::ValidationError when the file that `option`
-// names (--report, --results, validate's --output) is one of the inputs, a file an input names (a
+// A file a run will write, and the option that named it (for the message).
+struct PlannedOutput {
+  std::filesystem::path path;
+  std::string option;
+};
+// A run never writes over what it reads: throws CLI::ValidationError when a planned output (a
+// report, a results log, a preview's images) is one of the inputs, a file an input names (a
 // buffer, an image) or the input list. Only an existing file can be one; only inputs whose folder
-// holds it (any input, where URIs may leave their folder) are read for the files they name.
-void refuse_writing_over_inputs(const std::vector<InputFile>& files, const std::string& path, const std::string& option,
+// holds one (any input, where URIs may leave their folder) are read for the files they name.
+void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<const PlannedOutput> outputs,
                                 const RunReads& reads);
 
 bool is_gltf_file(const std::filesystem::path& path);

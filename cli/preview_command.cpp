@@ -102,6 +102,14 @@ CachedPreview preview_with_cache(const PreviewArgs& args, const preview::Preview
   return {false, drawn_line(input.string(), drawn, output)};
 }
 
+// The files the previews in `folders` will write.
+std::vector<PlannedOutput> preview_outputs(const std::vector<fs::path>& folders) {
+  std::vector<PlannedOutput> written;
+  for (const fs::path& folder : folders)
+    for (const char* name : preview::kPreviewFiles) written.push_back({folder / name, "--output"});
+  return written;
+}
+
 // `preview DIR -o OUT`: every .gltf and .glb under DIR, each into OUT/<its path without the
 // extension> (as convert --preview names them), -j files at once on the one pool; a file that
 // cannot be drawn is reported and the rest go on; one gallery page at the end.
@@ -114,6 +122,7 @@ int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
   for (const InputFile& file : found.files)
     outputs.push_back(fs::path(args.output) / fs::path(file.relative).replace_extension());
   refuse_shared_outputs(found.files, outputs, "rename one, or preview them in separate runs");
+  refuse_writing_over_inputs(found.files, preview_outputs(outputs), RunReads{args.allow_outside, {}});
   std::optional<ResultCache> cache;
   if (!args.cache.empty()) cache.emplace(args.cache);
   std::atomic<std::size_t> restored{0}, failed{0};
@@ -202,6 +211,8 @@ int run(const PreviewArgs& args) {
   } else if (fs::is_directory(args.input)) {
     return run_folder(args, options);
   } else {
+    refuse_writing_over_inputs({InputFile{args.input, fs::path(args.input).filename()}}, preview_outputs({args.output}),
+                               RunReads{args.allow_outside, {}});
     std::optional<ResultCache> cache;
     if (!args.cache.empty()) cache.emplace(args.cache);
     const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);

@@ -59,6 +59,11 @@ nlohmann::ordered_json summary_entry(const Report& report, Severity fail_on) {
           {"failed", fails(report, fail_on)}};
 }
 
+// Where a report folder's summary goes: shards writing into one folder keep a summary each.
+fs::path summary_path(const fs::path& folder, bool sharded, const Shard& shard) {
+  return folder / (sharded ? "summary-shard" + std::to_string(shard.index) + ".json" : std::string("summary.json"));
+}
+
 nlohmann::ordered_json summary_json(const std::vector<Report>& reports, Severity fail_on) {
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   std::size_t totals[4] = {0, 0, 0, 0}, failing = 0;
@@ -128,8 +133,14 @@ int run(const ValidateArgs& args) {
   std::vector<Report> reports(files.size());
   // Nothing is written (folders included) before the run is known not to write over its inputs.
   const RunReads reads{args.allow_outside, args.pipeline.inputs_from};
-  refuse_writing_over_inputs(found, args.pipeline.results, "--results", reads);
-  if (!report_folder) refuse_writing_over_inputs(found, args.output, "--output", reads);
+  std::vector<PlannedOutput> written{{args.pipeline.results, "--results"}};
+  if (report_folder) {
+    for (const fs::path& path : report_paths) written.push_back({path, "--output"});
+    written.push_back({summary_path(args.output, sharded, shard), "--output"});
+  } else {
+    written.push_back({args.output, "--output"});
+  }
+  refuse_writing_over_inputs(found, written, reads);
   if (!args.heatmaps.empty()) {
     std::error_code error;
     fs::create_directories(args.heatmaps, error);
@@ -223,10 +234,7 @@ int run(const ValidateArgs& args) {
       }
     } else {
       for (std::size_t i = 0; i < files.size(); ++i) write_atomically(report_paths[i], report_json_text(reports[i]));
-      // Shards writing into one folder keep a summary each.
-      write_atomically(fs::path(args.output) / (sharded ? "summary-shard" + std::to_string(shard.index) + ".json"
-                                                        : std::string("summary.json")),
-                       json_text(summary));
+      write_atomically(summary_path(args.output, sharded, shard), json_text(summary));
     }
   } else {
     std::string text;  // -q: only the files that fail

@@ -180,7 +180,6 @@ PruneResult prune_unused(Asset& asset) {
     if (!keep_view[i] && model.bufferViews[i].buffer >= 0 &&
         static_cast<size_t>(model.bufferViews[i].buffer) < model.buffers.size())
       buffer_lost_view[static_cast<size_t>(model.bufferViews[i].buffer)] = true;
-  std::string problem_ignored;  // a malformed extension's view is no compressed source
   for (size_t b = 0; b < model.buffers.size(); ++b) {
     if (!buffer_lost_view[b] || is_meshopt_placeholder(model.buffers[b])) continue;
     struct Range {
@@ -228,8 +227,18 @@ PruneResult prune_unused(Asset& asset) {
   result.buffers = static_cast<int>(std::count(keep_buffer.begin(), keep_buffer.end(), false));
   if (result.buffers > 0)
     for (auto& view : model.bufferViews) {
-      if (const auto source = meshopt_view(view, problem_ignored); source)
-        set_meshopt_source(view, apply(buffer_remap, static_cast<int>(source->buffer)), source->byte_offset);
+      // The compressed source's buffer, also where the object is malformed otherwise: it keeps
+      // naming the buffer it named.
+      if (const auto found = view.extensions.find("EXT_meshopt_compression"); found != view.extensions.end()) {
+        Value& extension = found->second;
+        if (extension.IsObject()) {
+          Value::Object object = extension.Get<Value::Object>();
+          if (const auto buffer = object.find("buffer"); buffer != object.end() && buffer->second.IsInt()) {
+            buffer->second = Value(apply(buffer_remap, buffer->second.GetNumberAsInt()));
+            extension = Value(std::move(object));
+          }
+        }
+      }
       view.buffer = apply(buffer_remap, view.buffer);
     }
   for (auto& accessor : model.accessors) {

@@ -92,8 +92,10 @@ struct SpherePair {
 GBuffers sphere_gbuffers(std::span<const SpherePair> spheres, int columns, int cell, Camera* camera);
 GBuffers sphere_grid_gbuffers(const GridOptions& grid, Camera* camera);
 
-// before.png, after.png, difference.png, sheet.png and report.json into `folder`, atomically;
-// returns the files written.
+// The files of a preview's folder, as write_preview names them.
+inline constexpr const char* kPreviewFiles[] = {"before.png", "after.png", "difference.png", "sheet.png",
+                                                "report.json"};
+// kPreviewFiles into `folder`, atomically; returns the files written.
 std::vector<fs::path> write_preview(const PreviewResult& result, const nlohmann::json& report, const fs::path& folder);
 nlohmann::json preview_report(const PreviewResult& result, const PreviewOptions& options);
 

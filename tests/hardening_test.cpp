@@ -1125,6 +1125,47 @@ TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWrit
   EXPECT_EQ(read_file(scratch / "in" / "CesiumLogoFlat.png"), image);
 }
 
+TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBeforeAnythingIsWritten) {
+  // The texture is named as a preview's image and lies where the previews go: the input's folder
+  // (preview -o), its own name's folder (convert --preview), and the input is named as a report
+  // folder's summary.
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "in");
+  fs::create_directories(scratch / "in" / "BoxTextured");
+  fs::rename(scratch / "in" / "CesiumLogoFlat.png", scratch / "in" / "BoxTextured" / "before.png");
+  std::string text = test::read_text(gltf);
+  const std::string old_uri = "\"CesiumLogoFlat.png\"";
+  ASSERT_NE(text.find(old_uri), std::string::npos);
+  text.replace(text.find(old_uri), old_uri.size(), "\"BoxTextured/before.png\"");
+  test::write_text(gltf, text);
+  fs::copy(scratch / "in" / "BoxTextured" / "before.png", scratch / "in" / "before.png");
+  const fs::path summary = scratch / "in" / "summary.json";
+  fs::copy(gltf, summary);
+  const auto image = read_file(scratch / "in" / "BoxTextured" / "before.png");
+
+  const auto preview =
+      run_cli("preview -q --size 32 " + quoted(gltf) + " -o " + quoted(scratch / "in" / "BoxTextured"), scratch);
+  EXPECT_EQ(preview.exit_code, 2) << preview.err;
+  EXPECT_NE(preview.err.find("refusing to write"), std::string::npos) << preview.err;
+  const auto convert = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --preview " +
+                                   quoted(scratch / "in") + " --preview-size 32",
+                               scratch);
+  EXPECT_EQ(convert.exit_code, 2) << convert.err;
+  EXPECT_FALSE(fs::exists(scratch / "out"));
+  const auto validate = run_cli("validate --format json " + quoted(summary) + " -o " + quoted(scratch / "in"), scratch);
+  EXPECT_EQ(validate.exit_code, 2) << validate.err;
+  EXPECT_EQ(read_file(scratch / "in" / "BoxTextured" / "before.png"), image);
+  EXPECT_EQ(test::read_text(summary), text);
+  EXPECT_FALSE(fs::exists(scratch / "in" / "summary.json.report.json"));
+  // The same runs elsewhere write their files.
+  EXPECT_EQ(run_cli("preview -q --size 32 " + quoted(gltf) + " -o " + quoted(scratch / "p"), scratch).exit_code, 0);
+  EXPECT_TRUE(fs::exists(scratch / "p" / "before.png"));
+  // (BoxTextured's diffuse + F0 exceeds 1: an error, exit 1.)
+  EXPECT_EQ(run_cli("validate --format json " + quoted(summary) + " -o " + quoted(scratch / "v"), scratch).exit_code,
+            1);
+  EXPECT_TRUE(fs::exists(scratch / "v" / "summary.json"));
+}
+
 TEST(SilentLoss, FactorsOutsideTheSchemaStillConvertIntoAValidFile) {
   // Above 1 and below 0 in every route that copies a factor: a JPEG diffuse kept as it is, a PNG
   // diffuse reused, factors only, and the KHR_materials_specular route.

@@ -470,6 +470,45 @@ TEST(MeshoptAsset, PruningAnImageBesideCompressedBytesMovesThemAlong) {
   EXPECT_EQ(positions->values, kPositions);
 }
 
+TEST(MeshoptAsset, PruningABufferBeforeTheSourcesRenumbersEveryViewThatNamesThem) {
+  // buffers: 0 the image alone, 1 the sources, 2 the placeholder; the image goes, and with it buffer 0.
+  Asset asset = compressed_asset(kPositions, kIndices, 64);
+  tinygltf::Model& model = asset.model;
+  const Bytes& all = model.buffers[0].data;
+  tinygltf::Buffer image, sources;
+  image.data.assign(all.begin(), all.begin() + 64);
+  sources.data.assign(all.begin() + 64, all.end());
+  model.buffers = {image, sources, model.buffers[1]};
+  for (std::size_t v = 1; v < model.bufferViews.size(); ++v) {
+    auto& view = model.bufferViews[v];
+    view.buffer = 2;
+    std::string problem;
+    const auto source = meshopt_view(view, problem);
+    ASSERT_TRUE(source) << problem;
+    set_meshopt_source(view, 1, source->byte_offset - 64);
+  }
+  // A copy of a view whose extension is malformed (an unknown mode): it still names buffer 1.
+  tinygltf::BufferView malformed = model.bufferViews[1];
+  auto object = malformed.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
+  object["mode"] = tinygltf::Value(std::string("NOT_A_MODE"));
+  malformed.extensions["EXT_meshopt_compression"] = tinygltf::Value(object);
+  model.bufferViews.push_back(malformed);
+  const std::vector<Bytes> before = compressed_sources(asset);
+
+  const PruneResult pruned = prune_unused(asset);
+  EXPECT_EQ(pruned.buffers, 1);
+  ASSERT_EQ(model.buffers.size(), 2u);
+  for (const auto& view : model.bufferViews) {
+    EXPECT_EQ(view.buffer, 1) << "the placeholder";
+    EXPECT_EQ(view.extensions.at("EXT_meshopt_compression").Get("buffer").GetNumberAsInt(), 0) << "the sources";
+  }
+  EXPECT_EQ(compressed_sources(asset), before);
+  AccessorProblem problem;
+  const auto positions = read_accessor<float>(asset, 0, problem);
+  ASSERT_TRUE(positions) << problem.text();
+  EXPECT_EQ(positions->values, kPositions);
+}
+
 // Buffers in the order a GLB save must renumber: the placeholder first, an image's buffer, then
 // the buffer with the compressed bytes. Saved as .glb, the placeholder moves behind the BIN chunk.
 TEST(MeshoptAsset, SavingAsGlbMergesTheSourcesAndMovesThePlaceholderBehindTheBinChunk) {

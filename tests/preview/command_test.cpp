@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/files.hpp"
+#include "preview/preview.hpp"
 
 namespace gltf_pbr {
 namespace {
@@ -25,8 +26,14 @@ TEST(PreviewCommand, WritesImagesAndReportAndExitsZero) {
   fs::remove_all(out);
   const fs::path input = fs::path(GLTF_PBR_SHARED_DIR) / "assets/BoxTextured/specgloss/BoxTextured.gltf";
   ASSERT_EQ(run_preview(input.string() + " -o " + out.string() + " --size 64"), 0);
+  // The files the CLI checks against the input's before drawing (kPreviewFiles), and the gallery page.
+  std::set<std::string> written;
+  for (const auto& entry : fs::directory_iterator(out)) written.insert(entry.path().filename().string());
+  std::set<std::string> planned{"index.html"};
+  for (const char* name : preview::kPreviewFiles) planned.insert(name);
+  EXPECT_EQ(written, planned);
   for (const char* name : {"before.png", "after.png", "difference.png", "sheet.png", "report.json"})
-    EXPECT_TRUE(fs::exists(out / name)) << name;
+    EXPECT_TRUE(planned.contains(name)) << name;
   const auto text = read_file(out / "report.json");
   ASSERT_TRUE(text);
   const auto report = nlohmann::json::parse(text->begin(), text->end());
