@@ -40,7 +40,9 @@ int main(int argc, char** argv) {
       issues = report.messages.size();
       if (json && run == 0) {
         report.uri = file;
-        std::printf("%s\n", gltf_pbr::report_to_json(report).dump().c_str());
+        std::printf(
+            "%s\n",
+            gltf_pbr::report_to_json(report).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
       }
     }
     std::sort(seconds.begin(), seconds.end());

@@ -5,6 +5,7 @@
 #include <meshoptimizer.h>
 
 #include <cstring>
+#include <sstream>
 #include <string>
 
 #include "tests/structure/coverage.hpp"
@@ -335,6 +336,141 @@ TEST(StructureChecks, RequiredExtensionMissingFromUsedIsAnError) {
   const Issue* issue = find(report, "UNUSED_EXTENSION_REQUIRED");
   ASSERT_NE(issue, nullptr);
   EXPECT_EQ(issue->pointer, "/extensionsRequired/0");
+}
+
+TEST(StructureChecks, ExtensionsRequiredWithoutExtensionsUsedIsADependencyFailureWhateverItsValue) {
+  // The schema's dependency holds for the member, not its contents; it is judged before them.
+  for (const char* value : {"[]", "5", "[1]", R"(["KHR_materials_unlit"])"}) {
+    const Report report =
+        validate_text(std::string(R"({"asset":{"version":"2.0"},"extensionsRequired":)") + value + "}");
+    ASSERT_FALSE(report.messages.empty()) << value;
+    EXPECT_EQ(report.messages.front().code, "UNSATISFIED_DEPENDENCY") << value;
+    EXPECT_EQ(report.messages.front().pointer, "/extensionsRequired") << value;
+  }
+  const Report declared = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_materials_unlit"],"extensionsRequired":["KHR_materials_unlit"]})");
+  EXPECT_EQ(find(declared, "UNSATISFIED_DEPENDENCY"), nullptr);
+}
+
+TEST(RotationNonUnit, ANodeRotationWithinTheReferencesToleranceOfUnitLengthPasses) {
+  // |q| - 1 of 0.007688 passes and of 0.00769 fails, shorter or longer (bisected on the npm build).
+  const auto rotation_issue = [](double x, double w) {
+    std::ostringstream text;
+    text.precision(17);
+    text << R"({"asset":{"version":"2.0"},"nodes":[{"rotation":[)" << x << ",0,0," << w << "]}]}";
+    return find(validate_text(text.str()), "ROTATION_NON_UNIT") != nullptr;
+  };
+  // (A component above 1 is out of range instead: longer quaternions spread over two.)
+  for (const double length : {1.0 - 0.007688, 1.0 - 5e-6, 1.0, 1.0 + 5e-6, 1.0 + 0.007688}) {
+    if (length <= 1.0) {
+      EXPECT_FALSE(rotation_issue(0, length)) << length;
+    }
+    EXPECT_FALSE(rotation_issue(0.6 * length, 0.8 * length)) << length;
+  }
+  for (const double length : {1.0 - 0.00770, 0.5, 1.0 + 0.00770}) {
+    if (length <= 1.0) {
+      EXPECT_TRUE(rotation_issue(0, length)) << length;
+    }
+    EXPECT_TRUE(rotation_issue(0.6 * length, 0.8 * length)) << length;
+  }
+}
+
+// The (code, pointer) pairs of a report, in order.
+std::vector<std::pair<std::string, std::string>> codes_of(const Report& report) {
+  std::vector<std::pair<std::string, std::string>> codes;
+  for (const Issue& issue : report.messages) codes.emplace_back(issue.code, issue.pointer);
+  return codes;
+}
+
+// A sparse float accessor of four over 64 zero bytes: indices (UNSIGNED_INT) in view 0, values in
+// view 1, each 16 bytes; `views` and `sparse` are spliced in.
+std::string sparse_document(const std::string& index_view, const std::string& value_view, const std::string& sparse) {
+  return R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64,"uri":")" + buffer_of(std::vector<float>(16, 0)) +
+         R"("}],"bufferViews":[{"buffer":0,"byteLength":16)" + index_view +
+         R"(},{"buffer":0,"byteOffset":16,"byteLength":16)" + value_view +
+         R"(}],"accessors":[{"componentType":5126,"count":4,"type":"SCALAR","sparse":{)" + sparse + "}}]}";
+}
+
+TEST(SparseAccessor, ItsViewsAreOtherDataThatATargetOverridesAndAStrideBreaks) {
+  // Spec 3.6.2.3: sparse indices and values are tightly packed and neither vertex nor index data.
+  const std::string sparse = R"("count":1,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1})";
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string values = "/accessors/0/sparse/values/bufferView";
+  EXPECT_EQ(codes_of(validate_text(sparse_document("", R"(,"target":34962)", sparse))),
+            (Codes{{"BUFFER_VIEW_TARGET_OVERRIDE", values}, {"UNUSED_OBJECT", "/accessors/0"}}));
+  EXPECT_EQ(codes_of(validate_text(sparse_document("", R"(,"byteStride":4)", sparse))),
+            (Codes{{"BUFFER_VIEW_INVALID_BYTE_STRIDE", values}, {"UNUSED_OBJECT", "/accessors/0"}}));
+  EXPECT_EQ(codes_of(validate_text(sparse_document(R"(,"target":34963)", "", sparse))),
+            (Codes{{"BUFFER_VIEW_TARGET_OVERRIDE", "/accessors/0/sparse/indices/bufferView"},
+                   {"UNUSED_OBJECT", "/accessors/0"}}));
+}
+
+TEST(SparseAccessor, ItsOffsetsAreAlignedAndFitTheirViewsAsAnAccessorsDo) {
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const auto codes = [](const std::string& value_offset) {
+    return codes_of(validate_text(sparse_document(
+        "", "",
+        R"("count":1,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1,"byteOffset":)" +
+            value_offset + "}")));
+  };
+  EXPECT_EQ(codes("2"), (Codes{{"ACCESSOR_OFFSET_ALIGNMENT", "/accessors/0/sparse/values/byteOffset"},
+                               {"ACCESSOR_TOTAL_OFFSET_ALIGNMENT", "/accessors/0/sparse/values"},
+                               {"UNUSED_OBJECT", "/accessors/0"}}));
+  EXPECT_EQ(codes("12"), (Codes{{"UNUSED_OBJECT", "/accessors/0"}}));  // the last four bytes
+  // At the view's end the range is named, past it the offset.
+  EXPECT_EQ(codes("16"),
+            (Codes{{"ACCESSOR_TOO_LONG", "/accessors/0/sparse/values"}, {"UNUSED_OBJECT", "/accessors/0"}}));
+  EXPECT_EQ(codes("20"),
+            (Codes{{"ACCESSOR_TOO_LONG", "/accessors/0/sparse/values/byteOffset"}, {"UNUSED_OBJECT", "/accessors/0"}}));
+}
+
+TEST(SparseAccessor, AnUnreadableCountLeavesItsViewsUnlinked) {
+  const Report report = validate_text(
+      sparse_document("", R"(,"byteStride":4)",
+                      R"("count":0,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1})"));
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(codes_of(report), (Codes{{"VALUE_NOT_IN_RANGE", "/accessors/0/sparse/count"},
+                                     {"UNUSED_OBJECT", "/accessors/0"},
+                                     {"UNUSED_OBJECT", "/bufferViews/0"},
+                                     {"UNUSED_OBJECT", "/bufferViews/1"}}));
+}
+
+TEST(ImageBufferView, ATargetOnAnImagesViewIsAnOverride) {
+  const std::string png =
+      "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGNgYGD4DwABBAEAwS2OUAAAAABJRU5ErkJggg==";
+  const std::string document =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":72,"uri":"data:application/octet-stream;base64,)" + png +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":70,"target":34962}],"images":[{"bufferView":0,"mimeType":"image/png"}],"textures":[{"source":0}]})";
+  const Report report = validate_text(document);
+  const Issue* issue = find(report, "BUFFER_VIEW_TARGET_OVERRIDE");
+  ASSERT_NE(issue, nullptr) << report.messages.size();
+  EXPECT_EQ(issue->pointer, "/images/0/bufferView");
+}
+
+TEST(Camera, OnlyTheProjectionItsTypeNamesIsRead) {
+  // Spec 5.12: the type selects the projection; the other one, or both without a valid type, are
+  // not judged (beside ONE_OF_MISMATCH when both are given).
+  const auto codes = [](const std::string& camera) {
+    return codes_of(validate_text(R"({"asset":{"version":"2.0"},"cameras":[)" + camera +
+                                  R"(],"nodes":[{"camera":0}],"scenes":[{"nodes":[0]}],"scene":0})"));
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string bad_perspective = R"("perspective":{"yfov":4,"znear":1,"zfar":0.5})";
+  const std::string zero_orthographic = R"("orthographic":{"xmag":0,"ymag":1,"znear":0,"zfar":1})";
+  EXPECT_EQ(codes(R"({"type":"orthographic",)" + bad_perspective + "," + zero_orthographic + "}"),
+            (Codes{{"ONE_OF_MISMATCH", "/cameras/0"}, {"CAMERA_XMAG_YMAG_ZERO", "/cameras/0/orthographic/xmag"}}));
+  EXPECT_EQ(codes(R"({"type":"orthographic",)" + bad_perspective + "}"), (Codes{{"UNDEFINED_PROPERTY", "/cameras/0"}}));
+  EXPECT_EQ(codes("{" + bad_perspective + "}"), (Codes{{"UNDEFINED_PROPERTY", "/cameras/0"}}));
+  // Perspective members in the fixed order, each check as soon as its members are read.
+  EXPECT_EQ(codes(R"({"type":"perspective","perspective":{"aspectRatio":0,"zfar":0.5,"znear":1,"yfov":4}})"),
+            (Codes{{"CAMERA_YFOV_GEQUAL_PI", "/cameras/0/perspective"},
+                   {"CAMERA_ZFAR_LEQUAL_ZNEAR", "/cameras/0/perspective"},
+                   {"VALUE_NOT_IN_RANGE", "/cameras/0/perspective/aspectRatio"}}));
+  // An orthographic magnification is judged without the rest: zfar out of range, znear missing.
+  EXPECT_EQ(codes(R"({"type":"orthographic","orthographic":{"xmag":0,"ymag":1,"zfar":-1}})"),
+            (Codes{{"VALUE_NOT_IN_RANGE", "/cameras/0/orthographic/zfar"},
+                   {"UNDEFINED_PROPERTY", "/cameras/0/orthographic"},
+                   {"CAMERA_XMAG_YMAG_ZERO", "/cameras/0/orthographic/xmag"}}));
 }
 
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {

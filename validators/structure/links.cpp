@@ -49,8 +49,9 @@ std::int64_t last_element_size(const AccessorModel& accessor) {
 bool valid_texcoord(const std::string& name) { return set_number(name, "TEXCOORD_").has_value(); }
 
 // A buffer view's use besides the GL targets (34962 vertex data, 34963 index data), as the
-// reference names them in BUFFER_VIEW_TARGET_OVERRIDE: inverse bind matrices, and animation data.
-constexpr int kViewUsageIbm = 1, kViewUsageOther = 2;
+// reference names them in BUFFER_VIEW_TARGET_OVERRIDE: inverse bind matrices, other accessor data
+// (animations, sparse indices and values), and images.
+constexpr int kViewUsageIbm = 1, kViewUsageOther = 2, kViewUsageImage = 3;
 
 class Linker {
  public:
@@ -142,23 +143,35 @@ class Linker {
       issues_.at("ACCESSOR_SPARSE_COUNT_OUT_OF_RANGE", p + "/sparse/count", {arg(a.sparse_count), arg(a.count)});
     if (a.sparse) {
       for (int part = 0; part < 2; ++part) {
-        const std::string pp = p + (part == 0 ? "/sparse/indices/bufferView" : "/sparse/values/bufferView");
-        BufferViewModel* sparse_view =
-            resolve(doc_.buffer_views, part == 0 ? a.sparse_indices_view : a.sparse_values_view, pp);
-        if (sparse_view && (sparse_view->byte_stride > 0 || sparse_view->target != 0))
-          issues_.at("BUFFER_VIEW_INVALID_BYTE_STRIDE", pp);
-        // Spec 3.6.2.3 "Sparse Accessors": indices and values are tightly packed, sparse.count of
-        // each; they must fit their bufferViews like any accessor data.
-        const int index_size = component_size(a.sparse_indices_component_type);
-        const std::int64_t item = part == 0 ? index_size : element_size(a);
-        if (sparse_view && item > 0 && a.sparse_count > 0) {
-          const std::int64_t offset = part == 0 ? a.sparse_indices_offset : a.sparse_values_offset;
+        const std::string sp = p + (part == 0 ? "/sparse/indices" : "/sparse/values");
+        const std::int64_t view_index = part == 0 ? a.sparse_indices_view : a.sparse_values_view;
+        BufferViewModel* sparse_view = resolve(doc_.buffer_views, view_index, sp + "/bufferView");
+        if (!sparse_view) continue;
+        // Spec 3.6.2.3 "Sparse Accessors": the views hold neither vertex nor index data, so a
+        // target is a conflicting use, and they are tightly packed, so a stride is invalid.
+        use_view_as(view_index, kViewUsageOther, "Other", sp + "/bufferView");
+        if (sparse_view->byte_stride > 0) issues_.at("BUFFER_VIEW_INVALID_BYTE_STRIDE", sp + "/bufferView");
+        // Indices and values are aligned and fit their views like any accessor data (3.6.2.4),
+        // sparse.count of each.
+        const std::int64_t offset = part == 0 ? a.sparse_indices_offset : a.sparse_values_offset;
+        const int component = part == 0 ? component_size(a.sparse_indices_component_type) : size;
+        if (component > 0) {
+          if (offset % component != 0)
+            issues_.at("ACCESSOR_OFFSET_ALIGNMENT", sp + "/byteOffset", {arg(offset), arg(component)});
+          std::int64_t total = 0;
+          if (sparse_view->byte_offset >= 0 && !__builtin_add_overflow(sparse_view->byte_offset, offset, &total) &&
+              total % component != 0)
+            issues_.at("ACCESSOR_TOTAL_OFFSET_ALIGNMENT", sp, {arg(total), arg(component)});
+        }
+        const std::int64_t item = part == 0 ? component : element_size(a);
+        if (item > 0 && a.sparse_count > 0) {
           const long double length = static_cast<long double>(item) * static_cast<long double>(a.sparse_count);
           const std::int64_t view_length = std::max<std::int64_t>(sparse_view->byte_length, 0);
+          // Past the view's end (not at it, unlike an accessor's own offset) the offset is named.
           if (static_cast<long double>(offset) + length > static_cast<long double>(view_length))
-            issues_.at("ACCESSOR_TOO_LONG", p + (part == 0 ? "/sparse/indices" : "/sparse/values"),
+            issues_.at("ACCESSOR_TOO_LONG", offset > view_length ? sp + "/byteOffset" : sp,
                        {arg(offset), arg(static_cast<std::int64_t>(std::min<long double>(length, 9e18L))),
-                        arg(part == 0 ? a.sparse_indices_view : a.sparse_values_view), arg(view_length)});
+                        arg(view_index), arg(view_length)});
         }
       }
     }
@@ -374,6 +387,7 @@ class Linker {
     ImageModel& image = doc_.images[i];
     const std::string p = at("images", i);
     if (BufferViewModel* view = resolve(doc_.buffer_views, image.buffer_view, p + "/bufferView")) {
+      use_view_as(image.buffer_view, kViewUsageImage, "Image", p + "/bufferView");  // a target is another use
       if (view->byte_stride > 0) issues_.at("IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE", p + "/bufferView");
     }
   }
@@ -392,8 +406,13 @@ class Linker {
   }
 
   void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
-    if (accessor.buffer_view < 0 || static_cast<std::size_t>(accessor.buffer_view) >= doc_.buffer_views.size()) return;
-    BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(accessor.buffer_view)];
+    use_view_as(accessor.buffer_view, usage, name, pointer);
+  }
+  // The use of view `index` (a GL target, kViewUsageIbm or kViewUsageOther) at `pointer`: the first
+  // use sets it; another one is reported as an override.
+  void use_view_as(std::int64_t index, int usage, const std::string& name, const std::string& pointer) {
+    if (index < 0 || static_cast<std::size_t>(index) >= doc_.buffer_views.size()) return;
+    BufferViewModel& view = doc_.buffer_views[static_cast<std::size_t>(index)];
     if (!view.object) return;
     view.used = true;  // even through an accessor that is not linked itself (one missing a property)
     if (view.usage_target == 0) {
