@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 #include <string>
@@ -471,6 +472,33 @@ TEST(Camera, OnlyTheProjectionItsTypeNamesIsRead) {
             (Codes{{"VALUE_NOT_IN_RANGE", "/cameras/0/orthographic/zfar"},
                    {"UNDEFINED_PROPERTY", "/cameras/0/orthographic"},
                    {"CAMERA_XMAG_YMAG_ZERO", "/cameras/0/orthographic/xmag"}}));
+}
+
+TEST(SkinnedMesh, OnlyAsManyJointsAsWeightsSetsMakeAPrimitiveASkinsToBind) {
+  // Spec 3.7.3.1: a skinned primitive has JOINTS_n and WEIGHTS_n. Joints alone, sets that do not
+  // pair up, or sets with a gap (which count as none) bind nothing: the skin's node is reported,
+  // and a node without a skin is not.
+  const std::string skinned_node =
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"skin":0},{}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1}}]}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":12,"target":34962},{"buffer":0,"byteOffset":48,"byteLength":48,"target":34962}],"skins":[{"joints":[1]}],"buffers":[{"byteLength":96,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAAAA"}]})";
+  const auto codes_with = [&](const std::string& attributes, bool skin) {
+    std::string text = skinned_node;
+    text.replace(text.find(R"("JOINTS_0":1)"), std::string(R"("JOINTS_0":1)").size(), attributes);
+    if (!skin) text.replace(text.find(R"(,"skin":0)"), std::string(R"(,"skin":0)").size(), "");
+    std::vector<std::string> codes;
+    for (const Issue& issue : validate_text(text).messages) codes.push_back(issue.code);
+    return codes;
+  };
+  const auto has = [](const std::vector<std::string>& codes, const char* code) {
+    return std::find(codes.begin(), codes.end(), code) != codes.end();
+  };
+  for (const std::string attributes :
+       {R"("JOINTS_0":1)", R"("JOINTS_0":1,"JOINTS_1":1,"WEIGHTS_0":2)", R"("JOINTS_1":1,"WEIGHTS_0":2)"}) {
+    EXPECT_TRUE(has(codes_with(attributes, true), "NODE_SKIN_WITH_NON_SKINNED_MESH")) << attributes;
+    EXPECT_FALSE(has(codes_with(attributes, false), "NODE_SKINNED_MESH_WITHOUT_SKIN")) << attributes;
+  }
+  const std::string paired = R"("JOINTS_0":1,"WEIGHTS_0":2)";
+  EXPECT_FALSE(has(codes_with(paired, true), "NODE_SKIN_WITH_NON_SKINNED_MESH"));
+  EXPECT_TRUE(has(codes_with(paired, false), "NODE_SKINNED_MESH_WITHOUT_SKIN"));
 }
 
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {

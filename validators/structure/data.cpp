@@ -471,15 +471,16 @@ class AccessorData {
             by_set.try_emplace(*set, -1, -1).first->second.second = index;
         }
         SkinnedPrimitive skinned{{}, -1, mesh.skin, mesh.joint_count, 0.0};
-        // Joints are unsigned integers and weights floats or normalized unsigned integers (their
-        // formats are reported by the link pass); other data is not read as joints or weights.
+        // Joints are unsigned integers (32-bit ones too, though the format allows 8 and 16: the
+        // link pass reports that) and weights floats or normalized unsigned integers; other data
+        // is not read as joints or weights.
         bool usable = !by_set.empty();
         for (const auto& [set, pair] : by_set) {
           const AccessorModel* joints = accessor_object(doc_, pair.first);
           const AccessorModel* weights = accessor_object(doc_, pair.second);
           usable =
               usable && joints && weights && readable(*joints) && readable(*weights) &&
-              (joints->component_type == 5121 || joints->component_type == 5123) &&
+              (joints->component_type == 5121 || joints->component_type == 5123 || joints->component_type == 5125) &&
               (weights->component_type == 5126 || weights->component_type == 5121 || weights->component_type == 5123) &&
               joints->count == weights->count && (skinned.count < 0 || joints->count == skinned.count);
           if (!usable) break;

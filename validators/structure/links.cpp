@@ -674,11 +674,10 @@ class Linker {
     if (mesh) node.empty = false;
     if (mesh && mesh->valid) {  // a mesh dropped for its schema errors has nothing to compare
       std::int64_t targets = 0;
-      bool skinned = false;
+      bool skinned = false;  // a primitive holds what a skin binds (PrimitiveModel::skinned)
       for (const auto& primitive : mesh->primitives) {
         targets = std::max(targets, primitive.targets);
-        for (const auto& [name, index] : primitive.attributes)
-          if (name.starts_with("JOINTS_")) skinned = true;
+        skinned = skinned || primitive.skinned;
       }
       if (node.weights >= 0 && mesh->primitives_known && node.weights != targets)
         issues_.at("NODE_WEIGHTS_INVALID", p + "/weights", {arg(node.weights), arg(targets)});

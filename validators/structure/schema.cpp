@@ -800,7 +800,10 @@ class Walker {
     return false;
   }
 
-  std::vector<std::pair<std::string, std::int64_t>> attribute_map(const Json& o, const std::string& p, bool target) {
+  // A primitive's attributes or a morph target's; `skinned`, for a primitive's, receives
+  // PrimitiveModel::skinned.
+  std::vector<std::pair<std::string, std::int64_t>> attribute_map(const Json& o, const std::string& p, bool target,
+                                                                  bool* skinned = nullptr) {
     std::vector<std::pair<std::string, std::int64_t>> result;
     std::map<std::string, std::vector<int>> sets;
     for (const auto& [name, value] : o.items()) {
@@ -826,18 +829,24 @@ class Walker {
       auto has = [&](const char* name) { return o.contains(name); };
       if (!has("POSITION")) context_.issues.at("MESH_PRIMITIVE_NO_POSITION", p);
       if (has("TANGENT") && !has("NORMAL")) context_.issues.at("MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL", p + "/TANGENT");
+      std::set<std::string> broken;  // semantics whose sets have a gap: none of their sets counts
       for (auto& [base, list] : sets) {
         std::sort(list.begin(), list.end());
         const bool continuous = list.back() == static_cast<int>(list.size()) - 1;
-        if (!continuous)
+        if (!continuous) {
           context_.issues.at("MESH_PRIMITIVE_INDEXED_SEMANTIC_CONTINUITY", p,
                              {arg(base), arg(list.back() + 1), arg(static_cast<int>(list.size()))});
+          broken.insert(base);
+        }
       }
-      const std::size_t joints = sets.contains("JOINTS") ? sets["JOINTS"].size() : 0;
-      const std::size_t weights = sets.contains("WEIGHTS") ? sets["WEIGHTS"].size() : 0;
+      const auto sets_of = [&](const std::string& base) {
+        return sets.contains(base) && !broken.contains(base) ? sets[base].size() : std::size_t{0};
+      };
+      const std::size_t joints = sets_of("JOINTS"), weights = sets_of("WEIGHTS");
       if (joints != weights)
         context_.issues.at("MESH_PRIMITIVE_JOINTS_WEIGHTS_MISMATCH", p,
                            {arg(static_cast<std::uint64_t>(joints)), arg(static_cast<std::uint64_t>(weights))});
+      if (skinned) *skinned = joints > 0 && joints == weights;
     }
     return result;
   }
@@ -856,7 +865,7 @@ class Walker {
       if (attributes->empty()) {
         context_.issues.at("EMPTY_ENTITY", p + "/attributes");
       } else {
-        m.attributes = attribute_map(*attributes, p + "/attributes", false);
+        m.attributes = attribute_map(*attributes, p + "/attributes", false, &m.skinned);
       }
     }
     if (auto targets = read_.object_array(o, p, "targets", false, false)) {

@@ -154,6 +154,9 @@ struct PrimitiveModel {
   std::int64_t material = -1;
   int mode = 4;  // -1: an integer outside 0-6, judged by nothing
   std::int64_t targets = -1;  // -1: no targets property
+  // As many JOINTS_n as WEIGHTS_n sets, at least one, each semantic's sets numbered from 0 without
+  // a gap (spec 3.7.3.1): what a skin can bind.
+  bool skinned = false;
   std::vector<std::vector<std::pair<std::string, std::int64_t>>> target_attributes;
   bool draco = false;
   std::int64_t draco_buffer_view = -1;
