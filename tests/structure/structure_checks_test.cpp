@@ -501,6 +501,27 @@ TEST(SkinnedMesh, OnlyAsManyJointsAsWeightsSetsMakeAPrimitiveASkinsToBind) {
   EXPECT_TRUE(has(codes_with(paired, false), "NODE_SKINNED_MESH_WITHOUT_SKIN"));
 }
 
+TEST(TextureInfo, ItsExtensionsAreJudgedBeforeItsOwnMembers) {
+  // The reference's order (read off the npm build): a texture info's extensions, then index,
+  // texCoord and strength; KHR_materials_volume's attenuation before its thickness.
+  const Report info = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_transform"],"materials":[{"occlusionTexture":{"strength":"s","index":-1,"texCoord":"x","extensions":{"KHR_texture_transform":{"offset":"o"}}}}]})");
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string o = "/materials/0/occlusionTexture";
+  EXPECT_EQ(codes_of(info), (Codes{{"TYPE_MISMATCH", o + "/extensions/KHR_texture_transform/offset"},
+                                   {"INVALID_INDEX", o + "/index"},
+                                   {"TYPE_MISMATCH", o + "/texCoord"},
+                                   {"TYPE_MISMATCH", o + "/strength"},
+                                   {"UNUSED_OBJECT", "/materials/0"}}));
+  const Report volume = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_materials_volume","KHR_materials_transmission"],"materials":[{"extensions":{"KHR_materials_transmission":{},"KHR_materials_volume":{"thicknessFactor":"s","attenuationDistance":"s","attenuationColor":"s"}}}]})");
+  const std::string v = "/materials/0/extensions/KHR_materials_volume";
+  EXPECT_EQ(codes_of(volume), (Codes{{"TYPE_MISMATCH", v + "/attenuationColor"},
+                                     {"TYPE_MISMATCH", v + "/attenuationDistance"},
+                                     {"TYPE_MISMATCH", v + "/thicknessFactor"},
+                                     {"UNUSED_OBJECT", "/materials/0"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

@@ -160,10 +160,11 @@ class ExtensionReader {
       read_.check_members(
           o, p,
           {"thicknessFactor", "thicknessTexture", "attenuationDistance", "attenuationColor", "extensions", "extras"});
+      // The reference's order: the attenuation first.
+      read_.numbers(o, p, "attenuationColor", {3}, kUnit);
+      read_.number(o, p, "attenuationDistance", false, {0, INFINITY, true});
       const double thickness = read_.number(o, p, "thicknessFactor", false, kNonNegative).value_or(0.0);
       texture(o, p, "thicknessTexture");
-      read_.number(o, p, "attenuationDistance", false, {0, INFINITY, true});
-      read_.numbers(o, p, "attenuationColor", {3}, kUnit);
       tail(o, p);
       // KHR_materials_volume: it only applies to surfaces that transmit light, and "is not
       // compatible with double-sided materials" in its thin-walled sense.

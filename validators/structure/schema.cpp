@@ -717,11 +717,13 @@ class Walker {
       read_.check_members(*info, p, {"index", "texCoord", "extensions", "extras"});
     TextureRef ref;
     ref.pointer = p;
+    // The extensions (KHR_texture_transform) before the info's own members, as the reference
+    // reports them.
+    extensions(*info, p, Owner::TextureInfo);
     ref.index = read_.index(*info, p, "index", true);
     if (auto coord = read_.integer(*info, p, "texCoord", false, {0})) ref.tex_coord = *coord;
     if (kind == 1) read_.number(*info, p, "scale");
     if (kind == 2) read_.number(*info, p, "strength", false, {0, 1});
-    extensions(*info, p, Owner::TextureInfo);
     read_.extras(*info, p);
     // KHR_texture_transform.texCoord, when present, replaces the binding's set.
     if (auto ext = info->find("extensions"); ext != info->end() && ext->is_object()) {
