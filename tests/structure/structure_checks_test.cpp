@@ -522,6 +522,19 @@ TEST(TextureInfo, ItsExtensionsAreJudgedBeforeItsOwnMembers) {
                                      {"UNUSED_OBJECT", "/materials/0"}}));
 }
 
+TEST(VertexData, AnAttributeOutsideItsFormatTableIsNotJudgedAsItsSemantic) {
+  // A NORMAL of normalized unsigned bytes is no format KHR_mesh_quantization allows: it has no
+  // unit length to check. Normalized signed bytes are allowed, and are judged.
+  const Report invalid = validate_text(
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5121, "count": 3, "type": "VEC3", "normalized": true}], "bufferViews": [{"buffer": 0, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 36, "byteLength": 12, "target": 34962}], "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAQAAAAEAAAABAAAA"}], "extensionsUsed": ["KHR_mesh_quantization"], "extensionsRequired": ["KHR_mesh_quantization"]})");
+  EXPECT_NE(find(invalid, "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT"), nullptr);
+  EXPECT_EQ(find(invalid, "ACCESSOR_VECTOR3_NON_UNIT"), nullptr);
+  const Report valid = validate_text(
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5120, "count": 3, "type": "VEC3", "normalized": true}], "bufferViews": [{"buffer": 0, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 36, "byteLength": 12, "target": 34962}], "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAQAAAQAAAQAAAAAA"}], "extensionsUsed": ["KHR_mesh_quantization"], "extensionsRequired": ["KHR_mesh_quantization"]})");
+  EXPECT_EQ(find(valid, "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT"), nullptr);
+  EXPECT_NE(find(valid, "ACCESSOR_VECTOR3_NON_UNIT"), nullptr);
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

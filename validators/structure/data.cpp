@@ -392,6 +392,7 @@ class AccessorData {
     const std::string& semantic = a.semantic;
     const int components = component_count(a.type);
     const std::vector<std::string>& uses = a.data_uses;
+    if (a.semantic_format_invalid) return;
     if ((semantic == "NORMAL" && components == 3) || (semantic == "TANGENT" && components == 4)) {
       for (std::size_t e = 0; e < count; ++e) {
         const double* v = &values_[e * components];

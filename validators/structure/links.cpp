@@ -462,7 +462,7 @@ class Linker {
   // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
   // A target holds displacements: TANGENT is a VEC3 without the handedness, and texture coordinates
   // and colours may also be signed. Returns whether the semantic has a table.
-  bool attribute_format(const AccessorModel& accessor, const std::string& name, const std::string& pointer,
+  bool attribute_format(AccessorModel& accessor, const std::string& name, const std::string& pointer,
                         bool morph_target = false) {
     const bool quantized = context_.declared("KHR_mesh_quantization");
     std::vector<std::tuple<const char*, int, bool>> allowed;
@@ -507,6 +507,8 @@ class Linker {
     }
     for (const auto& [type, ct, normalized] : allowed)
       if (accessor.type == type && accessor.component_type == ct && accessor.normalized == normalized) return true;
+    if (!morph_target && (accessor.usage == AccessorModel::Usage::None || accessor.semantic == name))
+      accessor.semantic_format_invalid = true;
     std::vector<MessageArg> list;
     for (const auto& [type, ct, normalized] : allowed) list.push_back(arg(format_name(type, ct, normalized)));
     issues_.at("MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT", pointer,

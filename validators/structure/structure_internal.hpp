@@ -86,6 +86,9 @@ struct AccessorModel : EntityModel {
   enum class Usage { None, Vertex, Index, AnimationInput, AnimationOutput, InverseBindMatrices, Other };
   Usage usage = Usage::None;
   std::string semantic;        // first mesh attribute semantic (NORMAL, TANGENT, COLOR_0, ...)
+  // A mesh attribute found outside its semantic's format table: its values are not judged as that
+  // semantic's (a NORMAL of bytes that are not normalized has no unit length to check).
+  bool semantic_format_invalid = false;
   std::string usage_pointer;   // pointer of the first use that carries a data check
   std::string animation_path;  // for AnimationOutput
   std::string interpolation;
