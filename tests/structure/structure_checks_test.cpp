@@ -535,6 +535,24 @@ TEST(VertexData, AnAttributeOutsideItsFormatTableIsNotJudgedAsItsSemantic) {
   EXPECT_NE(find(valid, "ACCESSOR_VECTOR3_NON_UNIT"), nullptr);
 }
 
+TEST(InvalidFloat, IsNamedAtTheAccessorAndTheBoundsStartAtTheFirstElement) {
+  // Read off the npm build: ACCESSOR_INVALID_FLOAT is the accessor's fault whoever uses it, and the
+  // actual bounds start at element 0 whatever it holds. A NaN there leaves them NaN, so both
+  // declared bounds mismatch. A later NaN is passed over: key times 0, NaN have the maximum 0.
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const Report position = validate_text(
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}, {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}], "bufferViews": [{"buffer": 0, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 36, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 72, "byteLength": 24, "target": 34962}], "buffers": [{"byteLength": 96, "uri": "data:application/octet-stream;base64,AAAAAAAAwH8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/"}]})");
+  EXPECT_EQ(codes_of(position), (Codes{{"UNUSED_OBJECT", "/meshes/0/primitives/0/attributes/TEXCOORD_0"},
+                                       {"ACCESSOR_INVALID_FLOAT", "/accessors/0"},
+                                       {"ACCESSOR_MIN_MISMATCH", "/accessors/0/min/1"},
+                                       {"ACCESSOR_MAX_MISMATCH", "/accessors/0/max/1"}}));
+  const Report times = validate_text(
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{}], "animations": [{"samplers": [{"input": 0, "output": 1}], "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1]}, {"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC3"}], "bufferViews": [{"buffer": 0, "byteLength": 8}, {"buffer": 0, "byteOffset": 8, "byteLength": 24}], "buffers": [{"byteLength": 32, "uri": "data:application/octet-stream;base64,AAAAAAAAwH8AAAAAAAAAAAAAAAAAAIA/AACAPwAAgD8="}]})");
+  EXPECT_EQ(codes_of(times), (Codes{{"NODE_EMPTY", "/nodes/0"},
+                                    {"ACCESSOR_INVALID_FLOAT", "/accessors/0"},
+                                    {"ACCESSOR_MAX_MISMATCH", "/accessors/0/max/0"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

@@ -255,7 +255,6 @@ class AccessorData {
     // first decode, so a sparse accessor always has one).
     const bool pass_one = is_float || min_declared || max_declared || a.sparse;
     const bool one_chunk = chunk >= a.count;
-    bool invalid_float = false;
     for (std::int64_t first = 0; pass_one && first < a.count; first += chunk) {
       const std::int64_t n = std::min(chunk, a.count - first);
       if (!decode(a, first == 0, first, n, values_)) return;
@@ -263,14 +262,21 @@ class AccessorData {
       for (std::int64_t e = first; e < first + n; ++e) {
         for (int c = 0; c < components; ++c, ++value) {
           const double v = *value;
+          // The actual bounds start at the first element, whatever it holds, and take a value
+          // only where it compares below or above them: a NaN first element leaves NaN bounds,
+          // a later one is passed over (the reference's answers on constructed files).
+          if (e == 0) {
+            actual_min[c] = actual_max[c] = v;
+          } else {
+            if (v < actual_min[c]) actual_min[c] = v;
+            if (v > actual_max[c]) actual_max[c] = v;
+          }
+          // An invalid float is the accessor's own fault: named at the accessor, whoever uses it.
           if (is_float && !std::isfinite(v)) {
-            issues_.at("ACCESSOR_INVALID_FLOAT", use,
+            issues_.at("ACCESSOR_INVALID_FLOAT", p,
                        {arg(static_cast<std::uint64_t>(e * components + c)), arg_double(v)});
-            invalid_float = true;
             continue;
           }
-          actual_min[c] = std::min(actual_min[c], v);
-          actual_max[c] = std::max(actual_max[c], v);
           below[c] += v < declared_min[c];
           above[c] += v > declared_max[c];
         }
@@ -286,7 +292,7 @@ class AccessorData {
     }
     // The declared bounds are judged once every element is seen: after the elements' own issues,
     // as the reference reports them (checked against the npm validator).
-    if (!invalid_float) bounds(a, p, components, actual_min, actual_max, below, above);
+    bounds(a, p, components, actual_min, actual_max, below, above);
     if (usage && a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
       issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
                  {arg(carry.degenerate_triangles), arg(static_cast<std::uint64_t>(a.count / 3))});
