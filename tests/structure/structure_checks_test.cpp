@@ -553,6 +553,29 @@ TEST(InvalidFloat, IsNamedAtTheAccessorAndTheBoundsStartAtTheFirstElement) {
                                     {"ACCESSOR_MAX_MISMATCH", "/accessors/0/max/0"}}));
 }
 
+TEST(PunctualLight, OnlyASpotLightsSpotIsReadAndOnlyReadValuesAreCompared) {
+  const auto codes = [](const std::string& light) {  // the light is used by nothing: UNUSED_OBJECT is left out
+    auto all = codes_of(validate_text(
+        R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_lights_punctual"],"extensions":{"KHR_lights_punctual":{"lights":[)" +
+        light + "]}}}"));
+    std::erase_if(all, [](const auto& code) { return code.first == "UNUSED_OBJECT"; });
+    return all;
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string l = "/extensions/KHR_lights_punctual/lights/0";
+  // A point light's spot, or an unknown type's, is unused whatever it holds.
+  EXPECT_EQ(codes(R"({"type":"point","spot":{"outerConeAngle":1.6}})"), (Codes{{"EXTRA_PROPERTY", l + "/spot"}}));
+  EXPECT_EQ(codes(R"({"type":"area","spot":{"outerConeAngle":1.6}})"),
+            (Codes{{"VALUE_NOT_IN_LIST", l + "/type"}, {"EXTRA_PROPERTY", l + "/spot"}}));
+  // A value out of range is reported as such alone: not also unused, nor compared by its default.
+  EXPECT_EQ(codes(R"({"type":"directional","range":0})"), (Codes{{"VALUE_NOT_IN_RANGE", l + "/range"}}));
+  EXPECT_EQ(codes(R"({"type":"directional","range":1})"), (Codes{{"EXTRA_PROPERTY", l + "/range"}}));
+  EXPECT_EQ(codes(R"({"type":"spot","spot":{"innerConeAngle":1,"outerConeAngle":0}})"),
+            (Codes{{"VALUE_NOT_IN_RANGE", l + "/spot/outerConeAngle"}}));
+  EXPECT_EQ(codes(R"({"type":"spot","spot":{"innerConeAngle":1}})"),
+            (Codes{{"KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", l + "/spot"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

@@ -299,20 +299,25 @@ class ExtensionReader {
         const Json* spot = read_.object(light, lp, "spot");
         auto type = read_.string(light, lp, "type", true, {"directional", "point", "spot"});
         auto range = read_.number(light, lp, "range", false, {0, INFINITY, true});
-        if (type && *type == "directional" && light.contains("range")) issues_.at("EXTRA_PROPERTY", lp + "/range");
-        if (type && *type == "spot" && !light.contains("spot")) issues_.at("UNDEFINED_PROPERTY", lp, {arg("spot")});
-        if (type && *type != "spot" && light.contains("spot")) issues_.at("EXTRA_PROPERTY", lp + "/spot");
-        if (spot) {
+        // A range that could not be read is reported as such alone, not also as unused.
+        if (type == "directional" && range) issues_.at("EXTRA_PROPERTY", lp + "/range");
+        if (type == "spot" && !light.contains("spot")) issues_.at("UNDEFINED_PROPERTY", lp, {arg("spot")});
+        // Only a spot light's spot is read: for any other type, or one that is not known, it is unused.
+        if (type != "spot" && light.contains("spot")) issues_.at("EXTRA_PROPERTY", lp + "/spot");
+        if (spot && type == "spot") {
           const std::string sp = lp + "/spot";
           read_.check_members(*spot, sp, {"innerConeAngle", "outerConeAngle", "extensions", "extras"});
           auto inner = read_.number(*spot, sp, "innerConeAngle", false, {0, M_PI / 2, false, true});
           auto outer = read_.number(*spot, sp, "outerConeAngle", false, {0, M_PI / 2, true, false});
           tail(*spot, sp);
+          // The angles are compared only as read: a default stands in for an absent one, not for
+          // one that was out of range (that is reported already).
+          const bool comparable =
+              (inner || !spot->contains("innerConeAngle")) && (outer || !spot->contains("outerConeAngle"));
           const double inner_value = inner.value_or(0.0), outer_value = outer.value_or(M_PI / 4);
-          if (outer_value <= inner_value)
+          if (comparable && outer_value <= inner_value)
             issues_.at("KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", sp, {arg_double(inner_value), arg_double(outer_value)});
         }
-        (void)range;
         tail(light, lp);
       }
     }
