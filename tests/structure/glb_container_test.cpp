@@ -126,5 +126,27 @@ TEST(GlbContainer, AStreamThatEndsInsideAChunkLoadsNoResources) {
   EXPECT_EQ(std::find(cut.begin(), cut.end(), "IO_ERROR /buffers/0/uri"), cut.end());
 }
 
+TEST(GlbContainer, ADataUriThatParsesIsInTheGlbBeforeItsMediaTypeIsJudged) {
+  // DATA_URI_GLB follows the URI's syntax and base64, and comes before the media type checks
+  // (the reference's order on constructed files); an invalid URI declares no media type.
+  const auto image = [](const std::string& uri) {
+    return issues_of(
+        glb({{kJson, R"({"asset":{"version":"2.0"},"images":[{"uri":")" + uri + R"("}],"textures":[{"source":0}]})"}}));
+  };
+  const std::string png =
+      "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGNgYGD4DwABBAEAwS2OUAAAAABJRU5ErkJggg==";
+  EXPECT_EQ(image("data:image/jpeg;base64," + png), (Issues{"URI_GLB /images/0/uri", "DATA_URI_GLB /images/0/uri",
+                                                            "INVALID_URI /images/0/uri", "UNUSED_OBJECT /textures/0"}));
+  EXPECT_EQ(image("data:text/plain;base64," + png), (Issues{"URI_GLB /images/0/uri", "DATA_URI_GLB /images/0/uri",
+                                                            "INVALID_URI /images/0/uri", "UNUSED_OBJECT /textures/0"}));
+  EXPECT_EQ(image("data:image/png;base64,@@@@"),
+            (Issues{"URI_GLB /images/0/uri", "INVALID_URI /images/0/uri", "UNUSED_OBJECT /textures/0"}));
+  EXPECT_EQ(issues_of(glb(
+                {{kJson,
+                  R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:text/plain;base64,AAAA"}]})"}})),
+            (Issues{"URI_GLB /buffers/0/uri", "DATA_URI_GLB /buffers/0/uri",
+                    "BUFFER_DATA_URI_MIME_TYPE_INVALID /buffers/0/uri", "UNUSED_OBJECT /buffers/0"}));
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -576,6 +576,29 @@ TEST(PunctualLight, OnlyASpotLightsSpotIsReadAndOnlyReadValuesAreCompared) {
             (Codes{{"KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", l + "/spot"}}));
 }
 
+TEST(ImageBytes, AViewIsReadWhereverItIsNamedAndATruncatedStreamTellsNothingElse) {
+  // A 1x1 PNG cut to 20 bytes in view 0 (with a stride in the first case): the stream ends
+  // inside its header, so its declared type is not compared. With a URI beside the view, the
+  // bytes are still the view's: the URI's JPEG is not read.
+  const std::string png20 = buffer_of(std::vector<std::uint8_t>{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0,
+                                                                0,    13,  'I', 'H', 'D',  'R',  0,    0,    0, 1});
+  const auto codes = [&](const std::string& view, const std::string& image) {
+    std::vector<std::pair<std::string, std::string>> all = codes_of(validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":20,"uri":")" + png20 +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":20)" + view + R"(}],"images":[{"bufferView":0)" + image +
+        R"(}],"textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})"));
+    std::erase_if(all, [](const auto& code) { return code.first == "UNUSED_OBJECT"; });
+    return all;
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(
+      codes(R"(,"byteStride":4)", R"(,"mimeType":"image/png")"),
+      (Codes{{"IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE", "/images/0/bufferView"}, {"IMAGE_UNEXPECTED_EOS", "/images/0"}}));
+  EXPECT_EQ(codes("", R"(,"mimeType":"image/jpeg")"), (Codes{{"IMAGE_UNEXPECTED_EOS", "/images/0"}}));
+  EXPECT_EQ(codes("", R"(,"mimeType":"image/png","uri":"data:image/jpeg;base64,/9j/4AAQSkZJRgAAAAAAAAAAAA==")"),
+            (Codes{{"ONE_OF_MISMATCH", "/images/0"}, {"IMAGE_UNEXPECTED_EOS", "/images/0"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

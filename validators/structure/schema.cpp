@@ -465,10 +465,7 @@ class Walker {
       m.uri_valid = check_uri(*uri, p + "/uri", true, m.data_uri, m.owned);
       m.data = m.owned;
       m.non_relative = last_uri_non_relative_;
-      if (m.uri_valid && m.data_uri) {
-        m.data_loaded = true;
-        if (context_.glb) context_.issues.at("DATA_URI_GLB", p + "/uri");
-      }
+      if (m.uri_valid && m.data_uri) m.data_loaded = true;
     }
     read_.string(o, p, "name");
     current_buffer_ = &m;
@@ -530,6 +527,8 @@ class Walker {
       } else {
         data.assign(payload.begin(), payload.end());
       }
+      // A data URI that parses is one in a GLB, whatever its media type says next.
+      if (context_.glb) context_.issues.at("DATA_URI_GLB", pointer);
       if (is_buffer && mime != "application/octet-stream" && mime != "application/gltf-buffer") {
         context_.issues.at("BUFFER_DATA_URI_MIME_TYPE_INVALID", pointer, {arg(mime)});
         return false;
@@ -676,6 +675,8 @@ class Walker {
       m.mime_type = *mime;
     else if (present(o, "mimeType") && o["mimeType"].is_string())
       m.mime_type = o["mimeType"].get<std::string>();
+    const bool has_view = present(o, "bufferView"), has_uri = present(o, "uri");
+    if (has_view == has_uri) context_.issues.at("ONE_OF_MISMATCH", p, {}, {arg("bufferView"), arg("uri")});
     if (auto uri = read_.string(o, p, "uri")) {
       m.has_uri = true;
       m.uri = *uri;
@@ -690,10 +691,7 @@ class Walker {
                            {arg(*uri), arg_raw("\nThe declared mediatype does not match the embedded content.")});
         m.uri_valid = false;
       }
-      if (m.uri_valid && m.data_uri && context_.glb) context_.issues.at("DATA_URI_GLB", p + "/uri");
     }
-    const bool has_view = present(o, "bufferView"), has_uri = present(o, "uri");
-    if (has_view == has_uri) context_.issues.at("ONE_OF_MISMATCH", p, {}, {arg("bufferView"), arg("uri")});
     if (has_view && !present(o, "mimeType"))
       context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/bufferView", {arg("mimeType")});
     read_.string(o, p, "name");
