@@ -599,6 +599,29 @@ TEST(ImageBytes, AViewIsReadWhereverItIsNamedAndATruncatedStreamTellsNothingElse
             (Codes{{"ONE_OF_MISMATCH", "/images/0"}, {"IMAGE_UNEXPECTED_EOS", "/images/0"}}));
 }
 
+TEST(NodeTransform, AnInvalidTrsPropertyIsIgnoredBesideAMatrix) {
+  const auto codes = [](const std::string& trs) {
+    return codes_of(
+        validate_text(R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[2,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1],)" + trs +
+                      R"(}],"scenes":[{"nodes":[0]}],"scene":0})"));
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(codes(R"("scale":[1,1])"),
+            (Codes{{"ARRAY_LENGTH_NOT_IN_LIST", "/nodes/0/scale"}, {"NODE_EMPTY", "/nodes/0"}}));
+  EXPECT_EQ(codes(R"("rotation":[0,0,0,2])"),
+            (Codes{{"VALUE_NOT_IN_RANGE", "/nodes/0/rotation/3"}, {"NODE_EMPTY", "/nodes/0"}}));
+  EXPECT_EQ(codes(R"("translation":[0,0,0])"),
+            (Codes{{"NODE_MATRIX_TRS", "/nodes/0/matrix"}, {"NODE_EMPTY", "/nodes/0"}}));
+}
+
+TEST(AnimationChannel, ChannelsWithTheSameUnknownPathOnOneNodeAreDuplicates) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"nodes":[{}],"animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"x"}},{"sampler":0,"target":{"node":0,"path":"x"}}],"samplers":[{"input":5,"output":6}]}]})");
+  const Issue* issue = find(report, "ANIMATION_DUPLICATE_TARGETS");
+  ASSERT_NE(issue, nullptr);
+  EXPECT_EQ(issue->pointer, "/animations/0/channels/0/target");
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

@@ -230,11 +230,12 @@ class Linker {
       }
       if (sampler && !channel.path.empty() && channel.path != "pointer")
         output_checks(*sampler, channel, cp, morph_targets);
-      // Two channels may not drive the same property (spec 3.11 "Animations").
-      if (channel.node >= 0 && !channel.path.empty() && channel.path != "pointer") {
+      // Two channels may not drive the same property (spec 3.11 "Animations"), compared as written:
+      // two channels with the same unknown path are duplicates too (the reference's answer).
+      if (channel.node >= 0 && !channel.raw_path.empty() && channel.raw_path != "pointer") {
         for (std::size_t other = c + 1; other < animation.channels.size(); ++other) {
           const AnimationChannelModel& later = animation.channels[other];
-          if (later.object && later.node == channel.node && later.path == channel.path) {
+          if (later.object && later.node == channel.node && later.raw_path == channel.raw_path) {
             issues_.at("ANIMATION_DUPLICATE_TARGETS", cp + "/target", {arg(static_cast<std::uint64_t>(other))});
             break;
           }
@@ -823,8 +824,7 @@ class Linker {
         issues_.at("NODE_LOOP", p);
         continue;
       }
-      if (node.skin >= 0 && node.mesh >= 0 && !node.is_identity_transform)
-        issues_.at("NODE_SKINNED_MESH_LOCAL_TRANSFORMS", p);
+      // A skinned mesh below a parent first, then its own transform (the npm build's order).
       if (node.skin >= 0 && node.mesh >= 0 && node.parent >= 0) {
         bool transformed = false;
         std::int64_t parent = node.parent;
@@ -836,6 +836,8 @@ class Linker {
         if (transformed) issues_.at("NODE_SKINNED_MESH_PARENT_TRANSFORMS", p);
         issues_.at("NODE_SKINNED_MESH_NON_ROOT", p);
       }
+      if (node.skin >= 0 && node.mesh >= 0 && !node.is_identity_transform)
+        issues_.at("NODE_SKINNED_MESH_LOCAL_TRANSFORMS", p);
       if (skin_outside_scene[i]) issues_.at("NODE_SKIN_NO_SCENE", p);
       if (node.empty && !node.joint) issues_.at("NODE_EMPTY", p);
     }

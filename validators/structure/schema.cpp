@@ -954,7 +954,7 @@ class Walker {
       if (!has_mesh) context_.issues.at("UNSATISFIED_DEPENDENCY", p + "/weights", {arg("mesh")});
     }
     m.has_matrix = matrix.has_value();  // an invalid matrix is ignored
-    m.has_trs = present(o, "rotation") || present(o, "scale") || present(o, "translation");
+    m.has_trs = rotation || scale || translation;  // as read: an invalid one is ignored too
     if (matrix) {
       static constexpr double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
       const bool is_identity = std::equal(matrix->begin(), matrix->end(), identity);
