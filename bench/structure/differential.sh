@@ -4,14 +4,16 @@
 # core object type, the small shared assets and the Khronos suite's cases, each mutated. Prints the
 # agreement on the ordered (code, pointer or offset, severity) list, by source, and the classes of
 # difference, most frequent first. Nothing is written outside WORK.
-#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14]
+# NEW_SHARE (default 0) of the inputs come from generate.py's SHAPES, documents built around one
+# feature each (sparse accessors, cameras, images, skins, lights, ...).
+#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14] [NEW_SHARE=0]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 bench_binary="$(realpath "$1")" node_modules="$2" work="${3:-/tmp/structure-diff}"
-count="${4:-10000}" seed="${5:-14}"
+count="${4:-10000}" seed="${5:-14}" new_share="${6:-0}"
 shared="$(cd "$here/../../../shared" && pwd)"
 rm -rf "$work" && mkdir -p "$work"
-python3 "$here/generate.py" "$work" "$shared" --count "$count" --seed "$seed" >/dev/null
+python3 "$here/generate.py" "$work" "$shared" --count "$count" --seed "$seed" --new-share "$new_share" >/dev/null
 cd "$work"
 M="$node_modules" node "$here/reference_reports.mjs" --list list.txt > ref.jsonl
 "$bench_binary" --runs 1 --json --list list.txt | grep '^{' > ours.jsonl

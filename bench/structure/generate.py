@@ -13,6 +13,16 @@
 # unknown ones, non-object extras, and extension objects of every extension the suite uses (added to
 # extensionsUsed or not). A share of the synthetic documents is written as GLB, some with a broken
 # container (cut short, wrong lengths, chunk types, padding).
+# With --new-share S, that share of the inputs comes instead from SHAPES: small valid documents, each
+# built around one feature the mutations above never reach, with that feature's values varied:
+# sparse accessors, KHR material extensions with texture infos, KHR_texture_transform,
+# KHR_mesh_quantization, Draco and meshopt objects, images (bufferView, uri, mimeType, data URI media
+# types, odd bytes), GLB BIN chunks against their buffers, scenes and node graphs, cameras, skins and
+# joint/weight data, animations, accessor and buffer view values, KHR_lights_punctual and
+# KHR_materials_variants, extension lists and asset versions, and raw JSON text (escaped or
+# duplicate keys, bad UTF-8, BOM, lone surrogates, huge numbers). They are named
+# gen/<shape>_NNNNN.gltf|glb so that disagreements group by shape. At S = 0 (the default) a seed
+# makes the same inputs as before the shapes existed.
 import argparse, base64, copy, glob, json, math, os, random, shutil, struct, zlib
 
 parser = argparse.ArgumentParser()
@@ -20,6 +30,8 @@ parser.add_argument('work')
 parser.add_argument('shared')
 parser.add_argument('--count', type=int, default=10000)
 parser.add_argument('--seed', type=int, default=14)
+parser.add_argument('--new-share', type=float, default=0.0,
+                    help='share of inputs made from SHAPES (0: the inputs of the original kinds, seed for seed as before)')
 args = parser.parse_args()
 rng = random.Random(args.seed)
 
@@ -284,6 +296,631 @@ def glb(json_text, blob, broken):
     return bytes(data)
 
 
+
+# ---------------------------------------------------------------------------------------------
+# New document shapes (the kinds of input the mutations above do not reach): each builds a small,
+# otherwise valid document around one feature and varies that feature's values. Called as
+# SHAPES[name]() -> (doc, blob, container) where container is 'gltf' or 'glb' (or raw bytes).
+# ---------------------------------------------------------------------------------------------
+def pack(fmt, values):
+    """Packs values as fmt, clamping integers into the format's range (floats may be NaN)."""
+    if fmt == 'f': return struct.pack('<' + 'f' * len(values), *[float(v) for v in values])
+    lo, hi = {'b': (-128, 127), 'B': (0, 255), 'h': (-32768, 32767), 'H': (0, 65535), 'I': (0, 2 ** 32 - 1)}[fmt]
+    ints = [0 if isinstance(v, float) and v != v else min(hi, max(lo, int(v))) for v in values]
+    return struct.pack('<' + fmt * len(ints), *ints)
+
+
+class Builder:
+    """A small valid document (one indexed triangle, a textured material, one node, one scene)
+    whose binary grows as shapes add views and accessors; finish() writes the buffer."""
+    def __init__(self, uv=True, normals=True, texture=True):
+        self.blob = bytearray()
+        self.doc = {'asset': {'version': '2.0'}, 'scene': 0, 'scenes': [{'nodes': [0]}], 'nodes': [{'mesh': 0}],
+                    'meshes': [], 'accessors': [], 'bufferViews': [], 'buffers': []}
+        pos = self.acc('f', [0, 0, 0, 1, 0, 0, 0, 1, 0], 5126, 'VEC3', 3, target=34962, minmax=True)
+        attrs = {'POSITION': pos}
+        if normals: attrs['NORMAL'] = self.acc('f', [0, 0, 1] * 3, 5126, 'VEC3', 3, target=34962)
+        if uv: attrs['TEXCOORD_0'] = self.acc('f', [0, 0, 1, 0, 0, 1], 5126, 'VEC2', 3, target=34962)
+        idx = self.acc('H', [0, 1, 2], 5123, 'SCALAR', 3, target=34963)
+        prim = {'attributes': attrs, 'indices': idx}
+        if texture:
+            self.doc['materials'] = [{'pbrMetallicRoughness': {'baseColorTexture': {'index': 0}}}]
+            self.doc['textures'] = [{'source': 0, 'sampler': 0}]
+            self.doc['samplers'] = [{}]
+            self.doc['images'] = [{'uri': data_uri(png(1, 1, (255, 255, 255, 255)), 'image/png')}]
+            prim['material'] = 0
+        self.doc['meshes'].append({'primitives': [prim]})
+
+    def view(self, data, target=None, stride=None, align=4):
+        while len(self.blob) % align: self.blob.append(0)
+        offset = len(self.blob)
+        self.blob.extend(data)
+        v = {'buffer': 0, 'byteLength': len(data)}
+        if offset: v['byteOffset'] = offset
+        if target: v['target'] = target
+        if stride: v['byteStride'] = stride
+        self.doc['bufferViews'].append(v)
+        return len(self.doc['bufferViews']) - 1
+
+    def acc(self, fmt, values, component, kind, count, target=None, minmax=False, normalized=False, view=True):
+        a = {'componentType': component, 'count': count, 'type': kind}
+        if view:
+            a['bufferView'] = self.view(pack(fmt, values), target)
+        if normalized: a['normalized'] = True
+        if minmax and values:
+            width = len(values) // count
+            a['min'] = [min(values[i::width]) for i in range(width)]
+            a['max'] = [max(values[i::width]) for i in range(width)]
+        self.doc['accessors'].append(a)
+        return len(self.doc['accessors']) - 1
+
+    def use(self, name, required=False):
+        used = self.doc.setdefault('extensionsUsed', [])
+        if name not in used: used.append(name)
+        if required and name not in self.doc.setdefault('extensionsRequired', []): self.doc['extensionsRequired'].append(name)
+
+    def prim(self): return self.doc['meshes'][0]['primitives'][0]
+
+    def finish(self, glb_chunk=False):
+        while len(self.blob) % 4: self.blob.append(0)
+        buf = {'byteLength': len(self.blob)}
+        if not glb_chunk: buf['uri'] = data_uri(bytes(self.blob))
+        self.doc['buffers'] = [buf]
+        return self.doc, bytes(self.blob), 'glb' if glb_chunk else 'gltf'
+
+
+FMT = {5120: 'b', 5121: 'B', 5122: 'h', 5123: 'H', 5125: 'I', 5126: 'f'}
+SIZE = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+WIDTH = {'SCALAR': 1, 'VEC2': 2, 'VEC3': 3, 'VEC4': 4, 'MAT2': 4, 'MAT3': 9, 'MAT4': 16}
+pick = lambda *xs: rng.choice(xs)
+
+
+def shape_sparse():
+    """Sparse accessors: index component types, sorted/unsorted/duplicate/out-of-range indices,
+    count beyond the base, views with strides or targets, no base view, sparse on indices/inputs."""
+    b = Builder()
+    where = pick('extra', 'position', 'indices', 'anim_input', 'anim_output', 'ibm', 'morph')
+    count = 4
+    base_vals = [float(i) for i in range(count * 3)]
+    n = pick(1, 2, 3, 0, 5)
+    idx_ct = pick(5121, 5123, 5125, 5125, 5126, 5120, 5122)
+    idx_vals = sorted(rng.sample(range(count), min(n, count))) if n <= count else list(range(n))
+    order = pick('sorted', 'sorted', 'unsorted', 'dup', 'oob', 'oob_eq')
+    if order == 'unsorted' and len(idx_vals) > 1: idx_vals = idx_vals[::-1]
+    if order == 'dup' and idx_vals: idx_vals = [idx_vals[0]] * len(idx_vals)
+    if order == 'oob' and idx_vals: idx_vals[-1] = count + pick(1, 100)
+    if order == 'oob_eq' and idx_vals: idx_vals[-1] = count
+    fmt_i = FMT.get(idx_ct, 'I')
+    idx_bytes = struct.pack('<' + fmt_i * len(idx_vals), *[float(v) if fmt_i == 'f' else v for v in idx_vals])
+    val_ct, kind = 5126, 'VEC3'
+    if where == 'indices': val_ct, kind = pick(5123, 5125, 5121), 'SCALAR'
+    if where in ('anim_input',): kind = 'SCALAR'
+    if where == 'anim_output': kind = pick('VEC3', 'VEC4')
+    if where == 'ibm': kind = 'MAT4'
+    w = WIDTH[kind]
+    vals = [float(rng.choice([0, 0.5, 1, 2, -1, 100])) if val_ct == 5126 else rng.randrange(0, 6) for _ in range(len(idx_vals) * w)]
+    val_bytes = pack(FMT[val_ct], vals)
+    iv = b.view(idx_bytes, target=pick(None, None, None, 34963, 34962), stride=pick(None, None, None, 4, 8), align=pick(4, 4, 1))
+    vv = b.view(val_bytes, target=pick(None, None, None, 34962), stride=pick(None, None, None, 12, 16))
+    sparse = {'count': pick(len(idx_vals), len(idx_vals), len(idx_vals), 0, len(idx_vals) + 1, count + 1),
+              'indices': {'bufferView': iv, 'componentType': idx_ct},
+              'values': {'bufferView': vv}}
+    if rng.random() < 0.2: sparse['indices']['byteOffset'] = pick(1, 2, 3, 4, 100)
+    if rng.random() < 0.2: sparse['values']['byteOffset'] = pick(1, 2, 4, 100)
+    if rng.random() < 0.1: del sparse[pick('indices', 'values')]
+    if rng.random() < 0.1 and 'indices' in sparse: sparse['indices']['bufferView'] = 99
+    base_kind_vals = [0.0] * (count * w) if val_ct == 5126 else [0] * (count * w)
+    if where == 'anim_input': base_kind_vals = [float(i) for i in range(count)]
+    has_view = rng.random() < 0.6
+    a = b.acc(FMT[val_ct], base_kind_vals, val_ct, kind, count, view=has_view, minmax=rng.random() < 0.6)
+    b.doc['accessors'][a]['sparse'] = sparse
+    if where == 'position':
+        b.prim()['attributes']['POSITION'] = a
+        for k in ('NORMAL', 'TEXCOORD_0'):
+            b.prim()['attributes'].pop(k, None)
+        b.doc['materials'] = [{}]; b.doc.pop('textures'); b.doc.pop('samplers'); b.doc.pop('images')
+        b.doc['accessors'][a].setdefault('min', [0, 0, 0]); b.doc['accessors'][a].setdefault('max', [pick(0, 1, 100)] * 3)
+        b.prim()['indices'] = b.acc('H', [0, 1, 2, 1, 2, 3], 5123, 'SCALAR', 6, target=34963)
+    elif where == 'indices':
+        b.prim()['indices'] = a
+        b.doc['accessors'][a]['count'] = 3
+    elif where in ('anim_input', 'anim_output'):
+        inp = b.acc('f', [0, 1, 2, 3], 5126, 'SCALAR', 4, minmax=True)
+        out = b.acc('f', [0, 0, 0, 1] * 4 if kind == 'VEC4' else [0] * 12, 5126, kind, 4)
+        if where == 'anim_input': inp = a
+        else: out = a
+        b.doc['animations'] = [{'samplers': [{'input': inp, 'output': out}],
+                                'channels': [{'sampler': 0, 'target': {'node': 0, 'path': 'rotation' if kind == 'VEC4' else 'translation'}}]}]
+    elif where == 'ibm':
+        b.doc['nodes'] = [{'mesh': 0, 'skin': 0}, {'children': []}, {}]
+        b.doc['scenes'][0]['nodes'] = [0, 1]
+        b.doc['nodes'][1]['children'] = [2]
+        b.prim()['attributes']['JOINTS_0'] = b.acc('B', [0, 1, 0, 0] * 3, 5121, 'VEC4', 3, target=34962)
+        b.prim()['attributes']['WEIGHTS_0'] = b.acc('f', [0.5, 0.5, 0, 0] * 3, 5126, 'VEC4', 3, target=34962)
+        b.doc['skins'] = [{'joints': [1, 2, 2, 1][:count], 'inverseBindMatrices': a}]
+        b.doc['skins'][0]['joints'] = [1, 2] + [1] * 0
+        b.doc['accessors'][a]['count'] = 2
+    elif where == 'morph':
+        b.prim()['targets'] = [{'POSITION': a}]
+        b.doc['accessors'][a]['count'] = 3
+        b.doc['accessors'][a].setdefault('min', [0, 0, 0]); b.doc['accessors'][a].setdefault('max', [0, 0, 0])
+    return b.finish()
+
+
+TEXTURE_EXTS = {
+    'KHR_materials_clearcoat': {'clearcoatFactor': 1, 'clearcoatTexture': 'ti', 'clearcoatRoughnessFactor': 0.5,
+                                'clearcoatRoughnessTexture': 'ti', 'clearcoatNormalTexture': 'nti'},
+    'KHR_materials_sheen': {'sheenColorFactor': [1, 1, 1], 'sheenColorTexture': 'ti', 'sheenRoughnessFactor': 0.5, 'sheenRoughnessTexture': 'ti'},
+    'KHR_materials_specular': {'specularFactor': 1, 'specularTexture': 'ti', 'specularColorFactor': [1, 1, 1], 'specularColorTexture': 'ti'},
+    'KHR_materials_transmission': {'transmissionFactor': 0.5, 'transmissionTexture': 'ti'},
+    'KHR_materials_volume': {'thicknessFactor': 1, 'thicknessTexture': 'ti', 'attenuationDistance': 1, 'attenuationColor': [1, 1, 1]},
+    'KHR_materials_ior': {'ior': 1.5},
+    'KHR_materials_iridescence': {'iridescenceFactor': 1, 'iridescenceTexture': 'ti', 'iridescenceIor': 1.3,
+                                  'iridescenceThicknessMinimum': 100, 'iridescenceThicknessMaximum': 400, 'iridescenceThicknessTexture': 'ti'},
+    'KHR_materials_anisotropy': {'anisotropyStrength': 0.5, 'anisotropyRotation': 1, 'anisotropyTexture': 'ti'},
+    'KHR_materials_emissive_strength': {'emissiveStrength': 2},
+    'KHR_materials_dispersion': {'dispersion': 0.1},
+    'KHR_materials_unlit': {},
+    'KHR_materials_pbrSpecularGlossiness': {'diffuseFactor': [1, 1, 1, 1], 'diffuseTexture': 'ti', 'specularFactor': [1, 1, 1],
+                                            'glossinessFactor': 1, 'specularGlossinessTexture': 'ti'},
+}
+ODD_NUMBERS = [-1, -0.5, 0, 0.5, 1, 1.5, 2, 1000, -1000, 1e-45, 'x', None, True, [1], {}]
+
+
+def texinfo(normal=False):
+    t = {'index': 0}
+    r = rng.random()
+    if r < 0.3: t['texCoord'] = pick(0, 1, 2, -1, 0.5, 'x', 10)
+    if r < 0.1: t['index'] = pick(1, -1, 'x', 0.0)
+    if normal and rng.random() < 0.3: t['scale'] = pick(0, -1, 2, 'x')
+    if rng.random() < 0.3:
+        tt = {}
+        for k in rng.sample(['offset', 'rotation', 'scale', 'texCoord', 'foo'], rng.randrange(0, 4)):
+            tt[k] = {'offset': pick([0, 0], [1, 2, 3], [1], 'x', [0, 'a']), 'rotation': pick(0, 1.57, -7, 'x', [1]),
+                     'scale': pick([1, 1], [0, 0], [-1, 2], [1, 1, 1], 2), 'texCoord': pick(0, 1, 2, -1, 1.5),
+                     'foo': 1}[k]
+        t['extensions'] = {'KHR_texture_transform': tt}
+    return t
+
+
+def shape_material_ext():
+    """KHR material extensions: odd property values, texture infos inside them (texCoord beyond
+    the mesh's sets, KHR_texture_transform), combinations the catalogue names, declared or not."""
+    b = Builder(uv=rng.random() < 0.8, normals=rng.random() < 0.8)
+    mat = b.doc['materials'][0]
+    names = rng.sample(sorted(TEXTURE_EXTS), rng.choice([1, 1, 2, 3]))
+    exts = mat.setdefault('extensions', {})
+    for name in names:
+        body = {}
+        for k, v in TEXTURE_EXTS[name].items():
+            if rng.random() < 0.5: continue
+            if v == 'ti' or v == 'nti': body[k] = texinfo(v == 'nti')
+            elif rng.random() < 0.35: body[k] = rng.choice(ODD_NUMBERS) if not isinstance(v, list) else pick([2, 2, 2], [-1, 0, 0], [1, 1], [1, 1, 1, 1], 'x', [1, 'x', 1])
+            else: body[k] = v
+        if rng.random() < 0.1: body['extra_member'] = 1
+        exts[name] = body
+        if rng.random() < 0.9: b.use(name)
+    if 'KHR_texture_transform' in json.dumps(mat) and rng.random() < 0.9: b.use('KHR_texture_transform')
+    if rng.random() < 0.3: mat['normalTexture'] = texinfo(True)
+    if rng.random() < 0.3: mat['emissiveFactor'] = pick([0, 0, 0], [1, 1, 1], [2, 0, 0])
+    if rng.random() < 0.3: mat['doubleSided'] = pick(True, False)
+    if rng.random() < 0.3: mat['occlusionTexture'] = dict(texinfo(), strength=pick(0, 1, 2, -1))
+    if rng.random() < 0.2: mat['pbrMetallicRoughness']['baseColorTexture'] = texinfo()
+    if rng.random() < 0.2: b.prim()['attributes']['TEXCOORD_1'] = b.prim()['attributes'].get('TEXCOORD_0', 0)
+    if rng.random() < 0.2: b.prim()['attributes']['TANGENT'] = b.acc('f', [1, 0, 0, 1] * 3, 5126, 'VEC4', 3, target=34962)
+    return b.finish()
+
+
+def shape_texture_transform():
+    """KHR_texture_transform in every texture info of a material, with texCoord overrides."""
+    b = Builder()
+    mat = b.doc['materials'][0]
+    slot = pick('base', 'normal', 'occlusion', 'emissive', 'mr')
+    ti = texinfo(slot == 'normal')
+    tt = {pick('offset', 'rotation', 'scale', 'texCoord'): None}
+    k = next(iter(tt))
+    tt[k] = {'offset': pick([0.5, 0.5], [0], [0, 0, 0], ['a', 0], 'x', [1e400, 0]), 'rotation': pick(0.5, -100, 'x', [0], 1e400),
+             'scale': pick([2, 2], [0, 0], [-1, -1], [1], 'x'), 'texCoord': pick(0, 1, 2, -1, 0.5, 'x', 2 ** 32)}[k]
+    if rng.random() < 0.2: tt = pick({}, [], 'x', None)
+    ti['extensions'] = {'KHR_texture_transform': tt}
+    if slot == 'base': mat['pbrMetallicRoughness']['baseColorTexture'] = ti
+    elif slot == 'mr': mat['pbrMetallicRoughness']['metallicRoughnessTexture'] = ti
+    else: mat[slot + 'Texture'] = ti
+    if rng.random() < 0.85: b.use('KHR_texture_transform', required=rng.random() < 0.2)
+    if rng.random() < 0.3: b.prim()['attributes']['TEXCOORD_1'] = b.prim()['attributes']['TEXCOORD_0']
+    if rng.random() < 0.2: b.doc['extensionsUsed'] = ['KHR_texture_transform'] * 2
+    return b.finish()
+
+
+def shape_quantization():
+    """KHR_mesh_quantization: attributes in byte/short forms, normalized or not, declared or not;
+    unaligned VEC3 byte attributes; the same outside the extension."""
+    b = Builder(texture=rng.random() < 0.5)
+    sem = pick('POSITION', 'NORMAL', 'TANGENT', 'TEXCOORD_0', 'COLOR_0', 'JOINTS_0', 'WEIGHTS_0', 'TEXCOORD_0')
+    ct = pick(5120, 5121, 5122, 5123, 5125, 5126)
+    norm = rng.random() < 0.5
+    kind = {'POSITION': 'VEC3', 'NORMAL': 'VEC3', 'TANGENT': 'VEC4', 'TEXCOORD_0': 'VEC2', 'COLOR_0': pick('VEC3', 'VEC4'),
+            'JOINTS_0': 'VEC4', 'WEIGHTS_0': 'VEC4'}[sem]
+    if rng.random() < 0.1: kind = pick('SCALAR', 'VEC2', 'VEC3', 'VEC4', 'MAT2')
+    w = WIDTH[kind]
+    if ct == 5126: vals = [0.0] * (3 * w)
+    else: vals = [rng.choice([0, 1]) for _ in range(3 * w)]
+    if sem in ('NORMAL',) and ct != 5126 and norm: vals = [0, 0, 127 if ct in (5120, 5121) else 32767] * 3
+    stride = pick(None, None, 4 * ((SIZE[ct] * w + 3) // 4))
+    data = pack(FMT[ct], vals)
+    v = b.view(data, target=34962, stride=stride)
+    a = {'bufferView': v, 'componentType': ct, 'count': 3, 'type': kind}
+    if norm: a['normalized'] = True
+    if sem == 'POSITION' or rng.random() < 0.2:
+        a['min'] = [min(vals[i::w]) for i in range(w)]; a['max'] = [max(vals[i::w]) for i in range(w)]
+    b.doc['accessors'].append(a)
+    b.prim()['attributes'][sem] = len(b.doc['accessors']) - 1
+    if sem == 'JOINTS_0' and 'WEIGHTS_0' not in b.prim()['attributes']:
+        b.prim()['attributes']['WEIGHTS_0'] = b.acc('f', [1, 0, 0, 0] * 3, 5126, 'VEC4', 3, target=34962)
+    if sem == 'WEIGHTS_0' and 'JOINTS_0' not in b.prim()['attributes']:
+        b.prim()['attributes']['JOINTS_0'] = b.acc('B', [0, 0, 0, 0] * 3, 5121, 'VEC4', 3, target=34962)
+    if rng.random() < 0.3:  # morph target in a quantized form too
+        b.prim()['targets'] = [{'POSITION': b.acc('b', [0, 0, 1] * 3, 5120, 'VEC3', 3, target=34962, minmax=True, normalized=rng.random() < 0.5)}]
+    if rng.random() < 0.7: b.use('KHR_mesh_quantization', required=rng.random() < 0.8)
+    return b.finish()
+
+
+def shape_compression():
+    """EXT_meshopt_compression on buffer views and KHR_draco_mesh_compression on primitives."""
+    b = Builder(texture=False)
+    if rng.random() < 0.5:
+        bv = b.doc['bufferViews'][0]
+        ext = {'buffer': pick(0, 0, 1, -1), 'byteLength': pick(bv['byteLength'], 1000, 0), 'byteStride': pick(12, 3, 0, 300),
+               'count': pick(3, 0, -1), 'mode': pick('ATTRIBUTES', 'TRIANGLES', 'INDICES', 'x'), 'filter': pick(None, 'NONE', 'OCTAHEDRAL', 'x')}
+        if ext['filter'] is None: del ext['filter']
+        if rng.random() < 0.3: ext['byteOffset'] = pick(0, 1, 4)
+        if rng.random() < 0.2: del ext[pick('buffer', 'byteLength', 'byteStride', 'count', 'mode')]
+        bv['extensions'] = {'EXT_meshopt_compression': ext}
+        name = 'EXT_meshopt_compression'
+        if rng.random() < 0.3:
+            b.doc['buffers_extra'] = True
+    else:
+        ext = {'bufferView': pick(0, 1, 99, -1), 'attributes': pick({'POSITION': 0}, {'POSITION': 0, 'NORMAL': 1}, {'TEXCOORD_0': 0}, {}, {'POSITION': 'x'})}
+        if rng.random() < 0.2: del ext[pick('bufferView', 'attributes')]
+        b.prim()['extensions'] = {'KHR_draco_mesh_compression': ext}
+        name = 'KHR_draco_mesh_compression'
+        if rng.random() < 0.3: b.prim()['mode'] = pick(0, 1, 5)
+    if rng.random() < 0.8: b.use(name, required=rng.random() < 0.7)
+    doc, blob, c = b.finish()
+    if doc.pop('buffers_extra', None):
+        doc['buffers'].append({'byteLength': 16, 'extensions': {'EXT_meshopt_compression': {'fallback': pick(True, False, 1)}}})
+    return doc, blob, c
+
+
+def shape_images():
+    """Images: bufferView + mimeType combinations, uri and bufferView together, data URIs of odd
+    media types, image bytes that do not match the declared type, webp/ktx2 sources."""
+    b = Builder()
+    payloads = {'png': png(1, 1, (1, 2, 3, 255)), 'jpeg': b'\xff\xd8\xff\xe0\0\x10JFIF\0' + b'\0' * 8, 'gif': b'GIF89a\1\0\1\0\0\0\0;',
+                'webp': b'RIFF\x1a\0\0\0WEBPVP8L\x0d\0\0\0\x2f\0\0\0\x10\x07\x10\x11\x11\x88\x88\xfe\x07\0',
+                'ktx2': b'\xabKTX 20\xbb\r\n\x1a\n' + b'\0' * 20, 'junk': b'hello world!', 'empty': b'', 'cut_png': png(1, 1, (1, 2, 3, 255))[:20]}
+    kind = pick(*payloads)
+    data = payloads[kind]
+    img = {}
+    mode = pick('bufferView', 'bufferView', 'data', 'both', 'none')
+    if mode in ('bufferView', 'both'):
+        img['bufferView'] = b.view(data or b'\0', stride=pick(None, None, None, 4), target=pick(None, None, None, 34962))
+        if rng.random() < 0.8: img['mimeType'] = pick('image/png', 'image/jpeg', 'image/webp', 'image/ktx2', 'image/gif', 'image/PNG', '')
+    if mode in ('data', 'both'):
+        img['uri'] = data_uri(data, pick('image/png', 'image/jpeg', 'image/gif', 'image/webp', 'image/ktx2', 'application/octet-stream', 'text/plain', ''))
+        if rng.random() < 0.3: img['mimeType'] = pick('image/png', 'image/jpeg', 'image/webp')
+    if mode == 'none' and rng.random() < 0.5: img['mimeType'] = 'image/png'
+    b.doc['images'] = [img]
+    if rng.random() < 0.2: b.doc['images'].append({'uri': pick('a.png', 'x.gif', 'http://example.com/a.png', 'data:image/png,abc', 'data:image/png;base64,')})
+    tex = b.doc['textures'][0]
+    if rng.random() < 0.25:
+        ext = pick('EXT_texture_webp', 'KHR_texture_basisu')
+        tex['extensions'] = {ext: {'source': pick(0, 0, 1, -1)}}
+        if rng.random() < 0.5: del tex['source']
+        if rng.random() < 0.8: b.use(ext, required=rng.random() < 0.5)
+    return b.finish(glb_chunk=rng.random() < 0.3)
+
+
+def shape_glb_buffers():
+    """GLB containers whose BIN chunk and buffers disagree: a BIN chunk and a buffer with a uri,
+    no BIN chunk and no uri, two uri-less buffers, BIN longer/shorter than byteLength, empty BIN."""
+    b = Builder(texture=False)
+    doc, blob, _ = b.finish(glb_chunk=True)
+    variant = pick('uri_and_bin', 'no_bin', 'two_uriless', 'bin_longer', 'bin_shorter', 'empty_bin', 'uri_second', 'data_uri_in_glb')
+    if variant == 'uri_and_bin': doc['buffers'][0]['uri'] = data_uri(blob)
+    if variant == 'no_bin': blob = None
+    if variant == 'two_uriless': doc['buffers'].append({'byteLength': 4})
+    if variant == 'bin_longer': blob = blob + b'\0' * pick(4, 8, 64)
+    if variant == 'bin_shorter': doc['buffers'][0]['byteLength'] += pick(1, 4, 100)
+    if variant == 'empty_bin': blob = b''; doc['buffers'][0]['byteLength'] = pick(0, 1)
+    if variant == 'uri_second':
+        doc['buffers'].insert(0, {'byteLength': len(blob), 'uri': data_uri(blob)})
+    if variant == 'data_uri_in_glb':
+        doc['images'] = [{'uri': data_uri(png(1, 1, (1, 1, 1, 255)), 'image/png')}]
+        doc['textures'] = [{'source': 0}]
+    return doc, blob, 'glb'
+
+
+def shape_scenes_nodes():
+    """Scenes and node graphs: several scenes, scene index out of range, non-root nodes in a scene,
+    repeated nodes, cycles, self-children, multiple parents, matrix forms (non-TRS, default, with TRS)."""
+    b = Builder(texture=False)
+    n = 5
+    nodes = [{} for _ in range(n)]
+    nodes[0]['mesh'] = 0
+    edges = pick('chain', 'cycle', 'self', 'two_parents', 'dup_child', 'tree')
+    if edges == 'chain': nodes[1]['children'] = [2]; nodes[2]['children'] = [3]
+    if edges == 'cycle': nodes[1]['children'] = [2]; nodes[2]['children'] = [3]; nodes[3]['children'] = [1]
+    if edges == 'self': nodes[1]['children'] = [1]
+    if edges == 'two_parents': nodes[1]['children'] = [3]; nodes[2]['children'] = [3]
+    if edges == 'dup_child': nodes[1]['children'] = [2, 2]
+    if edges == 'tree': nodes[1]['children'] = [2, 3]; nodes[3]['children'] = [4]
+    b.doc['nodes'] = nodes
+    scenes = [{'nodes': rng.sample(range(n), rng.randrange(1, 4))} for _ in range(rng.choice([1, 2, 3]))]
+    if rng.random() < 0.2: scenes[0]['nodes'].append(scenes[0]['nodes'][0])
+    if rng.random() < 0.2: scenes.append({})
+    if rng.random() < 0.1: scenes.append({'nodes': []})
+    b.doc['scenes'] = scenes
+    b.doc['scene'] = pick(0, len(scenes) - 1, len(scenes), -1)
+    if rng.random() < 0.2: del b.doc['scene']
+    if rng.random() < 0.4:
+        node = rng.choice(nodes)
+        node['matrix'] = pick([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], [0] * 16, [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2],
+                              [1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 5, 5, 5, 1],
+                              [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0])
+        if rng.random() < 0.3: node[pick('translation', 'rotation', 'scale')] = pick([0, 0, 0], [0, 0, 0, 1], [1, 1, 1])
+    if rng.random() < 0.3:
+        rng.choice(nodes)['rotation'] = pick([0, 0, 0, 1], [0, 0, 0, 2], [0, 0, 0, 0], [0.5, 0.5, 0.5, 0.5], [0, 0, 0, 0.99999])
+    if rng.random() < 0.2:
+        rng.choice(nodes)['scale'] = pick([0, 0, 0], [1, 1, 1], [-1, 1, 1])
+    return b.finish()
+
+
+def shape_cameras():
+    """Cameras: zfar <= znear, zfar 0/absent, aspectRatio 0, yfov >= pi or 0, xmag/ymag 0 or negative,
+    both or neither projections, the projection not matching type."""
+    b = Builder(texture=False)
+    t = pick('perspective', 'orthographic', 'x')
+    cam = {'type': t}
+    p = {'yfov': pick(0.8, 0, -1, math.pi, 4, 1e-9), 'znear': pick(0.1, 0, -1, 10, 100), 'zfar': pick(100, 0.1, 0, -5, 1e400, None),
+         'aspectRatio': pick(1.5, 0, -1, None)}
+    o = {'xmag': pick(1, 0, -1, 0.0), 'ymag': pick(1, 0, -1), 'znear': pick(0, 0.1, -1, 10), 'zfar': pick(10, 0, 0.1, -1, 10)}
+    p = {k: v for k, v in p.items() if v is not None}
+    which = pick('match', 'match', 'both', 'neither', 'swap')
+    proj = 'orthographic' if t == 'orthographic' else 'perspective'
+    if which == 'match': cam[proj] = p if proj == 'perspective' else o
+    if which == 'both': cam['perspective'] = p; cam['orthographic'] = o
+    if which == 'swap': cam['orthographic' if proj == 'perspective' else 'perspective'] = o if proj == 'perspective' else p
+    b.doc['cameras'] = [cam]
+    b.doc['nodes'].append({'camera': pick(0, 0, 1)})
+    b.doc['scenes'][0]['nodes'].append(1)
+    return b.finish()
+
+
+def shape_skins():
+    """Skins: joints without a common root, skeleton not a common root, duplicate joints, joints
+    outside the scene, skinned node with local/parent transforms or not a root, IBM count/format,
+    joints/weights data (duplicates, out of range, zero weight, negative, non-normalized)."""
+    b = Builder(texture=False)
+    p = b.prim()
+    jv = [[0, 1, 0, 0], [1, 1, 0, 0], [0, 5, 0, 0], [0, 1, 2, 0], [1, 0, 0, 0]]
+    wv = [[0.5, 0.5, 0, 0], [1, 0, 0, 0], [0.7, 0.7, 0, 0], [-0.5, 1.5, 0, 0], [0.5, 0.25, 0.25, 0], [1, 0, 0, 0]]
+    j = pick(*jv); w = pick(*wv)
+    jct = pick(5121, 5121, 5123, 5125, 5126)
+    wct = pick(5126, 5126, 5121, 5123)
+    wvals = w * 3 if wct == 5126 else [int(round(max(0, x) * (255 if wct == 5121 else 65535))) for x in w] * 3
+    p['attributes']['JOINTS_0'] = b.acc(FMT[jct], j * 3, jct, 'VEC4', 3, target=34962)
+    p['attributes']['WEIGHTS_0'] = b.acc(FMT[wct], wvals, wct, 'VEC4', 3, target=34962, normalized=wct != 5126)
+    if rng.random() < 0.2: del p['attributes'][pick('JOINTS_0', 'WEIGHTS_0')]
+    if rng.random() < 0.15: p['attributes']['JOINTS_1'] = p['attributes'].get('JOINTS_0', 0)
+    layout = pick('flat_roots', 'common', 'skeleton_wrong', 'joint_outside_scene', 'skin_node_child', 'dup_joints')
+    nodes = [{'mesh': 0, 'skin': 0}, {'children': [2]}, {}, {}, {'children': [0]}]
+    joints = [1, 2]
+    skin = {'joints': joints}
+    if layout == 'flat_roots': joints[:] = [2, 3]; nodes[1]['children'] = []
+    if layout == 'skeleton_wrong': skin['skeleton'] = pick(2, 3, 0, 9)
+    if layout == 'common' and rng.random() < 0.5: skin['skeleton'] = 1
+    if layout == 'dup_joints': joints[:] = [1, 2, 2]
+    scene = [0, 1] if layout != 'joint_outside_scene' else [0]
+    if layout == 'skin_node_child': scene = [4, 1]; nodes[4]['translation'] = pick([1, 0, 0], [0, 0, 0])
+    if rng.random() < 0.2: nodes[0]['translation'] = [1, 0, 0]
+    if rng.random() < 0.3:
+        n = len(joints) + pick(0, 0, -1, 1)
+        ibm_ct, ibm_t = pick((5126, 'MAT4'), (5126, 'MAT4'), (5126, 'MAT3'), (5123, 'MAT4'))
+        vals = ([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1] if ibm_t == 'MAT4' else [1, 0, 0, 0, 1, 0, 0, 0, 1]) * max(n, 0)
+        if rng.random() < 0.2 and vals: vals[3] = 5
+        skin['inverseBindMatrices'] = b.acc(FMT[ibm_ct], vals, ibm_ct, ibm_t, max(n, 1) if vals else 1)
+        if rng.random() < 0.15: b.doc['bufferViews'][-1]['byteStride'] = 64
+    if rng.random() < 0.1: nodes[0].pop('skin')
+    if rng.random() < 0.1: nodes[3]['mesh'] = 0
+    b.doc['nodes'] = nodes
+    b.doc['skins'] = [skin]
+    b.doc['scenes'] = [{'nodes': scene}]
+    if rng.random() < 0.2: b.doc['scenes'].append({'nodes': [3]}); nodes[3]['skin'] = 0; nodes[3]['mesh'] = 0
+    return b.finish()
+
+
+def shape_animation():
+    """Animations: weights channels on meshes without morph targets or nodes without meshes, TRS on
+    matrix nodes or skinned nodes, duplicate targets, input/output counts, bounds, strides, data."""
+    b = Builder(texture=False)
+    morph = rng.random() < 0.4
+    if morph:
+        b.prim()['targets'] = [{'POSITION': b.acc('f', [0, 0, 1] * 3, 5126, 'VEC3', 3, target=34962, minmax=True)}]
+        if rng.random() < 0.5: b.doc['meshes'][0]['weights'] = pick([0], [0, 0], [])
+    b.doc['nodes'].append({}); b.doc['scenes'][0]['nodes'].append(1)
+    if rng.random() < 0.2: b.doc['nodes'][0]['matrix'] = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+    if rng.random() < 0.2: b.doc['nodes'][0]['weights'] = pick([0], [0, 1])
+    path = pick('translation', 'rotation', 'scale', 'weights', 'weights', 'x')
+    node = pick(0, 0, 1, 5)
+    interp = pick('LINEAR', 'STEP', 'CUBICSPLINE', None)
+    times = pick([0, 1], [0, 1, 2], [1, 0], [-1, 0], [0, 0], [0], [0, float('nan')])
+    ict = pick(5126, 5126, 5126, 5123)
+    inp = b.acc(FMT[ict], times, ict, 'SCALAR', len(times), minmax=rng.random() < 0.8)
+    if rng.random() < 0.1: b.doc['bufferViews'][-1]['byteStride'] = 4
+    k = {'translation': 'VEC3', 'scale': 'VEC3', 'rotation': 'VEC4', 'weights': 'SCALAR', 'x': 'VEC3'}[path]
+    w = WIDTH[k]
+    targets = max(1, len(b.prim().get('targets', [])))
+    per = targets if path == 'weights' else 1
+    n = len(times) * per * (3 if interp == 'CUBICSPLINE' else 1) + pick(0, 0, 0, 1, -1)
+    oct_ = pick(5126, 5126, 5126, 5120, 5122, 5121)
+    vals = ([0, 0, 0, 1] if k == 'VEC4' else [0.5] * w) * max(n, 0)
+    if k == 'VEC4' and rng.random() < 0.3 and vals: vals[3] = 0.5
+    if oct_ != 5126: vals = [int(v * (127 if oct_ == 5120 else 32767 if oct_ == 5122 else 255)) for v in vals]
+    out = b.acc(FMT[oct_], vals, oct_, k, max(n, 1), normalized=oct_ != 5126 and rng.random() < 0.8) if vals else b.acc('f', [0.0] * w, 5126, k, 1)
+    sampler = {'input': inp, 'output': out}
+    if interp: sampler['interpolation'] = interp
+    ch = {'sampler': 0, 'target': {'node': node, 'path': path}}
+    chans = [ch]
+    if rng.random() < 0.2: chans.append(copy.deepcopy(ch))
+    if rng.random() < 0.1: del ch['target']['node']
+    b.doc['animations'] = [{'samplers': [sampler], 'channels': chans}]
+    if rng.random() < 0.1:
+        b.doc['animations'][0]['channels'][0]['target'] = {'path': 'pointer', 'extensions': {'KHR_animation_pointer': {'pointer': pick('/nodes/0/translation', '/nodes/9/translation', 'x', '/materials/0/emissiveFactor')}}}
+        b.use('KHR_animation_pointer')
+    return b.finish()
+
+
+def shape_accessors():
+    """Accessor and buffer view values: normalized on float/int, min/max of wrong length or type,
+    byteOffset alignment, matrices' column alignment, byteStride on index views, too small/large
+    strides, overlapping views, counts 0 or huge, a view used as both index and vertex data."""
+    b = Builder(texture=False)
+    acc = b.doc['accessors']
+    p = b.prim()
+    v = pick('normalized', 'minmax_len', 'minmax_type', 'offset_align', 'matrix', 'index_stride', 'small_stride',
+             'big_stride', 'overlap', 'count', 'usage_override', 'unequal_count', 'index_data', 'mode', 'float_data', 'bad_ct')
+    if v == 'normalized': acc[pick(0, 1, 3)]['normalized'] = pick(True, False, 1)
+    if v == 'minmax_len': acc[0]['min'] = pick([0, 0], [0, 0, 0, 0], [], [0, 0, 'x']); acc[3]['max'] = pick([2], [2, 2], [])
+    if v == 'minmax_type': acc[3]['min'] = pick([0.5], [-1], [1e400]); acc[3]['max'] = pick([2.0], [2.5], [65536])
+    if v == 'offset_align':
+        i = pick(0, 1, 3); acc[i]['byteOffset'] = pick(1, 2, 3, 4, 6)
+        b.doc['bufferViews'][acc[i]['bufferView']]['byteLength'] += 8
+        if rng.random() < 0.5: b.doc['bufferViews'][acc[i]['bufferView']]['byteOffset'] = b.doc['bufferViews'][acc[i]['bufferView']].get('byteOffset', 0) + pick(1, 2)
+    if v == 'matrix':
+        ct, t = pick((5121, 'MAT2'), (5121, 'MAT3'), (5122, 'MAT3'), (5126, 'MAT2'), (5120, 'MAT4'))
+        a = b.acc(FMT[ct], [0] * (WIDTH[t] * 2), ct, t, 2)
+        if rng.random() < 0.5: b.doc['bufferViews'][-1]['byteStride'] = pick(4, 8, 12, 16)
+    if v == 'index_stride': b.doc['bufferViews'][acc[3]['bufferView']]['byteStride'] = pick(2, 4, 6)
+    if v == 'small_stride': b.doc['bufferViews'][acc[0]['bufferView']]['byteStride'] = pick(4, 8, 6, 13)
+    if v == 'big_stride': b.doc['bufferViews'][acc[1]['bufferView']]['byteStride'] = pick(40, 252, 256, 36)
+    if v == 'overlap': b.doc['bufferViews'][1]['byteOffset'] = pick(0, 4, 12)
+    if v == 'count': acc[pick(0, 1, 3)]['count'] = pick(0, 2, 4, 2 ** 31, 2 ** 40)
+    if v == 'usage_override': p['indices'] = pick(0, 1, 2); acc[pick(0, 1, 2)]['componentType'] = pick(5125, 5123)
+    if v == 'unequal_count':
+        p['attributes']['TEXCOORD_0'] = b.acc('f', [0.0] * 8, 5126, 'VEC2', 4, target=34962)
+    if v == 'index_data':
+        vals = pick([0, 1, 3], [0, 1, 65535], [0, 0, 1], [0, 1, 2, 3], [0, 1, 2, 2, 2, 1])
+        ct = pick(5123, 5121, 5125)
+        p['indices'] = b.acc(FMT[ct], [min(x, (1 << (8 * SIZE[ct])) - 1) for x in vals], ct, 'SCALAR', len(vals), target=34963)
+        if rng.random() < 0.3: p['mode'] = pick(0, 1, 2, 3, 5, 6)
+    if v == 'mode':
+        p['mode'] = pick(0, 1, 2, 3, 5, 6, 7)
+        if rng.random() < 0.5: del p['indices']
+    if v == 'float_data':
+        sem = pick('NORMAL', 'TANGENT', 'COLOR_0', 'POSITION')
+        if sem == 'NORMAL': p['attributes']['NORMAL'] = b.acc('f', pick([0, 0, 2], [0, 0, 0], [float('nan'), 0, 1]) * 3, 5126, 'VEC3', 3, target=34962)
+        if sem == 'TANGENT': p['attributes']['TANGENT'] = b.acc('f', [1, 0, 0, pick(0, 2, 1)] * 3, 5126, 'VEC4', 3, target=34962)
+        if sem == 'COLOR_0': p['attributes']['COLOR_0'] = b.acc('f', [1.5, 0, 0, -1] * 3, 5126, 'VEC4', 3, target=34962)
+        if sem == 'POSITION': acc[0]['max'] = pick([1, 1, 1], [1, 1, 0.5], [1, 1, 0])
+    if v == 'bad_ct': acc[pick(0, 1, 2, 3)]['componentType'] = pick(5124, 5130, 5120, 5125)
+    return b.finish()
+
+
+def shape_lights_variants():
+    """KHR_lights_punctual (spot cone angles, range, type, intensity, unresolved lights) and
+    KHR_materials_variants (mappings, duplicate variants, unresolved indices)."""
+    b = Builder()
+    if rng.random() < 0.6:
+        t = pick('point', 'spot', 'directional', 'area')
+        light = {'type': t}
+        if rng.random() < 0.5: light['intensity'] = pick(-1, 0, 1, 'x')
+        if rng.random() < 0.3: light['range'] = pick(0, -1, 10)
+        if rng.random() < 0.4: light['color'] = pick([1, 1, 1], [2, 0, 0], [1, 1], [-1, 0, 0])
+        if t == 'spot' or rng.random() < 0.2:
+            light['spot'] = {k: v for k, v in (('innerConeAngle', pick(0, 0.5, 1, -0.1, None)), ('outerConeAngle', pick(0.5, 0.5, 0, 2, 1.6, None))) if v is not None}
+        b.doc['extensions'] = {'KHR_lights_punctual': {'lights': [light] * pick(1, 1, 2)}}
+        b.doc['nodes'].append({'extensions': {'KHR_lights_punctual': {'light': pick(0, 0, 1, 2, -1)}}})
+        b.doc['scenes'][0]['nodes'].append(1)
+        if rng.random() < 0.9: b.use('KHR_lights_punctual')
+    else:
+        variants = [{'name': 'a'}, {'name': 'b'}][:pick(1, 2)]
+        b.doc['extensions'] = {'KHR_materials_variants': {'variants': variants}}
+        b.doc['materials'].append({})
+        maps = [{'material': pick(0, 1, 2), 'variants': pick([0], [0, 0], [1], [0, 1], [5], [])} for _ in range(pick(1, 2))]
+        b.prim()['extensions'] = {'KHR_materials_variants': {'mappings': maps}}
+        if rng.random() < 0.9: b.use('KHR_materials_variants')
+    return b.finish()
+
+
+def shape_extension_lists():
+    """extensionsUsed/extensionsRequired: duplicates, required but not used, names of bad format,
+    extensions placed on the wrong object, unknown vendor prefixes, and asset versions/minVersion."""
+    b = Builder()
+    d = b.doc
+    v = pick('dup_used', 'req_not_used', 'bad_name', 'wrong_place', 'asset', 'used_unused', 'empty_lists')
+    if v == 'dup_used': d['extensionsUsed'] = ['KHR_materials_unlit', 'KHR_materials_unlit']; d['materials'][0]['extensions'] = {'KHR_materials_unlit': {}}
+    if v == 'req_not_used': d['extensionsRequired'] = [pick('KHR_materials_unlit', 'EXT_foo', 'KHR_texture_transform')]
+    if v == 'bad_name':
+        name = pick('khr_foo', 'KHR', 'KHR_', 'foo', 'KHR__x', '_KHR_x', 'KHR-foo', 'EXT_x_y')
+        d['extensionsUsed'] = [name]; d['nodes'][0]['extensions'] = {name: {}}
+    if v == 'wrong_place':
+        name, body = pick(('KHR_materials_unlit', {}), ('KHR_texture_transform', {}), ('KHR_lights_punctual', {'light': 0}),
+                          ('KHR_materials_variants', {'mappings': []}), ('KHR_mesh_quantization', {}), ('EXT_texture_webp', {'source': 0}))
+        holder = pick(d['nodes'][0], d['materials'][0], d['textures'][0], d['images'][0], d['meshes'][0], d['asset'], d['accessors'][0], d['scenes'][0])
+        holder['extensions'] = {name: body}; d['extensionsUsed'] = [name]
+    if v == 'asset':
+        d['asset'] = {'version': pick('2.0', '2.1', '3.0', '1.0', '2', '2.0.0', '02.0'), 'minVersion': pick(None, '2.0', '2.1', '2.0.1', '1.0', '3.0')}
+        if d['asset']['minVersion'] is None: del d['asset']['minVersion']
+    if v == 'used_unused': d['extensionsUsed'] = [pick('KHR_materials_unlit', 'EXT_foo', 'KHR_mesh_quantization')]
+    if v == 'empty_lists': d[pick('extensionsUsed', 'extensionsRequired')] = []
+    return b.finish()
+
+
+def shape_json_text():
+    """JSON text the generator never writes: escaped and unicode keys, duplicate keys, non-UTF-8
+    bytes, a BOM, -0 and huge exponents, deep nesting in extras, a very long array."""
+    b = Builder(texture=False)
+    doc, blob, _ = b.finish()
+    text = dumps(doc)
+    v = pick('escaped_key', 'dup_key', 'dup_key_inner', 'bad_utf8', 'bom', 'neg_zero', 'huge_exp', 'deep', 'unicode_name', 'lone_surrogate',
+             'escaped_value', 'trailing')
+    if v == 'escaped_key': text = text.replace('"asset"', pick('"\\u0061sset"', '"as\\u0073et"'), 1)
+    if v == 'dup_key': text = text.replace('{"asset":', '{"scene":0,"asset":', 1)
+    if v == 'dup_key_inner': text = text.replace('"mesh":0', '"mesh":0,"mesh":' + pick('0', '5', '"x"'), 1)
+    if v == 'bad_utf8': return None, text.replace('"asset":{', '"asset":{"generator":"\xff\xfe",', 1).encode('utf-8').replace(b'\xc3\xbf\xc3\xbe', pick(b'\xff\xfe', b'\xc3', b'\xed\xa0\x80')), 'raw'
+    if v == 'bom': return None, b'\xef\xbb\xbf' + text.encode(), 'raw'
+    if v == 'neg_zero': text = text.replace('"mesh":0', '"mesh":' + pick('-0', '-0.0', '0e5', '0.0e-0'), 1)
+    if v == 'huge_exp': text = text.replace('"scene":0', '"scene":' + pick('1e400', '-1e400', '1e-400', '9007199254740993', '1E1'), 1)
+    if v == 'deep': text = text.replace('"asset":{', '"asset":{"extras":' + '[' * pick(100, 600) + ']' * 0, 1) if False else text.replace('"asset":{', '"asset":{"extras":{"a":' + '[' * 200 + ']' * 200 + '},', 1)
+    if v == 'unicode_name': text = text.replace('"asset":{', '"asset":{"generator":"\u00e9\U0001F600",', 1)
+    if v == 'lone_surrogate': text = text.replace('"asset":{', '"asset":{"generator":"\\ud800",', 1)
+    if v == 'escaped_value': text = text.replace('"VEC3"', '"VEC\\u0033"', 1)
+    if v == 'trailing': text = text + pick(' ', '\n\n', ' x', '{}', '\0')
+    return None, text.encode('utf-8', 'surrogatepass'), 'raw'
+
+
+SHAPES = {f.__name__[6:]: f for f in [shape_sparse, shape_material_ext, shape_texture_transform, shape_quantization, shape_compression,
+                                       shape_images, shape_glb_buffers, shape_scenes_nodes, shape_cameras, shape_skins, shape_animation,
+                                       shape_accessors, shape_lights_variants, shape_extension_lists, shape_json_text]}
+
+
+def write_shape(n, work):
+    while True:
+        name = rng.choice(sorted(SHAPES))
+        try: doc, blob, container = SHAPES[name](); break
+        except Exception: continue  # a shape's random choices that do not fit together: draw again
+    if doc is not None and rng.random() < 0.15:
+        try: mutate(doc, extensions)
+        except Exception: pass
+    base = os.path.join(work, 'gen', '%s_%05d' % (name, n))
+    if container == 'raw':
+        open(base + '.gltf', 'wb').write(blob); return base + '.gltf'
+    if container == 'glb':
+        open(base + '.glb', 'wb').write(glb(dumps(doc), blob, None)); return base + '.glb'
+    open(base + '.gltf', 'w').write(dumps(doc)); return base + '.gltf'
+
+
 os.makedirs(args.work, exist_ok=True)
 suite_root = os.path.join(args.shared, 'validator-suite')
 suite_files = sorted(f for f in glob.glob(os.path.join(suite_root, 'test/**/*.gltf'), recursive=True))
@@ -314,6 +951,9 @@ suite_sources = [s for s in sources if s[0] == 'file' and '/suite/' in s[1]]
 written = []
 os.makedirs(os.path.join(args.work, 'gen'), exist_ok=True)
 for n in range(args.count):
+    if args.new_share > 0 and rng.random() < args.new_share:
+        written.append(write_shape(n, args.work))
+        continue
     draw = rng.random()
     if draw < 0.5:
         doc, blob, source_path = copy.deepcopy(base_doc), base_blob, None
