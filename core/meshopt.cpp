@@ -269,6 +269,20 @@ bool is_meshopt_placeholder(const tinygltf::Buffer& buffer) {
   return is_meshopt_fallback(buffer) && buffer.uri.empty() && buffer.data.empty();
 }
 
+std::optional<std::uint64_t> meshopt_source_buffer(const tinygltf::BufferView& view) {
+  const auto found = view.extensions.find("EXT_meshopt_compression");
+  if (found == view.extensions.end() || !found->second.IsObject()) return std::nullopt;
+  return unsigned_member(found->second, "buffer");
+}
+
+void set_meshopt_source_buffer(tinygltf::BufferView& view, int buffer) {
+  const auto found = view.extensions.find("EXT_meshopt_compression");
+  if (found == view.extensions.end() || !found->second.IsObject()) return;
+  tinygltf::Value::Object object = found->second.Get<tinygltf::Value::Object>();
+  object["buffer"] = tinygltf::Value(buffer);
+  found->second = tinygltf::Value(std::move(object));
+}
+
 void set_meshopt_source(tinygltf::BufferView& view, int buffer, std::uint64_t byte_offset) {
   const auto found = view.extensions.find("EXT_meshopt_compression");
   if (found == view.extensions.end() || !found->second.IsObject()) return;

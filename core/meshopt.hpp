@@ -77,4 +77,9 @@ bool is_meshopt_placeholder(const tinygltf::Buffer& buffer);
 // what saving and pruning do when they merge or compact the buffers the compressed bytes live in.
 void set_meshopt_source(tinygltf::BufferView& view, int buffer, std::uint64_t byte_offset);
 
+// The buffer a bufferView's extension object names, read as meshopt_view reads it, also when the
+// rest of the object is malformed; and the same member set alone (pruning renumbers buffers).
+std::optional<std::uint64_t> meshopt_source_buffer(const tinygltf::BufferView& view);
+void set_meshopt_source_buffer(tinygltf::BufferView& view, int buffer);
+
 }  // namespace gltf_pbr

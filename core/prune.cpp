@@ -180,8 +180,16 @@ PruneResult prune_unused(Asset& asset) {
     if (!keep_view[i] && model.bufferViews[i].buffer >= 0 &&
         static_cast<size_t>(model.bufferViews[i].buffer) < model.buffers.size())
       buffer_lost_view[static_cast<size_t>(model.bufferViews[i].buffer)] = true;
+  // A malformed extension object has no range to keep: the buffer it names stays whole.
+  std::vector<bool> named_by_malformed(model.buffers.size(), false);
+  for (const auto& view : model.bufferViews) {
+    std::string problem;
+    if (const auto buffer = meshopt_source_buffer(view);
+        buffer && *buffer < model.buffers.size() && !meshopt_view(view, problem))
+      named_by_malformed[static_cast<size_t>(*buffer)] = true;
+  }
   for (size_t b = 0; b < model.buffers.size(); ++b) {
-    if (!buffer_lost_view[b] || is_meshopt_placeholder(model.buffers[b])) continue;
+    if (!buffer_lost_view[b] || is_meshopt_placeholder(model.buffers[b]) || named_by_malformed[b]) continue;
     struct Range {
       size_t view;
       bool compressed_source;
@@ -228,17 +236,9 @@ PruneResult prune_unused(Asset& asset) {
   if (result.buffers > 0)
     for (auto& view : model.bufferViews) {
       // The compressed source's buffer, also where the object is malformed otherwise: it keeps
-      // naming the buffer it named.
-      if (const auto found = view.extensions.find("EXT_meshopt_compression"); found != view.extensions.end()) {
-        Value& extension = found->second;
-        if (extension.IsObject()) {
-          Value::Object object = extension.Get<Value::Object>();
-          if (const auto buffer = object.find("buffer"); buffer != object.end() && buffer->second.IsInt()) {
-            buffer->second = Value(apply(buffer_remap, buffer->second.GetNumberAsInt()));
-            extension = Value(std::move(object));
-          }
-        }
-      }
+      // naming the buffer it named (kept whole above).
+      if (const auto buffer = meshopt_source_buffer(view); buffer && *buffer < buffer_remap.size())
+        set_meshopt_source_buffer(view, apply(buffer_remap, static_cast<int>(*buffer)));
       view.buffer = apply(buffer_remap, view.buffer);
     }
   for (auto& accessor : model.accessors) {

@@ -487,6 +487,10 @@ TEST(MeshoptAsset, PruningABufferBeforeTheSourcesRenumbersEveryViewThatNamesThem
     ASSERT_TRUE(source) << problem;
     set_meshopt_source(view, 1, source->byte_offset - 64);
   }
+  // The first view names its buffer as 1.0, which the schema counts as an integer.
+  auto first = model.bufferViews[1].extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
+  first["buffer"] = tinygltf::Value(1.0);
+  model.bufferViews[1].extensions["EXT_meshopt_compression"] = tinygltf::Value(first);
   // A copy of a view whose extension is malformed (an unknown mode): it still names buffer 1.
   tinygltf::BufferView malformed = model.bufferViews[1];
   auto object = malformed.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
@@ -503,6 +507,29 @@ TEST(MeshoptAsset, PruningABufferBeforeTheSourcesRenumbersEveryViewThatNamesThem
     EXPECT_EQ(view.extensions.at("EXT_meshopt_compression").Get("buffer").GetNumberAsInt(), 0) << "the sources";
   }
   EXPECT_EQ(compressed_sources(asset), before);
+  AccessorProblem problem;
+  const auto positions = read_accessor<float>(asset, 0, problem);
+  ASSERT_TRUE(positions) << problem.text();
+  EXPECT_EQ(positions->values, kPositions);
+}
+
+TEST(MeshoptAsset, ABufferAMalformedObjectNamesIsNotCompacted) {
+  // The image and the compressed bytes share buffer 0; the image goes. A malformed object naming
+  // buffer 0 has no range to keep, so the buffer stays as it was rather than lose its bytes.
+  Asset asset = compressed_asset(kPositions, kIndices, 64);
+  tinygltf::Model& model = asset.model;
+  tinygltf::BufferView malformed = model.bufferViews[1];
+  auto object = malformed.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
+  object.erase("mode");
+  malformed.extensions["EXT_meshopt_compression"] = tinygltf::Value(object);
+  model.bufferViews.push_back(malformed);
+  const Bytes before = model.buffers[0].data;
+  const std::vector<Bytes> sources = compressed_sources(asset);
+  const PruneResult pruned = prune_unused(asset);
+  EXPECT_EQ(pruned.images, 1);
+  EXPECT_EQ(pruned.buffers, 0);
+  EXPECT_EQ(model.buffers[0].data, before);
+  EXPECT_EQ(compressed_sources(asset), sources);
   AccessorProblem problem;
   const auto positions = read_accessor<float>(asset, 0, problem);
   ASSERT_TRUE(positions) << problem.text();
