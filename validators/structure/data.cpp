@@ -407,7 +407,7 @@ class AccessorData {
         const std::uint64_t index = (first + e) * components;
         const double w = components == 4 ? normalized(a, v[3]) : 1.0;
         // Check by check, each at every use.
-        if (std::fabs(length - 1.0) > 0.0005)
+        if (std::fabs(length - 1.0) > kUnitVector3Tolerance)
           for (const std::string& use : uses)
             issues_.at("ACCESSOR_VECTOR3_NON_UNIT", use, {arg(index), arg(index + 2), arg_double(length)});
         if (w != 1.0 && w != -1.0)
@@ -469,7 +469,7 @@ class AccessorData {
     for (const MeshModel& mesh : doc_.meshes) {
       if (!mesh.object || mesh.skin < 0) continue;
       for (const PrimitiveModel& primitive : mesh.primitives) {
-        if (!primitive.object) continue;
+        if (!primitive.object || !primitive.skinned) continue;        // what a skin binds (PrimitiveModel::skinned)
         std::map<int, std::pair<std::int64_t, std::int64_t>> by_set;  // set → (JOINTS, WEIGHTS)
         for (const auto& [name, index] : primitive.attributes) {
           const std::string& semantic = name;
@@ -611,7 +611,7 @@ class AccessorData {
       double sum = 0;
       for (int c = 0; c < 4; ++c) sum += normalized(a, q[c]) * normalized(a, q[c]);
       const double length = std::sqrt(sum);
-      if (std::fabs(length - 1.0) > 0.0005)
+      if (std::fabs(length - 1.0) > kUnitQuaternionTolerance)
         for (const std::string& use : uses)
           issues_.at("ACCESSOR_ANIMATION_SAMPLER_OUTPUT_NON_NORMALIZED_QUATERNION", use,
                      {arg(element * 4), arg(element * 4 + 3), arg_double(length)});

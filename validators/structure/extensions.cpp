@@ -316,7 +316,8 @@ class ExtensionReader {
               (inner || !spot->contains("innerConeAngle")) && (outer || !spot->contains("outerConeAngle"));
           const double inner_value = inner.value_or(0.0), outer_value = outer.value_or(M_PI / 4);
           if (comparable && outer_value <= inner_value)
-            issues_.at("KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", sp, {arg_double(inner_value), arg_double(outer_value)});
+            issues_.at("KHR_LIGHTS_PUNCTUAL_LIGHT_SPOT_ANGLES", sp + "/outerConeAngle",
+                       {arg_double(inner_value), arg_double(outer_value)});
         }
         tail(light, lp);
       }

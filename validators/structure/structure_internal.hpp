@@ -25,6 +25,13 @@
 
 namespace gltf_pbr::structure {
 
+// How far from unit length a vector may be (the spec gives no tolerance; the reference's, found by
+// bisection on its answers to constructed files): a NORMAL or a TANGENT's xyz passes at 0.00674
+// and fails at 0.006745; a quaternion (a node's rotation, an animation's rotation output) passes at
+// 0.007688 and fails at 0.00769, either side of 1 (tests/structure, UnitLength).
+constexpr double kUnitVector3Tolerance = 0.006742;
+constexpr double kUnitQuaternionTolerance = 0.007689;
+
 using Json = JsonDocument;
 
 // Arguments of the catalogue's templates (Rule::format fills them): numbers follow Dart's printing
