@@ -139,7 +139,7 @@ int run(const ConvertArgs& args) {
   std::vector<ConvertJob> jobs;
   for (const std::size_t position : positions) jobs.push_back(planned[position]);
 
-  const RunReads reads{args.file.allow_outside_uris, args.pipeline.inputs_from};
+  const RunReads reads{args.file.allow_outside_uris, args.pipeline.inputs_from, {}};
   std::vector<PlannedOutput> written{{args.report, "--report"}, {args.pipeline.results, "--results"}};
   for (const ConvertJob& job : jobs)
     if (!job.preview_dir.empty())

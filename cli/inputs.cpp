@@ -191,12 +191,13 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
   }
   if (existing.empty()) return;
-  const auto refuse_if_written = [&](const fs::path& read) {
+  // `what` says how the run reads the file: "an input", "named by <input>", "the input list".
+  const auto refuse_if_written = [&](const fs::path& read, const std::string& what) {
     const auto written = existing.find(resolved(read));
     if (written == existing.end()) return;
     const PlannedOutput& output = *written->second;
-    throw CLI::ValidationError(output.option, "refusing to write " + printable(output.path.string()) + " over " +
-                                                  printable(read.string()) + ", which the run reads");
+    throw CLI::ValidationError(output.option, "refusing to write " + printable(output.path.string()) +
+                                                  ": the run reads it (" + what + "); write it elsewhere");
   };
   // Paths compare element by element, so the outputs inside a folder follow it in the map.
   const auto holds_an_output = [&](const fs::path& folder) {
@@ -205,16 +206,20 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     return first != existing.end() &&
            std::mismatch(root.begin(), root.end(), first->first.begin(), first->first.end()).first == root.end();
   };
-  if (!reads.inputs_from.empty() && reads.inputs_from != "-") refuse_if_written(reads.inputs_from);
+  for (const auto& [list, what] :
+       {std::pair{reads.inputs_from, "the --inputs-from list"}, std::pair{reads.config, "the --config file"}})
+    if (!list.empty() && list != "-") refuse_if_written(list, what);
   for (const InputFile& input : files) {
-    refuse_if_written(input.file);
+    refuse_if_written(input.file, "an input");
     const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
     if (!reads.allow_outside_uris && !holds_an_output(folder)) continue;
-    const std::optional<Bytes> bytes = read_file(input.file);
-    if (!bytes) continue;  // the run reports the unreadable input itself
-    for (const std::string& uri : external_uris(*bytes).value_or(std::vector<std::string>{})) {
+    // Mapped, not read: a GLB's binary chunk is never touched for its JSON's URIs.
+    const std::optional<MappedFile> mapped = MappedFile::open(input.file, MappedFile::ReadAhead::OnTouch);
+    if (!mapped) continue;  // the run reports the unreadable input itself
+    for (const std::string& uri : external_uris(mapped->bytes()).value_or(std::vector<std::string>{})) {
       const ResolvedUri named = resolve_uri(folder, uri, reads.allow_outside_uris);
-      if (named.status == UriStatus::Readable) refuse_if_written(named.path);
+      if (named.status == UriStatus::Readable)
+        refuse_if_written(named.path, "named by " + printable(input.file.string()));
     }
   }
 }

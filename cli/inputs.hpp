@@ -55,6 +55,7 @@ void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vecto
 struct RunReads {
   bool allow_outside_uris = false;  // the inputs may name files outside their folders
   std::string inputs_from;          // --inputs-from's list ("-": standard input)
+  std::string config;               // validate's --config file
 };
 // A file a run will write, and the option that named it (for the message).
 struct PlannedOutput {
@@ -63,7 +64,7 @@ struct PlannedOutput {
 };
 // A run never writes over what it reads: throws CLI::ValidationError when a planned output (a
 // report, a results log, a preview's images) is one of the inputs, a file an input names (a
-// buffer, an image) or the input list. Only an existing file can be one; only inputs whose folder
+// buffer, an image), the input list or the config file. Only an existing file can be one; only inputs whose folder
 // holds one (any input, where URIs may leave their folder) are read for the files they name.
 void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<const PlannedOutput> outputs,
                                 const RunReads& reads);

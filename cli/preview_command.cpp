@@ -122,7 +122,7 @@ int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
   for (const InputFile& file : found.files)
     outputs.push_back(fs::path(args.output) / fs::path(file.relative).replace_extension());
   refuse_shared_outputs(found.files, outputs, "rename one, or preview them in separate runs");
-  refuse_writing_over_inputs(found.files, preview_outputs(outputs), RunReads{args.allow_outside, {}});
+  refuse_writing_over_inputs(found.files, preview_outputs(outputs), RunReads{args.allow_outside, {}, {}});
   std::optional<ResultCache> cache;
   if (!args.cache.empty()) cache.emplace(args.cache);
   std::atomic<std::size_t> restored{0}, failed{0};
@@ -212,7 +212,7 @@ int run(const PreviewArgs& args) {
     return run_folder(args, options);
   } else {
     refuse_writing_over_inputs({InputFile{args.input, fs::path(args.input).filename()}}, preview_outputs({args.output}),
-                               RunReads{args.allow_outside, {}});
+                               RunReads{args.allow_outside, {}, {}});
     std::optional<ResultCache> cache;
     if (!args.cache.empty()) cache.emplace(args.cache);
     const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);

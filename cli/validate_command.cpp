@@ -132,7 +132,7 @@ int run(const ValidateArgs& args) {
   const bool colour = args.output.empty() && ::isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
   std::vector<Report> reports(files.size());
   // Nothing is written (folders included) before the run is known not to write over its inputs.
-  const RunReads reads{args.allow_outside, args.pipeline.inputs_from};
+  const RunReads reads{args.allow_outside, args.pipeline.inputs_from, args.config};
   std::vector<PlannedOutput> written{{args.pipeline.results, "--results"}};
   if (report_folder) {
     for (const fs::path& path : report_paths) written.push_back({path, "--output"});

@@ -1138,7 +1138,6 @@ TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBefore
   ASSERT_NE(text.find(old_uri), std::string::npos);
   text.replace(text.find(old_uri), old_uri.size(), "\"BoxTextured/before.png\"");
   test::write_text(gltf, text);
-  fs::copy(scratch / "in" / "BoxTextured" / "before.png", scratch / "in" / "before.png");
   const fs::path summary = scratch / "in" / "summary.json";
   fs::copy(gltf, summary);
   const auto image = read_file(scratch / "in" / "BoxTextured" / "before.png");
@@ -1157,6 +1156,13 @@ TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBefore
   EXPECT_EQ(read_file(scratch / "in" / "BoxTextured" / "before.png"), image);
   EXPECT_EQ(test::read_text(summary), text);
   EXPECT_FALSE(fs::exists(scratch / "in" / "summary.json.report.json"));
+  // validate's config file is read too.
+  test::write_text(scratch / "rules.json", "{}");
+  const auto config = run_cli("validate --config " + quoted(scratch / "rules.json") + " " + quoted(gltf) + " -o " +
+                                  quoted(scratch / "rules.json"),
+                              scratch);
+  EXPECT_EQ(config.exit_code, 2) << config.err;
+  EXPECT_EQ(test::read_text(scratch / "rules.json"), "{}");
   // The same runs elsewhere write their files.
   EXPECT_EQ(run_cli("preview -q --size 32 " + quoted(gltf) + " -o " + quoted(scratch / "p"), scratch).exit_code, 0);
   EXPECT_TRUE(fs::exists(scratch / "p" / "before.png"));
