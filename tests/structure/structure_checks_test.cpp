@@ -648,6 +648,37 @@ TEST(UnitLength, ANormalWithinTheReferencesToleranceOfUnitLengthPasses) {
   }
 }
 
+TEST(TextureBinding, TheBaseSetAndADeclaredTransformsSetAreBothNeededAndAnUnreadableOneIsNot) {
+  // One triangle with TEXCOORD_0 only; the base colour texture's info varies. Read off the npm
+  // build on constructed files.
+  const auto codes = [](const std::string& info, bool declared) {
+    const std::string text =
+        std::string(R"({"asset":{"version":"2.0"},)") +
+        (declared ? R"("extensionsUsed":["KHR_texture_transform"],)" : "") +
+        R"("scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}]}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":)" +
+        info +
+        R"(}}],"textures":[{}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":24,"target":34962}],"buffers":[{"byteLength":60,"uri":")" +
+        float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1}) + R"("}]})";
+    auto all = codes_of(validate_text(text));
+    std::erase_if(all, [](const auto& code) { return code.first == "UNDECLARED_EXTENSION"; });
+    return all;
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string material = "/meshes/0/primitives/0/material";
+  const std::string transform_1 = R"("extensions":{"KHR_texture_transform":{"texCoord":1}})";
+  // The override's set is needed beside the base one, which stays used.
+  EXPECT_EQ(codes(R"({"index":0,)" + transform_1 + "}", true), (Codes{{"MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", material}}));
+  // An undeclared extension's override is not.
+  EXPECT_EQ(codes(R"({"index":0,)" + transform_1 + "}", false), Codes{});
+  // A base set of 1 is needed even where the override names 0.
+  EXPECT_EQ(codes(R"({"index":0,"texCoord":1,"extensions":{"KHR_texture_transform":{"texCoord":0}}})", true),
+            (Codes{{"MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", material}}));
+  // A texCoord that cannot be read needs no set (and TEXCOORD_0 is then unused).
+  EXPECT_EQ(codes(R"({"index":0,"texCoord":0.5})", false),
+            (Codes{{"TYPE_MISMATCH", "/materials/0/pbrMetallicRoughness/baseColorTexture/texCoord"},
+                   {"UNUSED_OBJECT", "/meshes/0/primitives/0/attributes/TEXCOORD_0"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

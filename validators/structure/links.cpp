@@ -546,12 +546,18 @@ class Linker {
       std::set<std::int64_t> used_sets;
       // Each texture binding of a material needs its TEXCOORD_n here.
       auto texture_coordinates = [&](const MaterialModel& bound, const std::string& pointer) {
-        for (const TextureRef& ref : bound.textures) {
-          used_sets.insert(ref.tex_coord);
-          const std::string wanted = "TEXCOORD_" + std::to_string(ref.tex_coord);
+        // Each set a binding needs (TextureRef: its own, and a texture transform's override).
+        const auto need = [&](std::int64_t set, const std::string& binding) {
+          if (set < 0) return;
+          used_sets.insert(set);
+          const std::string wanted = "TEXCOORD_" + std::to_string(set);
           const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
                                            [&](const auto& attribute) { return attribute.first == wanted; });
-          if (!present) issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", pointer, {arg(ref.pointer), arg(ref.tex_coord)});
+          if (!present) issues_.at("MESH_PRIMITIVE_TOO_FEW_TEXCOORDS", pointer, {arg(binding), arg(set)});
+        };
+        for (const TextureRef& ref : bound.textures) {
+          need(ref.tex_coord, ref.pointer);
+          need(ref.transform_tex_coord, ref.pointer + "/extensions/KHR_texture_transform");
         }
       };
       // KHR_materials_variants: each mapping is linked in turn (its dependency on the root's

@@ -718,22 +718,28 @@ class Walker {
     // reports them.
     extensions(*info, p, Owner::TextureInfo);
     ref.index = read_.index(*info, p, "index", true);
-    if (auto coord = read_.integer(*info, p, "texCoord", false, {0})) ref.tex_coord = *coord;
+    if (auto coord = read_.integer(*info, p, "texCoord", false, {0}))
+      ref.tex_coord = *coord;
+    else if (present(*info, "texCoord"))
+      ref.tex_coord = -1;
     if (kind == 1) read_.number(*info, p, "scale");
     if (kind == 2) read_.number(*info, p, "strength", false, {0, 1});
     read_.extras(*info, p);
-    // KHR_texture_transform.texCoord, when present, replaces the binding's set.
-    if (auto ext = info->find("extensions"); ext != info->end() && ext->is_object()) {
+    // KHR_texture_transform.texCoord overrides the binding's set for a viewer that knows the
+    // extension, and the base set stays for one that does not: the reference needs both (and an
+    // undeclared extension's override not at all; its answers on constructed files).
+    if (auto ext = info->find("extensions");
+        ext != info->end() && ext->is_object() && context_.declared("KHR_texture_transform")) {
       if (auto transform = ext->find("KHR_texture_transform"); transform != ext->end() && transform->is_object()) {
         if (auto coord = transform->find("texCoord"); coord != transform->end())
-          if (const auto set = integer_value(*coord); set && *set >= 0) ref.tex_coord = *set;
+          if (const auto set = integer_value(*coord); set && *set >= 0) ref.transform_tex_coord = *set;
       }
     }
     // The core normal map gives a tangent space to generate; the textures of extensions that are
     // defined in tangent space (a clearcoat normal map, an anisotropy direction map) need one.
     if (key == "normalTexture") {
       material.has_normal_texture = true;
-      material.normal_tex_coord = ref.tex_coord;
+      material.normal_tex_coord = ref.transform_tex_coord >= 0 ? ref.transform_tex_coord : ref.tex_coord;
     } else if (key == "clearcoatNormalTexture" || key == "anisotropyTexture") {
       material.needs_tangents = true;
     }

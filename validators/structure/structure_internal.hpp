@@ -144,7 +144,8 @@ struct BufferModel : EntityModel {
 struct TextureRef {
   std::string pointer;  // of the textureInfo object
   std::int64_t index = -1;
-  std::int64_t tex_coord = 0;
+  std::int64_t tex_coord = 0;             // -1: unreadable (a fraction, a string): no set is needed
+  std::int64_t transform_tex_coord = -1;  // KHR_texture_transform's set, where it is declared and read
 };
 
 struct MaterialModel : EntityModel {
