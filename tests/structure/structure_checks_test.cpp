@@ -679,6 +679,25 @@ TEST(TextureBinding, TheBaseSetAndADeclaredTransformsSetAreBothNeededAndAnUnread
                    {"UNUSED_OBJECT", "/meshes/0/primitives/0/attributes/TEXCOORD_0"}}));
 }
 
+TEST(TextureSource, AWebpExtensionsSourceIsAWebpImageAfterTheTexturesOwnSource) {
+  const auto codes = [](const std::string& used, const std::string& texture) {
+    auto all = codes_of(validate_text(
+        R"({"asset":{"version":"2.0"},"extensionsUsed":[)" + used +
+        R"(],"images":[{"uri":"data:image/webp;base64,UklGRhoAAABXRUJQVlA4TA0AAAAvAAAAEAcQERGIiP4HAA=="},{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGNgYGD4DwABBAEAwS2OUAAAAABJRU5ErkJggg=="}],"textures":[)" +
+        texture + "]}"));
+    std::erase_if(all, [](const auto& code) { return code.first != "TEXTURE_INVALID_IMAGE_MIME_TYPE"; });
+    return all;
+  };
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  const std::string both = R"({"source":0,"extensions":{"EXT_texture_webp":{"source":1}}})";
+  EXPECT_EQ(codes(R"("EXT_texture_webp")", both),
+            (Codes{{"TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/0/source"},
+                   {"TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/0/extensions/EXT_texture_webp/source"}}));
+  EXPECT_EQ(codes(R"("EXT_texture_webp")", R"({"extensions":{"EXT_texture_webp":{"source":0}}})"), Codes{});
+  // Undeclared, the extension's source is not judged.
+  EXPECT_EQ(codes("", R"({"extensions":{"EXT_texture_webp":{"source":1}}})"), Codes{});
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

@@ -144,25 +144,37 @@ void check_images(Context& context) {
   }
 }
 
-// Spec 3.8.2: a texture's own source is PNG or JPEG; other formats come through extensions. The
-// reference judges this after every image has been read, from the type the image declares (its
-// mimeType, else its data URI's media type) or else the type its bytes have (checked against the
-// npm validator).
+// Spec 3.8.2: a texture's own source is PNG or JPEG; other formats come through extensions, whose
+// sources are of their one type (EXT_texture_webp: WebP; KHR_texture_basisu: KTX2), where the
+// extension is declared. The reference judges these after every image has been read, from the type
+// the image declares (its mimeType, else its valid data URI's media type) or else the type its
+// bytes have, the texture's own source first (checked against the npm validator).
 void check_texture_sources(Context& context) {
   const Document& doc = context.doc;
-  for (std::size_t i = 0; i < doc.textures.size(); ++i) {
-    const TextureModel& texture = doc.textures[i];
-    if (!texture.object || texture.source < 0 || static_cast<std::size_t>(texture.source) >= doc.images.size())
-      continue;
-    const ImageModel& image = doc.images[static_cast<std::size_t>(texture.source)];
-    if (!image.object) continue;
+  const auto type_of = [&](std::int64_t source) -> const std::string* {
+    if (source < 0 || static_cast<std::size_t>(source) >= doc.images.size()) return nullptr;
+    const ImageModel& image = doc.images[static_cast<std::size_t>(source)];
+    if (!image.object) return nullptr;
     // A URI that is invalid (INVALID_URI) declares nothing.
     const std::string& mime = !image.mime_type.empty()                          ? image.mime_type
                               : image.uri_valid && !image.data_uri_mime.empty() ? image.data_uri_mime
                                                                                 : image.detected_mime;
-    if (!mime.empty() && mime != "image/png" && mime != "image/jpeg")
-      context.issues.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/" + std::to_string(i) + "/source", {arg(mime)},
+    return mime.empty() ? nullptr : &mime;
+  };
+  for (std::size_t i = 0; i < doc.textures.size(); ++i) {
+    const TextureModel& texture = doc.textures[i];
+    if (!texture.object) continue;
+    const std::string p = "/textures/" + std::to_string(i);
+    if (const std::string* mime = type_of(texture.source); mime && *mime != "image/png" && *mime != "image/jpeg")
+      context.issues.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", p + "/source", {arg(*mime)},
                         {arg("image/jpeg"), arg("image/png")});
+    for (const auto& [pointer, source] : texture.extension_sources) {
+      const bool webp = pointer.find("/EXT_texture_webp/") != std::string::npos;
+      if (!context.declared(webp ? "EXT_texture_webp" : "KHR_texture_basisu")) continue;
+      const char* expected = webp ? "image/webp" : "image/ktx2";
+      if (const std::string* mime = type_of(source); mime && *mime != expected)
+        context.issues.at("TEXTURE_INVALID_IMAGE_MIME_TYPE", pointer, {arg(*mime)}, {arg(expected)});
+    }
   }
 }
 
