@@ -698,6 +698,18 @@ TEST(TextureSource, AWebpExtensionsSourceIsAWebpImageAfterTheTexturesOwnSource) 
   EXPECT_EQ(codes("", R"({"extensions":{"EXT_texture_webp":{"source":1}}})"), Codes{});
 }
 
+TEST(TextureSource, AnEmptyMimeTypeIsDeclaredAndNoTypeAtAll) {
+  // mimeType "" is out of the list, and still what the image declares (the npm build's answer):
+  // the texture's source is then of no valid type.
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"data:application/octet-stream;base64,AAAAAA=="}],"bufferViews":[{"buffer":0,"byteLength":4}],"images":[{"bufferView":0,"mimeType":""}],"textures":[{"source":0}]})");
+  using Codes = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(codes_of(report), (Codes{{"VALUE_NOT_IN_LIST", "/images/0/mimeType"},
+                                     {"UNUSED_OBJECT", "/textures/0"},
+                                     {"IMAGE_UNRECOGNIZED_FORMAT", "/images/0"},
+                                     {"TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/0/source"}}));
+}
+
 TEST(StructureChecks, NonAffineNodeMatrixCannotBeDecomposed) {
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[1,0,0,1, 0,1,0,0, 0,0,1,0, 0,0,0,1]}],"scenes":[{"nodes":[0]}]})");

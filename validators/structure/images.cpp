@@ -87,7 +87,7 @@ void check_images(Context& context) {
         storage = "data-uri";
         bytes = image.data;
         have = true;
-        if (declared.empty()) declared = image.data_uri_mime;
+        if (!image.declares_mime_type) declared = image.data_uri_mime;
       } else {
         storage = "external";
         if (context.options.validate_resources) {
@@ -120,7 +120,7 @@ void check_images(Context& context) {
         if ((header.format == ImageFormat::Webp && !enabled("EXT_texture_webp")) ||
             (header.format == ImageFormat::Ktx2 && !enabled("KHR_texture_basisu")))
           issues.at("IMAGE_NON_ENABLED_MIME_TYPE", p, {arg(mime)});
-        if (!declared.empty() && declared != mime)
+        if ((image.declares_mime_type || !declared.empty()) && declared != mime)
           issues.at("IMAGE_MIME_TYPE_INVALID", in_view ? p + "/bufferView" : p + "/uri", {arg(mime), arg(declared)});
         if (header.problem == HeaderProblem::Invalid)
           issues.at("IMAGE_DATA_INVALID", p, {arg_raw(header.problem_message)});
@@ -155,10 +155,11 @@ void check_texture_sources(Context& context) {
     if (source < 0 || static_cast<std::size_t>(source) >= doc.images.size()) return nullptr;
     const ImageModel& image = doc.images[static_cast<std::size_t>(source)];
     if (!image.object) return nullptr;
-    // A URI that is invalid (INVALID_URI) declares nothing.
-    const std::string& mime = !image.mime_type.empty()                          ? image.mime_type
-                              : image.uri_valid && !image.data_uri_mime.empty() ? image.data_uri_mime
-                                                                                : image.detected_mime;
+    // A declared mimeType counts even when it is "" (then no type is valid); a URI that is
+    // invalid (INVALID_URI) declares nothing.
+    if (image.declares_mime_type) return &image.mime_type;
+    const std::string& mime =
+        image.uri_valid && !image.data_uri_mime.empty() ? image.data_uri_mime : image.detected_mime;
     return mime.empty() ? nullptr : &mime;
   };
   for (std::size_t i = 0; i < doc.textures.size(); ++i) {

@@ -233,6 +233,7 @@ struct ImageModel : EntityModel {
   std::string uri;
   bool has_uri = false, uri_valid = false, data_uri = false;
   std::string mime_type;
+  bool declares_mime_type = false;  // mimeType is a string, "" included (the reference keeps "" as declared)
   std::string data_uri_mime;
   std::string detected_mime;  // what its bytes are, when they were read and recognised
   std::int64_t buffer_view = -1;
