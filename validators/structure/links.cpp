@@ -409,7 +409,7 @@ class Linker {
   void use_view_as(AccessorModel& accessor, int usage, const std::string& name, const std::string& pointer) {
     use_view_as(accessor.buffer_view, usage, name, pointer);
   }
-  // The use of view `index` (a GL target, kViewUsageIbm or kViewUsageOther) at `pointer`: the first
+  // The use of view `index` (a GL target or a kViewUsage value) at `pointer`: the first
   // use sets it; another one is reported as an override.
   void use_view_as(std::int64_t index, int usage, const std::string& name, const std::string& pointer) {
     if (index < 0 || static_cast<std::size_t>(index) >= doc_.buffer_views.size()) return;
