@@ -470,6 +470,14 @@ TEST(MeshoptAsset, PruningAnImageBesideCompressedBytesMovesThemAlong) {
   EXPECT_EQ(positions->values, kPositions);
 }
 
+// Edits a bufferView's EXT_meshopt_compression object in place (tinygltf values are copied out and back).
+template <class Edit>
+void edit_meshopt_object(tinygltf::BufferView& view, Edit edit) {
+  auto object = view.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
+  edit(object);
+  view.extensions["EXT_meshopt_compression"] = tinygltf::Value(object);
+}
+
 TEST(MeshoptAsset, PruningABufferBeforeTheSourcesRenumbersEveryViewThatNamesThem) {
   // buffers: 0 the image alone, 1 the sources, 2 the placeholder; the image goes, and with it buffer 0.
   Asset asset = compressed_asset(kPositions, kIndices, 64);
@@ -488,14 +496,10 @@ TEST(MeshoptAsset, PruningABufferBeforeTheSourcesRenumbersEveryViewThatNamesThem
     set_meshopt_source(view, 1, source->byte_offset - 64);
   }
   // The first view names its buffer as 1.0, which the schema counts as an integer.
-  auto first = model.bufferViews[1].extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
-  first["buffer"] = tinygltf::Value(1.0);
-  model.bufferViews[1].extensions["EXT_meshopt_compression"] = tinygltf::Value(first);
+  edit_meshopt_object(model.bufferViews[1], [](auto& object) { object["buffer"] = tinygltf::Value(1.0); });
   // A copy of a view whose extension is malformed (an unknown mode): it still names buffer 1.
   tinygltf::BufferView malformed = model.bufferViews[1];
-  auto object = malformed.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
-  object["mode"] = tinygltf::Value(std::string("NOT_A_MODE"));
-  malformed.extensions["EXT_meshopt_compression"] = tinygltf::Value(object);
+  edit_meshopt_object(malformed, [](auto& object) { object["mode"] = tinygltf::Value(std::string("NOT_A_MODE")); });
   model.bufferViews.push_back(malformed);
   const std::vector<Bytes> before = compressed_sources(asset);
 
@@ -519,9 +523,7 @@ TEST(MeshoptAsset, ABufferAMalformedObjectNamesIsNotCompacted) {
   Asset asset = compressed_asset(kPositions, kIndices, 64);
   tinygltf::Model& model = asset.model;
   tinygltf::BufferView malformed = model.bufferViews[1];
-  auto object = malformed.extensions["EXT_meshopt_compression"].Get<tinygltf::Value::Object>();
-  object.erase("mode");
-  malformed.extensions["EXT_meshopt_compression"] = tinygltf::Value(object);
+  edit_meshopt_object(malformed, [](auto& object) { object.erase("mode"); });
   model.bufferViews.push_back(malformed);
   const Bytes before = model.buffers[0].data;
   const std::vector<Bytes> sources = compressed_sources(asset);

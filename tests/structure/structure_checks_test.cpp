@@ -377,8 +377,9 @@ TEST(UnitLength, ANodeRotationWithinTheReferencesToleranceOfUnitLengthPasses) {
 }
 
 // The (code, pointer) pairs of a report, in order.
-std::vector<std::pair<std::string, std::string>> codes_of(const Report& report) {
-  std::vector<std::pair<std::string, std::string>> codes;
+using Codes = std::vector<std::pair<std::string, std::string>>;
+Codes codes_of(const Report& report) {
+  Codes codes;
   for (const Issue& issue : report.messages) codes.emplace_back(issue.code, issue.pointer);
   return codes;
 }
@@ -395,7 +396,6 @@ std::string sparse_document(const std::string& index_view, const std::string& va
 TEST(SparseAccessor, ItsViewsAreOtherDataThatATargetOverridesAndAStrideBreaks) {
   // Spec 3.6.2.3: sparse indices and values are tightly packed and neither vertex nor index data.
   const std::string sparse = R"("count":1,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1})";
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string values = "/accessors/0/sparse/values/bufferView";
   EXPECT_EQ(codes_of(validate_text(sparse_document("", R"(,"target":34962)", sparse))),
             (Codes{{"BUFFER_VIEW_TARGET_OVERRIDE", values}, {"UNUSED_OBJECT", "/accessors/0"}}));
@@ -407,7 +407,6 @@ TEST(SparseAccessor, ItsViewsAreOtherDataThatATargetOverridesAndAStrideBreaks) {
 }
 
 TEST(SparseAccessor, ItsOffsetsAreAlignedAndFitTheirViewsAsAnAccessorsDo) {
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const auto codes = [](const std::string& value_offset) {
     return codes_of(validate_text(sparse_document(
         "", "",
@@ -429,7 +428,6 @@ TEST(SparseAccessor, AnUnreadableCountLeavesItsViewsUnlinked) {
   const Report report = validate_text(
       sparse_document("", R"(,"byteStride":4)",
                       R"("count":0,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1})"));
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   EXPECT_EQ(codes_of(report), (Codes{{"VALUE_NOT_IN_RANGE", "/accessors/0/sparse/count"},
                                      {"UNUSED_OBJECT", "/accessors/0"},
                                      {"UNUSED_OBJECT", "/bufferViews/0"},
@@ -455,7 +453,6 @@ TEST(Camera, OnlyTheProjectionItsTypeNamesIsRead) {
     return codes_of(validate_text(R"({"asset":{"version":"2.0"},"cameras":[)" + camera +
                                   R"(],"nodes":[{"camera":0}],"scenes":[{"nodes":[0]}],"scene":0})"));
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string bad_perspective = R"("perspective":{"yfov":4,"znear":1,"zfar":0.5})";
   const std::string zero_orthographic = R"("orthographic":{"xmag":0,"ymag":1,"znear":0,"zfar":1})";
   EXPECT_EQ(codes(R"({"type":"orthographic",)" + bad_perspective + "," + zero_orthographic + "}"),
@@ -511,7 +508,6 @@ TEST(TextureInfo, ItsExtensionsAreJudgedBeforeItsOwnMembers) {
   // texCoord and strength; KHR_materials_volume's attenuation before its thickness.
   const Report info = validate_text(
       R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_transform"],"materials":[{"occlusionTexture":{"strength":"s","index":-1,"texCoord":"x","extensions":{"KHR_texture_transform":{"offset":"o"}}}}]})");
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string o = "/materials/0/occlusionTexture";
   EXPECT_EQ(codes_of(info), (Codes{{"TYPE_MISMATCH", o + "/extensions/KHR_texture_transform/offset"},
                                    {"INVALID_INDEX", o + "/index"},
@@ -544,7 +540,6 @@ TEST(InvalidFloat, IsNamedAtTheAccessorAndTheBoundsStartAtTheFirstElement) {
   // Read off the npm build: ACCESSOR_INVALID_FLOAT is the accessor's fault whoever uses it, and the
   // actual bounds start at element 0 whatever it holds. A NaN there leaves them NaN, so both
   // declared bounds mismatch. A later NaN is passed over: key times 0, NaN have the maximum 0.
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const Report position = validate_text(
       R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}]}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}, {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}], "bufferViews": [{"buffer": 0, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 36, "byteLength": 36, "target": 34962}, {"buffer": 0, "byteOffset": 72, "byteLength": 24, "target": 34962}], "buffers": [{"byteLength": 96, "uri": "data:application/octet-stream;base64,AAAAAAAAwH8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/"}]})");
   EXPECT_EQ(codes_of(position), (Codes{{"UNUSED_OBJECT", "/meshes/0/primitives/0/attributes/TEXCOORD_0"},
@@ -566,7 +561,6 @@ TEST(PunctualLight, OnlyASpotLightsSpotIsReadAndOnlyReadValuesAreCompared) {
     std::erase_if(all, [](const auto& code) { return code.first == "UNUSED_OBJECT"; });
     return all;
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string l = "/extensions/KHR_lights_punctual/lights/0";
   // A point light's spot, or an unknown type's, is unused whatever it holds.
   EXPECT_EQ(codes(R"({"type":"point","spot":{"outerConeAngle":1.6}})"), (Codes{{"EXTRA_PROPERTY", l + "/spot"}}));
@@ -588,14 +582,13 @@ TEST(ImageBytes, AViewIsReadWhereverItIsNamedAndATruncatedStreamTellsNothingElse
   const std::string png20 = buffer_of(std::vector<std::uint8_t>{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0,
                                                                 0,    13,  'I', 'H', 'D',  'R',  0,    0,    0, 1});
   const auto codes = [&](const std::string& view, const std::string& image) {
-    std::vector<std::pair<std::string, std::string>> all = codes_of(validate_text(
+    Codes all = codes_of(validate_text(
         R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":20,"uri":")" + png20 +
         R"("}],"bufferViews":[{"buffer":0,"byteLength":20)" + view + R"(}],"images":[{"bufferView":0)" + image +
         R"(}],"textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]})"));
     std::erase_if(all, [](const auto& code) { return code.first == "UNUSED_OBJECT"; });
     return all;
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   EXPECT_EQ(
       codes(R"(,"byteStride":4)", R"(,"mimeType":"image/png")"),
       (Codes{{"IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE", "/images/0/bufferView"}, {"IMAGE_UNEXPECTED_EOS", "/images/0"}}));
@@ -610,7 +603,6 @@ TEST(NodeTransform, AnInvalidTrsPropertyIsIgnoredBesideAMatrix) {
         validate_text(R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[2,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1],)" + trs +
                       R"(}],"scenes":[{"nodes":[0]}],"scene":0})"));
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   EXPECT_EQ(codes(R"("scale":[1,1])"),
             (Codes{{"ARRAY_LENGTH_NOT_IN_LIST", "/nodes/0/scale"}, {"NODE_EMPTY", "/nodes/0"}}));
   EXPECT_EQ(codes(R"("rotation":[0,0,0,2])"),
@@ -663,7 +655,6 @@ TEST(TextureBinding, TheBaseSetAndADeclaredTransformsSetAreBothNeededAndAnUnread
     std::erase_if(all, [](const auto& code) { return code.first == "UNDECLARED_EXTENSION"; });
     return all;
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string material = "/meshes/0/primitives/0/material";
   const std::string transform_1 = R"("extensions":{"KHR_texture_transform":{"texCoord":1}})";
   // The override's set is needed beside the base one, which stays used.
@@ -688,7 +679,6 @@ TEST(TextureSource, AWebpExtensionsSourceIsAWebpImageAfterTheTexturesOwnSource) 
     std::erase_if(all, [](const auto& code) { return code.first != "TEXTURE_INVALID_IMAGE_MIME_TYPE"; });
     return all;
   };
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   const std::string both = R"({"source":0,"extensions":{"EXT_texture_webp":{"source":1}}})";
   EXPECT_EQ(codes(R"("EXT_texture_webp")", both),
             (Codes{{"TEXTURE_INVALID_IMAGE_MIME_TYPE", "/textures/0/source"},
@@ -703,7 +693,6 @@ TEST(TextureSource, AnEmptyMimeTypeIsDeclaredAndNoTypeAtAll) {
   // the texture's source is then of no valid type.
   const Report report = validate_text(
       R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"data:application/octet-stream;base64,AAAAAA=="}],"bufferViews":[{"buffer":0,"byteLength":4}],"images":[{"bufferView":0,"mimeType":""}],"textures":[{"source":0}]})");
-  using Codes = std::vector<std::pair<std::string, std::string>>;
   EXPECT_EQ(codes_of(report), (Codes{{"VALUE_NOT_IN_LIST", "/images/0/mimeType"},
                                      {"UNUSED_OBJECT", "/textures/0"},
                                      {"IMAGE_UNRECOGNIZED_FORMAT", "/images/0"},

@@ -65,7 +65,7 @@ void check_images(Context& context) {
     resource["pointer"] = p;
     std::span<const std::uint8_t> bytes;
     std::shared_ptr<const MappedFile> file;
-    std::string declared = image.mime_type;
+    std::optional<std::string> declared = image.mime_type;
     bool have = false;
     std::string storage;
     // With both a bufferView and a URI (ONE_OF_MISMATCH), the bytes are the view's, as the
@@ -87,7 +87,7 @@ void check_images(Context& context) {
         storage = "data-uri";
         bytes = image.data;
         have = true;
-        if (!image.declares_mime_type) declared = image.data_uri_mime;
+        if (!declared && !image.data_uri_mime.empty()) declared = image.data_uri_mime;
       } else {
         storage = "external";
         if (context.options.validate_resources) {
@@ -120,8 +120,8 @@ void check_images(Context& context) {
         if ((header.format == ImageFormat::Webp && !enabled("EXT_texture_webp")) ||
             (header.format == ImageFormat::Ktx2 && !enabled("KHR_texture_basisu")))
           issues.at("IMAGE_NON_ENABLED_MIME_TYPE", p, {arg(mime)});
-        if ((image.declares_mime_type || !declared.empty()) && declared != mime)
-          issues.at("IMAGE_MIME_TYPE_INVALID", in_view ? p + "/bufferView" : p + "/uri", {arg(mime), arg(declared)});
+        if (declared && *declared != mime)
+          issues.at("IMAGE_MIME_TYPE_INVALID", in_view ? p + "/bufferView" : p + "/uri", {arg(mime), arg(*declared)});
         if (header.problem == HeaderProblem::Invalid)
           issues.at("IMAGE_DATA_INVALID", p, {arg_raw(header.problem_message)});
         if (header.problem == HeaderProblem::None && header.unsupported_features)
@@ -157,7 +157,7 @@ void check_texture_sources(Context& context) {
     if (!image.object) return nullptr;
     // A declared mimeType counts even when it is "" (then no type is valid); a URI that is
     // invalid (INVALID_URI) declares nothing.
-    if (image.declares_mime_type) return &image.mime_type;
+    if (image.mime_type) return &*image.mime_type;
     const std::string& mime =
         image.uri_valid && !image.data_uri_mime.empty() ? image.data_uri_mime : image.detected_mime;
     return mime.empty() ? nullptr : &mime;

@@ -674,7 +674,6 @@ class Walker {
       m.mime_type = *mime;
     else if (present(o, "mimeType") && o["mimeType"].is_string())
       m.mime_type = o["mimeType"].get<std::string>();
-    m.declares_mime_type = present(o, "mimeType") && o["mimeType"].is_string();
     const bool has_view = present(o, "bufferView"), has_uri = present(o, "uri");
     if (has_view == has_uri) context_.issues.at("ONE_OF_MISMATCH", p, {}, {arg("bufferView"), arg("uri")});
     if (auto uri = read_.string(o, p, "uri")) {

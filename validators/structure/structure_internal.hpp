@@ -232,8 +232,9 @@ struct AnimationModel {
 struct ImageModel : EntityModel {
   std::string uri;
   bool has_uri = false, uri_valid = false, data_uri = false;
-  std::string mime_type;
-  bool declares_mime_type = false;  // mimeType is a string, "" included (the reference keeps "" as declared)
+  // mimeType when it is a string, "" and types out of the list included (the reference keeps them
+  // as declared).
+  std::optional<std::string> mime_type;
   std::string data_uri_mime;
   std::string detected_mime;  // what its bytes are, when they were read and recognised
   std::int64_t buffer_view = -1;
