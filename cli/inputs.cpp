@@ -184,8 +184,9 @@ void refuse_shared_outputs(const std::vector<InputFile>& files, const std::vecto
 
 void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<const PlannedOutput> outputs,
                                 const RunReads& reads) {
-  // Only a file that is there can be one the run reads: a fresh run checks nothing further.
-  std::map<fs::path, const PlannedOutput*> existing;  // by resolved path
+  // Only a file that is there can be one the run reads (a folder of named outputs: only one that
+  // is there): a fresh run checks nothing further.
+  std::multimap<fs::path, const PlannedOutput*> existing;  // by resolved path
   for (const PlannedOutput& output : outputs) {
     std::error_code ec;
     if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
@@ -193,11 +194,16 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
   if (existing.empty()) return;
   // `what` says how the run reads the file: "an input", "named by <input>", "the input list".
   const auto refuse_if_written = [&](const fs::path& read, const std::string& what) {
-    const auto written = existing.find(resolved(read));
-    if (written == existing.end()) return;
-    const PlannedOutput& output = *written->second;
-    throw CLI::ValidationError(output.option, "refusing to write " + printable(output.path.string()) +
-                                                  ": the run reads it (" + what + "); write it elsewhere");
+    const fs::path file = resolved(read);
+    const auto refuse = [&](const PlannedOutput& output, const fs::path& path) {
+      throw CLI::ValidationError(output.option, "refusing to write " + printable(path.string()) +
+                                                    ": the run reads it (" + what + "); write it elsewhere");
+    };
+    for (auto [it, end] = existing.equal_range(file); it != end; ++it)
+      if (!it->second->names) refuse(*it->second, it->second->path);
+    for (auto [it, end] = existing.equal_range(file.parent_path()); it != end; ++it)
+      if (it->second->names && it->second->names(file.filename().string()))
+        refuse(*it->second, it->second->path / file.filename());
   };
   // Paths compare element by element, so the outputs inside a folder follow it in the map.
   const auto holds_an_output = [&](const fs::path& folder) {

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <span>
 #include <string>
@@ -57,10 +58,13 @@ struct RunReads {
   std::string inputs_from;          // --inputs-from's list ("-": standard input)
   std::string config;               // validate's --config file
 };
-// A file a run will write, and the option that named it (for the message).
+// A file a run will write, and the option that named it (for the message). With `names`, `path`
+// is a folder and the run may write there any file whose name `names` accepts (names known only
+// as they are written, as validate's heat maps).
 struct PlannedOutput {
   std::filesystem::path path;
   std::string option;
+  std::function<bool(const std::string& name)> names = {};
 };
 // A run never writes over what it reads: throws CLI::ValidationError when a planned output (a
 // report, a results log, a preview's images) is one of the inputs, a file an input names (a

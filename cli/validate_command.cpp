@@ -22,6 +22,7 @@
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "rules/rule_set.hpp"
+#include "validators/materials/materials.hpp"  // is_heat_map_name
 #include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
@@ -140,6 +141,12 @@ int run(const ValidateArgs& args) {
   } else {
     written.push_back({args.output, "--output"});
   }
+  // Heat maps go under each input's relative folder (validate_one below), named as they are written.
+  if (!args.heatmaps.empty())
+    for (const InputFile& file : files)
+      written.push_back(
+          {fs::path(args.heatmaps) / file.relative.parent_path(), "--heatmaps",
+           [stem = file.file.stem().string()](const std::string& name) { return is_heat_map_name(stem, name); }});
   refuse_writing_over_inputs(found, written, reads);
   if (!args.heatmaps.empty()) {
     std::error_code error;

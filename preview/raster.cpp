@@ -24,19 +24,28 @@ struct ClipVertex {
   glm::vec3 barycentric;  // with respect to the original triangle
 };
 
-// Sutherland-Hodgman against one plane, `distance` >= 0 inside.
+// Sutherland-Hodgman against one plane, `distance` >= 0 inside, into at most kMaxClipVertices.
+// Distances and intersections in double: finite float coordinates near float's range would
+// overflow in their differences (a NaN that breaks the polygon's convexity). Each plane adds at
+// most one vertex to a convex polygon (3 + 5 planes = 8); a polygon that would outgrow the array
+// anyway is dropped (count 0), never written past it.
+constexpr int kMaxClipVertices = 12;
 template <typename Distance>
 int clip_polygon(const ClipVertex* in, int count, ClipVertex* out, const Distance& distance) {
   int n = 0;
   for (int i = 0; i < count; ++i) {
     const ClipVertex& a = in[i];
     const ClipVertex& b = in[(i + 1) % count];
-    const float da = distance(a), db = distance(b);
+    const double da = distance(a), db = distance(b);
+    if (n + 2 > kMaxClipVertices) return 0;
     if (da >= 0) out[n++] = a;
     if ((da >= 0) != (db >= 0)) {
-      const float t = da / (da - db);
-      out[n++] = {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.w + (b.w - a.w) * t,
-                  a.barycentric + (b.barycentric - a.barycentric) * t};
+      const double t = da / (da - db);
+      const auto between = [t](float from, float to) {
+        return static_cast<float>(from + (static_cast<double>(to) - from) * t);
+      };
+      out[n++] = {between(a.x, b.x), between(a.y, b.y), between(a.w, b.w),
+                  a.barycentric + (b.barycentric - a.barycentric) * static_cast<float>(t)};
     }
   }
   return n;
@@ -167,10 +176,18 @@ VisibilityBuffer rasterize(const Scene& scene, const Camera& camera, int width, 
     for (size_t t = begin; t < end; ++t) {
       const Triangle& triangle = scene.triangles[t];
       ++chunk.stats.triangles;
-      std::array<ClipVertex, 12> polygon, scratch;
+      std::array<ClipVertex, kMaxClipVertices> polygon, scratch;
+      bool finite = true;
       for (int k = 0; k < 3; ++k) {
         const glm::vec3& v = clip[triangle.vertex[k]];
+        finite = finite && std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
         polygon[static_cast<size_t>(k)] = {v.x, v.y, v.z, glm::vec3(k == 0, k == 1, k == 2)};
+      }
+      // A vertex at NaN or infinity (a hostile skin's weights, a matrix beyond float's range) has no
+      // place on screen: its triangle is not drawn.
+      if (!finite) {
+        ++chunk.stats.culled;
+        continue;
       }
       // Trivial rejection: all three outside one plane.
       auto all_outside = [&](auto distance) {
@@ -190,15 +207,17 @@ VisibilityBuffer rasterize(const Scene& scene, const Camera& camera, int width, 
       };
       if (!inside_guard(polygon[0]) || !inside_guard(polygon[1]) || !inside_guard(polygon[2])) {
         ++chunk.stats.clipped;
-        count = clip_polygon(polygon.data(), count, scratch.data(), [&](const ClipVertex& v) { return v.w - near; });
-        count = clip_polygon(scratch.data(), count, polygon.data(),
-                             [](const ClipVertex& v) { return kGuardBand * v.w - v.x; });
+        constexpr double guard = kGuardBand;
         count = clip_polygon(polygon.data(), count, scratch.data(),
-                             [](const ClipVertex& v) { return kGuardBand * v.w + v.x; });
-        count = clip_polygon(scratch.data(), count, polygon.data(),
-                             [](const ClipVertex& v) { return kGuardBand * v.w - v.y; });
-        count = clip_polygon(polygon.data(), count, scratch.data(),
-                             [](const ClipVertex& v) { return kGuardBand * v.w + v.y; });
+                             [&](const ClipVertex& v) { return double{v.w} - near; });
+        count =
+            clip_polygon(scratch.data(), count, polygon.data(), [](const ClipVertex& v) { return guard * v.w - v.x; });
+        count =
+            clip_polygon(polygon.data(), count, scratch.data(), [](const ClipVertex& v) { return guard * v.w + v.x; });
+        count =
+            clip_polygon(scratch.data(), count, polygon.data(), [](const ClipVertex& v) { return guard * v.w - v.y; });
+        count =
+            clip_polygon(polygon.data(), count, scratch.data(), [](const ClipVertex& v) { return guard * v.w + v.y; });
         std::copy_n(scratch.begin(), count, polygon.begin());
         if (count < 3) continue;
       }

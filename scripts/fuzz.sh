@@ -1,26 +1,37 @@
 #!/usr/bin/env bash
-# Fuzzes load + validate for a bounded time, seeded from ../shared/validator-suite (read in place,
-# never copied). Usage: scripts/fuzz.sh FUZZ_BINARY SECONDS
+# Fuzzes one libFuzzer target for a bounded time. Usage: scripts/fuzz.sh FUZZ_BINARY SECONDS
+#   fuzz-validate: load + validate, seeded from ../shared/validator-suite (read in place, never
+#                  copied) and two meshopt-packed assets;
+#   fuzz-convert:  convert with its preview, seeded with the small spec-gloss assets of
+#                  ../shared/assets packed as GLB and constructed odd textures (scripts/fuzz_seeds.py).
 # Crashing inputs land in fuzz-artifacts/; each one found becomes a regression test by copying it
-# into tests/fuzz_regressions/ (ValidateHostileInput.FuzzRegressionsGiveReports runs them all
-# under the sanitizers).
+# into tests/fuzz_regressions/ (ValidateHostileInput.FuzzRegressionsGiveReports validates them all
+# under the sanitizers, and HostileCorpus runs every command on them).
 set -euo pipefail
 binary=$1
 seconds=${2:-60}
 root="$(cd "$(dirname "$0")/.." && pwd)"
-suite="$root/../shared/validator-suite/test"
+shared="$root/../shared"
 corpus=$(mktemp -d)
 trap 'rm -rf "$corpus"' EXIT
 mkdir -p "$root/fuzz-artifacts"
 seeds=()
-while IFS= read -r dir; do seeds+=("$dir"); done < <(find "$suite" -type d)
-# EXT_meshopt_compression seeds, which the suite has none of: two shared assets packed by gltfpack
-# (npm), every mode and filter between them, into the scratch corpus.
-source "$root/tests/peer/gltfpack.sh"
-for asset in Box RiggedSimple; do
-  "$GLTF_PBR_GLTFPACK" -cc -i "$root/../shared/assets/$asset/specgloss/$asset.gltf" -o "$corpus/$asset-meshopt.glb" >/dev/null
-done
-# New inputs go to the scratch corpus (the first folder); the suite folders are only read. Leaks are
+case "$(basename "$binary")" in
+  fuzz-validate)
+    while IFS= read -r dir; do seeds+=("$dir"); done < <(find "$shared/validator-suite/test" -type d)
+    # EXT_meshopt_compression seeds, which the suite has none of: two shared assets packed by
+    # gltfpack (npm), every mode and filter between them, into the scratch corpus.
+    source "$root/tests/peer/gltfpack.sh"
+    for asset in Box RiggedSimple; do
+      "$GLTF_PBR_GLTFPACK" -cc -i "$shared/assets/$asset/specgloss/$asset.gltf" -o "$corpus/$asset-meshopt.glb" >/dev/null
+    done
+    ;;
+  fuzz-convert)
+    python3 "$root/scripts/fuzz_seeds.py" "$corpus" "$shared/assets" 65536
+    ;;
+  *) echo "fuzz.sh: no seeds known for $binary" >&2; exit 2 ;;
+esac
+# New inputs go to the scratch corpus (the first folder); the seed folders are only read. Leaks are
 # left to the sanitizer test build (OpenImageIO leaks on truncated PNGs, see tests/lsan.supp).
 ASAN_OPTIONS=detect_leaks=0 "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
   -artifact_prefix="$root/fuzz-artifacts/" -print_final_stats=1 "$corpus" "${seeds[@]}" "$root/tests/fuzz_regressions"

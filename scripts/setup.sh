@@ -86,12 +86,14 @@ for case in ElementTree.parse(sys.argv[1]).getroot().iter("testcase"):
         print("\n".join("   " + line for line in output[-25:]))
 PYTHON
   }
-  # Load + validate under libFuzzer for a bounded time, seeded from the Khronos suite.
+  # Load + validate, and convert with its preview, under libFuzzer for a bounded time each
+  # (scripts/fuzz.sh has the seeds).
   fuzzing() {
     cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DGLTF_PBR_FUZZ=ON -DGLTF_PBR_TESTS=OFF >/dev/null &&
-      cmake --build build-fuzz -j "$jobs" --target fuzz-validate &&
-      bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-validate "${GLTF_PBR_FUZZ_SECONDS:-120}"
+      cmake --build build-fuzz -j "$jobs" --target fuzz-validate fuzz-convert &&
+      bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-validate "${GLTF_PBR_FUZZ_SECONDS:-120}" &&
+      bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-convert "${GLTF_PBR_FUZZ_SECONDS:-120}"
   }
   phase "plain tests" plain_tests
   phase "sanitizer tests" sanitizer_tests

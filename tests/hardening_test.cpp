@@ -1172,6 +1172,35 @@ TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBefore
   EXPECT_TRUE(fs::exists(scratch / "v" / "summary.json"));
 }
 
+TEST(LostOutputs, AHeatMapFolderHoldingAFileTheInputReadsUnderAHeatMapsNameIsRefused) {
+  // Heat maps are named as they are written (<stem>-material<M>-texture<T>.png); the texture is
+  // given the name BoxTextured's first heat map takes, in the folder the heat maps go to.
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "in");
+  const std::string heat_map_name = "BoxTextured-material0-texture0.png";
+  fs::rename(scratch / "in" / "CesiumLogoFlat.png", scratch / "in" / heat_map_name);
+  std::string text = test::read_text(gltf);
+  const std::string old_uri = "\"CesiumLogoFlat.png\"";
+  ASSERT_NE(text.find(old_uri), std::string::npos);
+  text.replace(text.find(old_uri), old_uri.size(), "\"" + heat_map_name + "\"");
+  test::write_text(gltf, text);
+  const auto image = read_file(scratch / "in" / heat_map_name);
+
+  const auto refused = run_cli("validate -q " + quoted(gltf) + " --heatmaps " + quoted(scratch / "in"), scratch);
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("refusing to write"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find(heat_map_name), std::string::npos) << refused.err;
+  EXPECT_EQ(read_file(scratch / "in" / heat_map_name), image);
+  // Elsewhere the heat map is written under that name (BoxTextured's diffuse + F0 exceeds 1: exit 1).
+  EXPECT_EQ(run_cli("validate -q " + quoted(gltf) + " --heatmaps " + quoted(scratch / "maps"), scratch).exit_code, 1);
+  EXPECT_TRUE(fs::exists(scratch / "maps" / heat_map_name));
+  // A file of the folder that no heat map is named as stays no reason to refuse.
+  fs::copy(scratch / "in" / heat_map_name, scratch / "in" / "BoxTextured-material0-texture0.jpg");
+  text.replace(text.find(heat_map_name), heat_map_name.size(), "BoxTextured-material0-texture0.jpg");
+  test::write_text(gltf, text);
+  EXPECT_EQ(run_cli("validate -q " + quoted(gltf) + " --heatmaps " + quoted(scratch / "in"), scratch).exit_code, 1);
+}
+
 TEST(SilentLoss, FactorsOutsideTheSchemaStillConvertIntoAValidFile) {
   // Above 1 and below 0 in every route that copies a factor: a JPEG diffuse kept as it is, a PNG
   // diffuse reused, factors only, and the KHR_materials_specular route.

@@ -10,12 +10,12 @@ namespace {
 
 using test::quoted;
 
-fs::path corpus() { return fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / "hostile_inputs"; }
-
+// The hand-made corpus, and what the fuzzers found (scripts/fuzz.sh).
 std::vector<fs::path> corpus_inputs() {
   std::vector<fs::path> inputs;
-  for (const auto& entry : fs::directory_iterator(corpus()))
-    if (entry.path().extension() == ".gltf" || entry.path().extension() == ".glb") inputs.push_back(entry.path());
+  for (const char* folder : {"hostile_inputs", "fuzz_regressions"})
+    for (const auto& entry : fs::directory_iterator(fs::path(GLTF_PBR_SOURCE_DIR) / "tests" / folder))
+      if (entry.path().extension() == ".gltf" || entry.path().extension() == ".glb") inputs.push_back(entry.path());
   std::sort(inputs.begin(), inputs.end());
   return inputs;
 }

@@ -96,6 +96,30 @@ TEST(Raster, BackFacesAreCulledUnlessDoubleSided) {
   }
 }
 
+TEST(Raster, TrianglesWithVerticesAtNaNInfinityOrFloatsEdgeAreSkippedOthersDrawn) {
+  // A hostile skin or matrix can put vertices at NaN, at infinity or near float's largest value:
+  // their triangles are skipped or clipped (never an out-of-range conversion to fixed point, which
+  // the sanitizer build reports), and a sound triangle beside them is drawn as ever.
+  const float huge = 3.0e38f;
+  for (const glm::vec3 bad : {glm::vec3(NAN, 0, 0), glm::vec3(0, INFINITY, 0), glm::vec3(-INFINITY, 0, 0),
+                              glm::vec3(huge, -huge, 0), glm::vec3(0, 0, huge), glm::vec3(-huge, huge, -huge)}) {
+    SCOPED_TRACE(testing::Message() << bad.x << " " << bad.y << " " << bad.z);
+    SceneBuilder b;
+    b.triangle(b.vertex(bad), b.vertex({1, -1, 0}), b.vertex({0, 1, 0}), 1);
+    b.triangle(b.vertex({-1, -1, 0}), b.vertex({1, -1, 0}), b.vertex({0, 1, 0}));
+    b.triangle(b.vertex({0, 0, 0}), b.vertex(bad), b.vertex(-bad), 1);
+    RasterStats stats;
+    const VisibilityBuffer vis = rasterize(b.scene, looking_down_minus_z(4.0), 64, 64, &stats);
+    const VisibilitySample& centre = vis.samples[34 * 64 + 32];
+    ASSERT_FALSE(centre.empty());
+    EXPECT_EQ(stats.triangles, 3);
+    for (const VisibilitySample& sample : vis.samples)
+      if (!sample.empty()) {
+        EXPECT_TRUE(std::isfinite(sample.inverse_depth));
+      }
+  }
+}
+
 TEST(Raster, BarycentricsArePerspectiveCorrect) {
   // A floor receding from the camera: the interpolated UV at each pixel equals the UV of the ray's
   // exact intersection with the plane (screen-linear interpolation would miss by up to ~25%).

@@ -616,11 +616,31 @@ void check_material_plausibility(const Asset& asset, const RuleSet& rules, const
     }
     if (heat_maps && reported) {
       const std::string stem = asset.path.stem().string();
-      write_heat_map(options.heatmaps_dir / (stem + "-material" + std::to_string(index) + "-texture" +
-                                             std::to_string(grid_texture) + ".png"),
-                     width, height, masks, greys, reported);
+      write_heat_map(options.heatmaps_dir / heat_map_name(stem, index, grid_texture), width, height, masks, greys,
+                     reported);
     }
   }
+}
+
+std::string heat_map_name(const std::string& stem, int material, int texture) {
+  return stem + "-material" + std::to_string(material) + "-texture" + std::to_string(texture) + ".png";
+}
+
+bool is_heat_map_name(const std::string& stem, const std::string& name) {
+  // stem "-material" digits "-texture" digits ".png", as heat_map_name spells them
+  const auto digits = [&](std::size_t& at) {
+    const std::size_t from = at;
+    while (at < name.size() && name[at] >= '0' && name[at] <= '9') ++at;
+    return at > from;
+  };
+  const auto literal = [&](std::size_t& at, std::string_view text) {
+    if (name.compare(at, text.size(), text) != 0) return false;
+    at += text.size();
+    return true;
+  };
+  std::size_t at = 0;
+  return literal(at, stem) && literal(at, "-material") && digits(at) && literal(at, "-texture") && digits(at) &&
+         literal(at, ".png") && at == name.size();
 }
 
 void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report) {

@@ -32,6 +32,12 @@ struct MaterialCheckOptions {
   DecodedImages* decoded = nullptr;
 };
 
+// The heat map's file name for material `material` and texture `texture` of the asset whose file
+// stem is `stem`, and whether `name` is one of that asset's (so a run can refuse to write one over
+// a file it reads before it starts).
+std::string heat_map_name(const std::string& stem, int material, int texture);
+bool is_heat_map_name(const std::string& stem, const std::string& name);
+
 // Every material is evaluated under its own model (core/material_model.hpp). An image is decoded
 // only when an enabled texel rule reads it, and at most once per call.
 void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report);
