@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "core/image.hpp"
 
@@ -29,6 +30,8 @@ FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<
                                int height);
 Bytes deflate_png(FilteredPng&& filtered, int compression_level);
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);
+std::optional<std::vector<std::uint32_t>> png_palette(std::span<const std::uint8_t> png);
+std::optional<Bytes> png_with_palette(std::span<const std::uint8_t> png, std::span<const std::uint32_t> palette);
 
 // The header's size refused against the limit, for every decoder alike.
 std::string too_large(std::uint64_t width, std::uint64_t height, std::uint64_t max_pixels);

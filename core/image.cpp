@@ -138,6 +138,14 @@ Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
   return codecs::deflate_png(std::move(filtered), compression_level);
 }
 
+std::optional<std::vector<std::uint32_t>> png_palette(std::span<const std::uint8_t> png) {
+  return codecs::png_palette(png);
+}
+
+std::optional<Bytes> png_with_palette(std::span<const std::uint8_t> png, std::span<const std::uint32_t> palette) {
+  return codecs::png_with_palette(png, palette);
+}
+
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality) {
   return codecs::encode_jpeg(texels, width, height, channels, quality);
 }

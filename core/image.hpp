@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -98,6 +99,15 @@ FilteredPng filter_png(TexelBytes&& texels, int width, int height, int channels)
 FilteredPng filter_palette_png(std::span<const std::uint8_t> indices, std::span<const std::uint32_t> palette, int width,
                                int height);
 Bytes deflate_png(FilteredPng&& filtered, int compression_level);
+
+// A palette PNG's colours (PNG spec 11.2.3 PLTE, with 11.3.2.1 tRNS's alphas; 255 where it gives
+// none), RGBA packed little-end first; std::nullopt for any other image or a PNG whose chunks do
+// not read.
+std::optional<std::vector<std::uint32_t>> png_palette(std::span<const std::uint8_t> png);
+// The same palette PNG with `palette` (as many colours as its own) in place of its PLTE and tRNS
+// (tRNS written only when a colour is not opaque): its image data and every other chunk byte for
+// byte, so each texel is the new colour of its index. std::nullopt where png_palette would be.
+std::optional<Bytes> png_with_palette(std::span<const std::uint8_t> png, std::span<const std::uint32_t> palette);
 
 // Encodes 8-bit baseline JPEG (1 or 3 channels) at `quality` 1-100.
 Bytes encode_jpeg(std::span<const std::uint8_t> texels, int width, int height, int channels, int quality);

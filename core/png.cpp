@@ -338,6 +338,19 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   png.insert(png.end(), tail, tail + 4);
 }
 
+// PLTE, and tRNS when a colour is not opaque (PNG spec 11.2.3, 11.3.2.1), of `palette` (RGBA
+// packed, little-end first).
+void append_palette(Bytes& png, std::span<const std::uint32_t> palette) {
+  std::vector<std::uint8_t> plte, trns;
+  for (const std::uint32_t rgba : palette) {
+    plte.insert(plte.end(), {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
+                             static_cast<std::uint8_t>(rgba >> 16)});
+    trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
+  }
+  append_chunk(png, "PLTE", {plte});
+  if (std::any_of(trns.begin(), trns.end(), [](std::uint8_t a) { return a != 255; })) append_chunk(png, "tRNS", {trns});
+}
+
 // PNG spec 5.2-5.3 and 11.2: signature, IHDR, and for a palette image PLTE, with tRNS when a
 // colour is not opaque (`palette` is RGBA packed, little-end first); IDAT and IEND in deflate_png.
 Bytes png_head(int width, int height, ColourType colour_type, std::span<const std::uint32_t> palette) {
@@ -348,16 +361,7 @@ Bytes png_head(int width, int height, ColourType colour_type, std::span<const st
   ihdr[8] = 8;  // bit depth; compression, filter and interlace methods 0
   ihdr[9] = static_cast<std::uint8_t>(colour_type);
   append_chunk(head, "IHDR", {ihdr});
-  if (colour_type != ColourType::Palette) return head;
-  std::vector<std::uint8_t> plte, trns;
-  for (const std::uint32_t rgba : palette) {
-    plte.insert(plte.end(), {static_cast<std::uint8_t>(rgba), static_cast<std::uint8_t>(rgba >> 8),
-                             static_cast<std::uint8_t>(rgba >> 16)});
-    trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
-  }
-  append_chunk(head, "PLTE", {plte});
-  if (std::any_of(trns.begin(), trns.end(), [](std::uint8_t a) { return a != 255; }))
-    append_chunk(head, "tRNS", {trns});
+  if (colour_type == ColourType::Palette) append_palette(head, palette);
   return head;
 }
 
@@ -524,6 +528,72 @@ Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
     append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
   append_chunk(png, "IEND", {});
   return png;
+}
+
+namespace {
+
+// A PNG's chunks in order (PNG spec 5.3): each one's type and its bytes in the file (length, type,
+// data and CRC), or std::nullopt when they are not laid out as the spec says (no signature, a
+// chunk running past the end, nothing after IEND's place).
+struct Chunk {
+  std::string_view type;
+  std::span<const std::uint8_t> whole, data;
+};
+std::optional<std::vector<Chunk>> chunks_of(std::span<const std::uint8_t> png) {
+  if (png.size() < sizeof kSignature || std::memcmp(png.data(), kSignature, sizeof kSignature) != 0)
+    return std::nullopt;
+  std::vector<Chunk> chunks;
+  for (std::size_t at = sizeof kSignature; at < png.size();) {
+    if (png.size() - at < 12) return std::nullopt;
+    const std::size_t length = big_endian32(png, at);
+    if (length > 0x7FFFFFFFu || length > png.size() - at - 12) return std::nullopt;
+    chunks.push_back({std::string_view(reinterpret_cast<const char*>(&png[at + 4]), 4), png.subspan(at, 12 + length),
+                      png.subspan(at + 8, length)});
+    at += 12 + length;
+    if (chunks.back().type == "IEND") return chunks;
+  }
+  return std::nullopt;  // no IEND
+}
+
+}  // namespace
+
+std::optional<std::vector<std::uint32_t>> png_palette(std::span<const std::uint8_t> png) {
+  const std::optional<std::vector<Chunk>> chunks = chunks_of(png);
+  // IHDR first (PNG spec 11.2.2): 13 bytes, colour type (byte 9) 3 for a palette image.
+  if (!chunks || chunks->front().type != "IHDR" || chunks->front().data.size() != 13 || chunks->front().data[9] != 3)
+    return std::nullopt;
+  std::vector<std::uint32_t> palette;
+  for (const Chunk& chunk : *chunks) {
+    if (chunk.type == "IDAT") break;  // PLTE and tRNS come before the image data (PNG spec 5.6)
+    if (chunk.type == "PLTE") {
+      if (!palette.empty() || chunk.data.empty() || chunk.data.size() % 3 != 0 || chunk.data.size() > 256 * 3)
+        return std::nullopt;
+      for (std::size_t i = 0; i < chunk.data.size(); i += 3)
+        palette.push_back(std::uint32_t{chunk.data[i]} | std::uint32_t{chunk.data[i + 1]} << 8 |
+                          std::uint32_t{chunk.data[i + 2]} << 16 | 0xFF000000u);
+    } else if (chunk.type == "tRNS") {
+      if (palette.empty() || chunk.data.size() > palette.size()) return std::nullopt;
+      for (std::size_t i = 0; i < chunk.data.size(); ++i)
+        palette[i] = (palette[i] & 0x00FFFFFFu) | std::uint32_t{chunk.data[i]} << 24;
+    }
+  }
+  if (palette.empty()) return std::nullopt;
+  return palette;
+}
+
+std::optional<Bytes> png_with_palette(std::span<const std::uint8_t> png, std::span<const std::uint32_t> palette) {
+  const std::optional<std::vector<std::uint32_t>> old_palette = png_palette(png);
+  if (!old_palette || old_palette->size() != palette.size()) return std::nullopt;
+  // The new PLTE and tRNS in the old PLTE's place (tRNS must follow PLTE); every other chunk as it was.
+  Bytes out(kSignature, kSignature + sizeof kSignature);
+  out.reserve(png.size() + 256);
+  const std::optional<std::vector<Chunk>> chunks = chunks_of(png);  // read by png_palette: they are laid out right
+  for (const Chunk& chunk : *chunks)
+    if (chunk.type == "PLTE")
+      append_palette(out, palette);
+    else if (chunk.type != "tRNS")
+      out.insert(out.end(), chunk.whole.begin(), chunk.whole.end());
+  return out;
 }
 
 }  // namespace gltf_pbr::codecs

@@ -572,3 +572,83 @@ TEST(LeanCodecs, ADamagedPngIsReadOrRefusedAsLibspngAloneReadsOrRefusesIt) {
 
 }  // namespace
 }  // namespace gltf_pbr
+
+namespace gltf_pbr {
+namespace {
+
+// png_with_palette gives a palette PNG other colours and changes nothing else: every texel reads
+// as its index's new colour in both decoders, the image data and every other chunk (iCCP before,
+// a text chunk after) stay byte for byte, and tRNS is written exactly when a colour is not opaque.
+TEST(PalettePng, ANewPaletteRecoloursEveryIndexAndKeepsEveryOtherChunkAsItWas) {
+  const Bytes plte = {10, 20, 30, 40, 50, 60, 70, 80, 90, 200, 210, 220};
+  for (const int depth : {2, 8})
+    for (const Bytes& transparency : {Bytes{}, Bytes{128, 0}}) {
+      SCOPED_TRACE(testing::Message() << depth << "-bit, tRNS of " << transparency.size());
+      Bytes png = make_png(
+          kW, kH, depth, 3,
+          [&](int y) {  // index (x + y) % 4, packed at `depth` bits
+            Bytes row((static_cast<size_t>(kW) * static_cast<size_t>(depth) + 7) / 8, 0);
+            for (int x = 0; x < kW; ++x) {
+              const auto bit = static_cast<size_t>(x * depth);
+              row[bit / 8] |= static_cast<std::uint8_t>(((x + y) % 4) << (8 - depth - bit % 8));
+            }
+            return row;
+          },
+          plte, transparency, icc_profile());
+      png.resize(png.size() - 12);  // IEND out, a text chunk in, IEND back
+      add_chunk(png, "tEXt", {'k', 0, 'v'});
+      add_chunk(png, "IEND", {});
+
+      const std::optional<std::vector<std::uint32_t>> palette = png_palette(png);
+      ASSERT_TRUE(palette.has_value());
+      ASSERT_EQ(palette->size(), 4u);
+      EXPECT_EQ((*palette)[0], transparency.empty() ? 0xFF1E140Au : 0x801E140Au);
+      EXPECT_EQ((*palette)[3], 0xFFDCD2C8u);  // beyond tRNS: opaque
+      for (const bool opaque : {true, false}) {
+        const std::vector<std::uint32_t> colours = {0xFF000001u, 0xFF00FF00u, opaque ? 0xFFFF0000u : 0x40FF0000u,
+                                                    0xFF808080u};
+        const std::optional<Bytes> recoloured = png_with_palette(png, colours);
+        ASSERT_TRUE(recoloured.has_value());
+        std::vector<std::string> kept, now;
+        for (const Chunk& c : chunks_with_correct_crcs(png))
+          if (c.type != "PLTE" && c.type != "tRNS") kept.push_back(c.type + std::string(c.data.begin(), c.data.end()));
+        for (const Chunk& c : chunks_with_correct_crcs(*recoloured))
+          if (c.type != "PLTE" && c.type != "tRNS") now.push_back(c.type + std::string(c.data.begin(), c.data.end()));
+        EXPECT_EQ(now, kept);
+        const auto types = chunks_with_correct_crcs(*recoloured);
+        EXPECT_EQ(std::count_if(types.begin(), types.end(), [](const Chunk& c) { return c.type == "tRNS"; }),
+                  opaque ? 0 : 1);
+        for (const auto inflater : {codecs::PngInflater::Libdeflate, codecs::PngInflater::Libspng}) {
+          const Pixels pixels = codecs::decode_png(*recoloured, ~std::uint64_t{0}, inflater);
+          ASSERT_EQ(pixels.channels, opaque ? 3 : 4);
+          for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+              const std::uint32_t want = colours[static_cast<size_t>((x + y) % 4)];
+              const size_t at =
+                  (static_cast<size_t>(y) * kW + static_cast<size_t>(x)) * static_cast<size_t>(pixels.channels);
+              for (int c = 0; c < pixels.channels; ++c)
+                ASSERT_EQ(pixels.bytes[at + static_cast<size_t>(c)], static_cast<std::uint8_t>(want >> (8 * c)))
+                    << x << "," << y << " channel " << c;
+            }
+        }
+      }
+      EXPECT_FALSE(png_with_palette(png, std::vector<std::uint32_t>(3, 0xFF000000u)).has_value());  // another length
+    }
+}
+
+TEST(PalettePng, NoPaletteIsReadFromAnotherColourTypeOrFromChunksThatDoNotRead) {
+  const Bytes rgb = make_png(kW, kH, 8, 2, [](int) { return Bytes(static_cast<size_t>(kW) * 3, 7); });
+  EXPECT_FALSE(png_palette(rgb).has_value());
+  EXPECT_FALSE(png_with_palette(rgb, std::vector<std::uint32_t>(1, 0xFFFFFFFFu)).has_value());
+  const Bytes indexed = make_png(kW, kH, 8, 3, [](int) { return Bytes(static_cast<size_t>(kW), 0); }, {1, 2, 3});
+  ASSERT_TRUE(png_palette(indexed).has_value());
+  for (size_t cut : {size_t{0}, size_t{7}, size_t{20}, indexed.size() - 1})  // cut short: IEND or more missing
+    EXPECT_FALSE(png_palette(std::span(indexed).first(cut)).has_value()) << cut;
+  Bytes too_long_trns =
+      make_png(kW, kH, 8, 3, [](int) { return Bytes(static_cast<size_t>(kW), 0); }, {1, 2, 3}, {5, 6});
+  EXPECT_FALSE(png_palette(too_long_trns).has_value());  // more alphas than colours (PNG spec 11.3.2.1)
+  EXPECT_FALSE(png_palette(Bytes{1, 2, 3}).has_value());
+}
+
+}  // namespace
+}  // namespace gltf_pbr

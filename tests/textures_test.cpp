@@ -382,25 +382,25 @@ TEST(Textures, JpegDiffuseOfCesiumManBakesToAJpegAtTheJpegSize) {
   EXPECT_LE(diffs[diffs.size() * 99 / 100], 20);
 }
 
-// The PLTE entries of a palette PNG (PNG spec, section 11.2.3), read from its chunks.
-std::set<std::array<std::uint8_t, 3>> png_palette(const Bytes& png) {
-  std::set<std::array<std::uint8_t, 3>> palette;
-  auto be32 = [&](size_t at) {
-    return std::uint32_t{png[at]} << 24 | std::uint32_t{png[at + 1]} << 16 | std::uint32_t{png[at + 2]} << 8 |
-           png[at + 3];
-  };
-  for (size_t at = 8; at + 8 <= png.size();) {
-    const std::uint32_t length = be32(at);
-    const std::string type(png.begin() + static_cast<std::ptrdiff_t>(at + 4),
-                           png.begin() + static_cast<std::ptrdiff_t>(at + 8));
-    if (type == "PLTE")
-      for (size_t i = at + 8; i + 3 <= at + 8 + length; i += 3) palette.insert({png[i], png[i + 1], png[i + 2]});
+// The image data of a PNG: its IDAT chunks' data joined (PNG spec 10.1).
+Bytes image_data(std::span<const std::uint8_t> png) {
+  Bytes data;
+  for (size_t at = 8; at + 12 <= png.size();) {
+    const std::uint32_t length =
+        std::uint32_t{png[at]} << 24 | std::uint32_t{png[at + 1]} << 16 | std::uint32_t{png[at + 2]} << 8 | png[at + 3];
+    if (std::string(png.begin() + static_cast<std::ptrdiff_t>(at + 4),
+                    png.begin() + static_cast<std::ptrdiff_t>(at + 8)) == "IDAT")
+      data.insert(data.end(), png.begin() + static_cast<std::ptrdiff_t>(at + 8),
+                  png.begin() + static_cast<std::ptrdiff_t>(at + 8 + length));
     at += 12 + length;
   }
-  return palette;
+  return data;
 }
 
-TEST(Textures, PalettePngsDecodeToPaletteColoursAndConvert) {
+// A palette PNG diffuse decodes to its palette's colours. Baked without a specular-glossiness
+// texture, its base colour is its own file with the baked colours as the palette: the image data
+// byte for byte (nothing re-encoded), each texel what the bake gives that texel's colour.
+TEST(Textures, APaletteDiffuseBakesToItsOwnImageDataWithTheBakedColoursAsItsPalette) {
   ScratchDir scratch;
   for (const char* model : {"BoxTexturedNonPowerOfTwo", "Duck"}) {
     SCOPED_TRACE(model);
@@ -409,32 +409,55 @@ TEST(Textures, PalettePngsDecodeToPaletteColoursAndConvert) {
     const auto& png = asset.model.images.at(0);
     const auto bytes = read_file(folder / png.uri);
     ASSERT_TRUE(bytes);
-    ASSERT_EQ((*bytes)[25], 3) << "colour type 3: a palette PNG";
-    const auto palette = png_palette(*bytes);
-    ASSERT_FALSE(palette.empty());
+    const std::optional<std::vector<std::uint32_t>> palette = png_palette(*bytes);
+    ASSERT_TRUE(palette.has_value()) << "a palette PNG";
 
     const Pixels decoded = decode_image(*bytes, png.uri);
     EXPECT_TRUE(decoded.channels == 3 || decoded.channels == 4) << decoded.channels;
     EXPECT_EQ(decoded.bits, 8);
-    std::set<std::array<std::uint8_t, 3>> seen;
+    std::set<std::uint32_t> colours;
+    for (const std::uint32_t rgba : *palette) colours.insert(rgba & 0xFFFFFFu);
     for (int y = 0; y < decoded.height; ++y)
       for (int x = 0; x < decoded.width; ++x) {
-        const std::array<std::uint8_t, 3> rgb{byte_at(decoded, x, y, 0), byte_at(decoded, x, y, 1),
-                                              byte_at(decoded, x, y, 2)};
-        seen.insert(rgb);
-        ASSERT_TRUE(palette.count(rgb)) << x << "," << y << " is not a palette colour";
+        const std::uint32_t rgb = std::uint32_t{byte_at(decoded, x, y, 0)} |
+                                  std::uint32_t{byte_at(decoded, x, y, 1)} << 8 |
+                                  std::uint32_t{byte_at(decoded, x, y, 2)} << 16;
+        ASSERT_TRUE(colours.count(rgb)) << x << "," << y << " is not a palette colour";
       }
-    EXPECT_GT(seen.size(), 2u);
 
+    const LegacyMaterial legacy = read_legacy_material(asset, 0);
     ConversionReport report;
     const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
     EXPECT_EQ(report.materials.at(0).outcome, MaterialOutcome::Metalness);
     EXPECT_TRUE(no_spec_gloss(converted));
     const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
     ASSERT_GE(pbr.baseColorTexture.index, 0);
-    const Pixels base = texture_pixels(converted, pbr.baseColorTexture.index);
-    EXPECT_EQ(base.width, decoded.width);
-    EXPECT_EQ(base.height, decoded.height);
+    if (report.materials.at(0).outputs.base_color != TextureOutcome::Baked)
+      continue;  // Duck's specular 0 reuses its diffuse
+    const int image = converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source;
+    const auto written = encoded_image_bytes(converted, image);
+    ASSERT_TRUE(png_palette(written).has_value());
+    EXPECT_EQ(image_data(written), image_data(*bytes));
+    EXPECT_LE(written.size(), bytes->size());
+    BakeInputs inputs;
+    inputs.diffuse_factor = legacy.diffuse_factor;
+    inputs.specular_factor = legacy.specular_factor;
+    inputs.glossiness_factor = legacy.glossiness_factor;
+    inputs.diffuse = &decoded;
+    inputs.width = decoded.width, inputs.height = decoded.height;
+    const BakedTexels baked = bake(inputs, ConvertOptions().solver, 0);
+    const Pixels base = decode_image(written, "the base colour");
+    ASSERT_EQ(base.width, decoded.width);
+    ASSERT_EQ(base.height, decoded.height);
+    for (int y = 0; y < base.height; ++y)
+      for (int x = 0; x < base.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(
+              byte_at(base, x, y, c),
+              baked.base_color[(static_cast<size_t>(y) * static_cast<size_t>(base.width) + static_cast<size_t>(x)) *
+                                   static_cast<size_t>(baked.base_channels) +
+                               static_cast<size_t>(c)])
+              << x << "," << y << " channel " << c;
   }
 }
 
