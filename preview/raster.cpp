@@ -227,14 +227,22 @@ VisibilityBuffer rasterize(const Scene& scene, const Camera& camera, int width, 
         const ClipVertex* corners[3] = {&polygon[0], &polygon[static_cast<size_t>(k)],
                                         &polygon[static_cast<size_t>(k + 1)]};
         Piece piece;
-        for (int j = 0; j < 3; ++j) {
+        bool on_screen = true;
+        for (int j = 0; j < 3 && on_screen; ++j) {
           const ClipVertex& v = *corners[j];
           const float inv_w = 1.0f / v.w;
           const double sx = (v.x * inv_w * 0.5 + 0.5) * width, sy = (0.5 - v.y * inv_w * 0.5) * height;
-          piece.x[j] = round_to_subpixel(sx * kSubpixel);
-          piece.y[j] = round_to_subpixel(sy * kSubpixel);
+          // A depth below float's normal range (a scene of 1e-43 units) has no finite 1 / w: such
+          // a piece cannot be placed or interpolated, and is not drawn.
+          on_screen = std::isfinite(inv_w) && std::isfinite(sx) && std::isfinite(sy);
+          piece.x[j] = on_screen ? round_to_subpixel(sx * kSubpixel) : 0;
+          piece.y[j] = on_screen ? round_to_subpixel(sy * kSubpixel) : 0;
           piece.inverse_w[j] = inv_w;
           piece.barycentric_over_w[j] = v.barycentric * inv_w;
+        }
+        if (!on_screen) {
+          ++chunk.stats.culled;
+          continue;
         }
         // Signed area in y-down screen space: negative for glTF's counter-clockwise front faces.
         const std::int64_t area = (piece.x[1] - piece.x[0]) * (piece.y[2] - piece.y[0]) -

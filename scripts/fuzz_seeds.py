@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Seeds for the convert fuzzer (fuzz/fuzz_convert.cpp), written into a scratch folder, never into
-the repository: the small spec-gloss assets of ../shared/assets packed into single GLB files (their
-buffers and images in the BIN chunk, read in place), and constructed spec-gloss GLBs whose textures
-take the decoders' odd paths (16-bit grey, grey + alpha, palette with transparency, progressive and CMYK
-JPEG, a specular-glossiness map beside a diffuse of another size).
+the repository: the small spec-gloss assets of ../shared/assets packed into single files (a GLB,
+buffers and images in its BIN chunk; a .gltf, in data: URIs), and constructed spec-gloss GLBs whose
+textures take the decoders' odd paths (16-bit grey, grey + alpha, palette with transparency,
+progressive and CMYK JPEG, a specular-glossiness map beside a diffuse of another size).
 
     python3 scripts/fuzz_seeds.py OUT_DIR SHARED_ASSETS_DIR [MAX_BYTES]
 """
+import base64
 import io
 import json
 import struct
@@ -54,6 +55,17 @@ def pack(gltf_path):
         views.append({"buffer": 0, "byteOffset": append(data), "byteLength": len(data)})
         image["bufferView"] = len(views) - 1
     return glb(document, bytes(binary))
+
+
+def embedded(gltf_path):
+    """The .gltf at gltf_path as one text file, its buffers and images in data: URIs (RFC 2397)."""
+    document = json.loads(gltf_path.read_text())
+    for item in document.get("buffers", []) + document.get("images", []):
+        if "uri" in item:
+            data = (gltf_path.parent / unquote(item["uri"])).read_bytes()
+            mime = "image/png" if data.startswith(b"\x89PNG") else "image/jpeg" if data.startswith(b"\xff\xd8") else "application/octet-stream"
+            item["uri"] = f"data:{mime};base64," + base64.b64encode(data).decode()
+    return json.dumps(document, separators=(",", ":")).encode()
 
 
 def encoded(image, **save):
@@ -120,10 +132,10 @@ def main(out_dir, assets, max_bytes=65536):
     out_dir.mkdir(parents=True, exist_ok=True)
     written = 0
     for gltf in sorted(assets.glob("*/specgloss/*.gltf")):
-        data = pack(gltf)
-        if len(data) <= max_bytes:
-            (out_dir / f"{gltf.stem}.glb").write_bytes(data)
-            written += 1
+        for data, name in ((pack(gltf), f"{gltf.stem}.glb"), (embedded(gltf), f"{gltf.stem}.gltf")):
+            if len(data) <= max_bytes:
+                (out_dir / name).write_bytes(data)
+                written += 1
     odd = {
         "grey16": encoded(grey16((8, 8)), format="PNG"),
         "grey_alpha": encoded(gradient("LA", (8, 8)), format="PNG"),

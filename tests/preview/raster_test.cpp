@@ -181,5 +181,18 @@ TEST(Framing, TinyAndHugeScenesFillTheFrameAlike) {
   }
 }
 
+TEST(Framing, AScaleBelowFloatsNormalRangeDrawsNothingWhereTheFramingStillDraws) {
+  // Framed alike, a box of 1e-30 units fills the frame as a 1 m box does. At 1e-43 (float's
+  // denormals) 1 / depth overflows: nothing is drawn, and nothing reaches the fixed-point
+  // conversion out of range (the sanitizer build reports that).
+  const auto reference = coverage_of_box(1.0, glm::dvec3(0.0));
+  const auto small = coverage_of_box(1e-30, glm::dvec3(0.0));
+  long differing = 0;
+  for (size_t i = 0; i < small.size(); ++i) differing += small[i] != reference[i];
+  EXPECT_LE(differing, 20);
+  const auto denormal = coverage_of_box(1e-43, glm::dvec3(0.0));
+  EXPECT_EQ(std::count(denormal.begin(), denormal.end(), true), 0);
+}
+
 }  // namespace
 }  // namespace gltf_pbr::preview
