@@ -201,9 +201,14 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     };
     for (auto [it, end] = existing.equal_range(file); it != end; ++it)
       if (!it->second->names) refuse(*it->second, it->second->path);
-    for (auto [it, end] = existing.equal_range(file.parent_path()); it != end; ++it)
-      if (it->second->names && it->second->names(file.filename().string()))
-        refuse(*it->second, it->second->path / file.filename());
+    // A folder of named outputs: the name the run reads, and the file it leads to (a symbolic link
+    // in the folder would be renamed over; its target's name may be one too).
+    const fs::path as_named =
+        resolved(read.parent_path().empty() ? fs::path(".") : read.parent_path()) / read.filename();
+    for (const fs::path& named : {as_named, file})
+      for (auto [it, end] = existing.equal_range(named.parent_path()); it != end; ++it)
+        if (it->second->names && it->second->names(named.filename().string()))
+          refuse(*it->second, it->second->path / named.filename());
   };
   // Paths compare element by element, so the outputs inside a folder follow it in the map.
   const auto holds_an_output = [&](const fs::path& folder) {

@@ -5,7 +5,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -22,7 +24,7 @@
 #include "core/text.hpp"
 #include "core/version.hpp"
 #include "rules/rule_set.hpp"
-#include "validators/materials/materials.hpp"  // is_heat_map_name
+#include "validators/materials/materials.hpp"  // heat_map_stem
 #include "validators/validate.hpp"
 
 namespace gltf_pbr::cli {
@@ -141,12 +143,18 @@ int run(const ValidateArgs& args) {
   } else {
     written.push_back({args.output, "--output"});
   }
-  // Heat maps go under each input's relative folder (validate_one below), named as they are written.
-  if (!args.heatmaps.empty())
+  // Heat maps go under each input's relative folder (validate_one below), named as they are written:
+  // a folder's planned names are its inputs' heat maps.
+  if (!args.heatmaps.empty()) {
+    std::map<fs::path, std::set<std::string>> stems_by_folder;
     for (const InputFile& file : files)
-      written.push_back(
-          {fs::path(args.heatmaps) / file.relative.parent_path(), "--heatmaps",
-           [stem = file.file.stem().string()](const std::string& name) { return is_heat_map_name(stem, name); }});
+      stems_by_folder[fs::path(args.heatmaps) / file.relative.parent_path()].insert(file.file.stem().string());
+    for (auto& [folder, stems] : stems_by_folder)
+      written.push_back({folder, "--heatmaps", [stems = std::move(stems)](const std::string& name) {
+                           const std::optional<std::string> stem = heat_map_stem(name);
+                           return stem && stems.count(*stem) > 0;
+                         }});
+  }
   refuse_writing_over_inputs(found, written, reads);
   if (!args.heatmaps.empty()) {
     std::error_code error;

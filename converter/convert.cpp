@@ -323,10 +323,7 @@ class Converter {
     const int diffuse_image = image_of(legacy.diffuse_texture), spec_image = image_of(legacy.spec_gloss_texture);
     Bake bake;
     bake.baked_for = material;
-    BakeInputs inputs;
-    inputs.diffuse_factor = legacy.diffuse_factor;
-    inputs.specular_factor = legacy.specular_factor;
-    inputs.glossiness_factor = legacy.glossiness_factor;
+    BakeInputs inputs = factor_inputs(legacy);
     inputs.measure_extension_route = options_.target == Target::Specular;
     if (!legacy.diffuse_texture && !legacy.spec_gloss_texture) {
       // Factors only: one solve at full precision, stored as factors (a single "texel").
@@ -356,6 +353,11 @@ class Converter {
       const bool jpeg_diffuse =
           diffuse_image >= 0 && image_format_of(encoded_image_bytes(asset_, diffuse_image)) == ImageFormat::Jpeg;
       const bool diffuse_passes = diffuse_image >= 0 && passes_as_base_color(legacy, diffuse_image);
+      // A palette diffuse baked alone may keep its image data (base_color_by_palette).
+      const std::optional<std::vector<std::uint32_t>> diffuse_palette =
+          diffuse_passes && !legacy.spec_gloss_texture && !roughness_only && !jpeg_diffuse
+              ? png_palette(encoded_image_bytes(asset_, diffuse_image))
+              : std::nullopt;
       // The two images decode concurrently (decoding is most of the pre-solve time).
       SharedPixels diffuse, spec_gloss;
       parallel_invoke([&] { spec_gloss = spec_image >= 0 ? decode(spec_image) : nullptr; },
@@ -418,16 +420,11 @@ class Converter {
       // the 4096² base colour's 50 MB were filtered on one core.
       std::optional<BakedPng> base_png;
       std::optional<Bytes> base_by_palette;
-      if (bake_base && !jpeg_base && has_diffuse && diffuse_passes && !legacy.spec_gloss_texture)
-        base_by_palette = base_color_by_palette(legacy, diffuse_image, t.alpha_constant);
+      if (bake_base && diffuse_palette)
+        base_by_palette = base_color_by_palette(legacy, diffuse_image, *diffuse_palette, t.alpha_constant);
       if (base_by_palette) {
         base_color = std::move(*base_by_palette);
-        if (options_.keep_decoded) {  // the texels its bytes decode to, as deflate_baked_png keeps them
-          auto pixels = std::make_shared<Pixels>();
-          pixels->width = t.width, pixels->height = t.height, pixels->channels = t.alpha_constant ? 3 : 4;
-          pixels->bytes = TexelBytes(base_texels.begin(), base_texels.end());
-          options_.keep_decoded->keep(image_content_key(base_color), std::move(pixels));
-        }
+        keep_written(base_color, base_texels, {}, t.width, t.height, t.alpha_constant ? 3 : 4);
       } else if (bake_base && !jpeg_base) {
         // Given up: the RGB copy, or the bake's own texels unless their error is measured below.
         TexelBytes* const given = !rgb.empty() ? &rgb : !error_as_written ? &t.base_color : nullptr;
@@ -571,7 +568,7 @@ class Converter {
       if (textures_mapped_apart(legacy)) continue;                          // left as spec-gloss (convert_material)
       // A side is held to just above the bound (a header may claim 2^32 - 1 each way: its product
       // would overflow); an unreadable one counts as large.
-      const auto side = [](std::int64_t v) { return v < 0 ? kSmallBakeTexels : std::min(v, kSmallBakeTexels + 1); };
+      const auto side = [](std::int64_t v) { return v < 0 ? kSmallBakeTexels + 1 : std::min(v, kSmallBakeTexels + 1); };
       std::int64_t width = 1, height = 1;
       for (const int image : images_of(legacy)) {
         const ImageHeader header = read_image_header(encoded_image_bytes(asset_, image), HeaderDepth::Size);
@@ -726,36 +723,51 @@ class Converter {
     }
   }
 
-  // The base colour of a palette PNG diffuse baked without a specular-glossiness texture: the
-  // bake's answer for a texel depends on the texel's values alone, so each texel is its palette
-  // index's colour through the bake, and the diffuse's own file with the baked colours as its
-  // palette holds the same texels: its image data byte for byte, nothing re-encoded, and no larger
-  // than the input's but for the palette's alphas (BoxTexturedNonPowerOfTwo: 2,433 bytes where a
-  // re-encoding took 2,642). `opaque`: the alpha goes into baseColorFactor (the texture's is 1).
-  // std::nullopt for any other image.
-  std::optional<Bytes> base_color_by_palette(const LegacyMaterial& legacy, int diffuse_image, bool opaque) {
-    const std::span<const std::uint8_t> encoded = encoded_image_bytes(asset_, diffuse_image);
-    const std::optional<std::vector<std::uint32_t>> palette = png_palette(encoded);
-    if (!palette) return std::nullopt;
-    Pixels colours;  // the palette as a row of RGBA texels, as the PNG decoder gives them
-    colours.width = static_cast<int>(palette->size()), colours.height = 1, colours.channels = 4;
-    colours.bytes = TexelBytes(palette->size() * 4);
-    for (size_t i = 0; i < palette->size(); ++i)
-      for (size_t c = 0; c < 4; ++c) colours.bytes[i * 4 + c] = static_cast<std::uint8_t>((*palette)[i] >> (8 * c));
+  // The legacy factors as a bake's inputs, before its textures are given.
+  static BakeInputs factor_inputs(const LegacyMaterial& legacy) {
     BakeInputs inputs;
     inputs.diffuse_factor = legacy.diffuse_factor;
     inputs.specular_factor = legacy.specular_factor;
     inputs.glossiness_factor = legacy.glossiness_factor;
+    return inputs;
+  }
+
+  // The base colour of a palette PNG diffuse (`palette`, as png_palette reads it) baked without a
+  // specular-glossiness texture: the bake's answer for a texel depends on the texel's values
+  // alone, so each texel is its palette index's colour through the bake, and the diffuse's own
+  // image data with the baked colours as its palette holds the same texels: nothing re-encoded
+  // (BoxTexturedNonPowerOfTwo: 2,433 bytes where a re-encoding took 2,642). `opaque`: the alpha
+  // goes into baseColorFactor (the texture's is 1). std::nullopt where the file's chunks do not
+  // serve (png_with_palette).
+  std::optional<Bytes> base_color_by_palette(const LegacyMaterial& legacy, int diffuse_image,
+                                             const std::vector<std::uint32_t>& palette, bool opaque) {
+    Pixels colours;  // the palette as a row of RGBA texels, as the PNG decoder gives them
+    colours.width = static_cast<int>(palette.size()), colours.height = 1, colours.channels = 4;
+    colours.bytes = TexelBytes(palette.size() * 4);
+    for (size_t i = 0; i < palette.size(); ++i)
+      for (size_t c = 0; c < 4; ++c) colours.bytes[i * 4 + c] = static_cast<std::uint8_t>(palette[i] >> (8 * c));
+    BakeInputs inputs = factor_inputs(legacy);
     inputs.diffuse = &colours;
     inputs.width = colours.width, inputs.height = 1;
     const BakedTexels baked = gltf_pbr::bake(inputs, options_.solver, 1);
-    std::vector<std::uint32_t> baked_palette(palette->size());
-    for (size_t i = 0; i < palette->size(); ++i) {
+    std::vector<std::uint32_t> baked_palette(palette.size());
+    for (size_t i = 0; i < palette.size(); ++i) {
       const std::uint8_t* texel = &baked.base_color[i * 4];
       baked_palette[i] = std::uint32_t{texel[0]} | std::uint32_t{texel[1]} << 8 | std::uint32_t{texel[2]} << 16 |
                          std::uint32_t{opaque ? std::uint8_t{255} : texel[3]} << 24;
     }
-    return png_with_palette(encoded, baked_palette);
+    return png_with_palette(encoded_image_bytes(asset_, diffuse_image), baked_palette);
+  }
+
+  // With keep_decoded (the preview), the texels a written map's bytes decode to, kept under their
+  // key: `held` when given (moved in), else a copy of `texels`.
+  void keep_written(const Bytes& written, std::span<const std::uint8_t> texels, TexelBytes&& held, int width,
+                    int height, int channels) {
+    if (!options_.keep_decoded) return;
+    auto pixels = std::make_shared<Pixels>();
+    pixels->width = width, pixels->height = height, pixels->channels = channels;
+    pixels->bytes = !held.empty() ? std::move(held) : TexelBytes(texels.begin(), texels.end());
+    options_.keep_decoded->keep(image_content_key(written), std::move(pixels));
   }
 
   // A baked map's PNG in encode_png's two steps (filter_png, deflate_png). `given`, when set, holds
@@ -783,12 +795,7 @@ class Converter {
   }
   Bytes deflate_baked_png(BakedPng&& png) {
     Bytes bytes = deflate_png(std::move(png.rows), options_.png_compression);
-    if (options_.keep_decoded) {
-      auto pixels = std::make_shared<Pixels>();
-      pixels->width = png.width, pixels->height = png.height, pixels->channels = png.channels;
-      pixels->bytes = !png.held.empty() ? std::move(png.held) : TexelBytes(png.texels.begin(), png.texels.end());
-      options_.keep_decoded->keep(image_content_key(bytes), std::move(pixels));
-    }
+    keep_written(bytes, png.texels, std::move(png.held), png.width, png.height, png.channels);
     return bytes;
   }
 

@@ -351,6 +351,16 @@ void append_palette(Bytes& png, std::span<const std::uint32_t> palette) {
   if (std::any_of(trns.begin(), trns.end(), [](std::uint8_t a) { return a != 255; })) append_chunk(png, "tRNS", {trns});
 }
 
+// The image data's zlib stream in IDAT chunks of 1 MiB (any split reads the same; PNG spec 10.1),
+// and IEND: the end of every PNG this module writes.
+void append_image_data(Bytes& png, std::span<const std::uint8_t> stream) {
+  constexpr std::size_t kChunkBytes = 1u << 20;
+  png.reserve(png.size() + stream.size() + (stream.size() / kChunkBytes + 1) * 12 + 12);
+  for (std::size_t at = 0; at < stream.size(); at += kChunkBytes)
+    append_chunk(png, "IDAT", {stream.subspan(at, std::min(kChunkBytes, stream.size() - at))});
+  append_chunk(png, "IEND", {});
+}
+
 // PNG spec 5.2-5.3 and 11.2: signature, IHDR, and for a palette image PLTE, with tRNS when a
 // colour is not opaque (`palette` is RGBA packed, little-end first); IDAT and IEND in deflate_png.
 Bytes png_head(int width, int height, ColourType colour_type, std::span<const std::uint32_t> palette) {
@@ -522,77 +532,47 @@ Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
   if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");
   filtered.rows.reset();  // read no more: not held while the file is written
   Bytes png = std::move(filtered.head);
-  constexpr std::size_t kChunkBytes = 1u << 20;  // IDAT chunks of 1 MiB: any split reads the same
-  png.reserve(png.size() + length + (length / kChunkBytes + 1) * 12 + 12);  // the chunks and IEND
-  for (std::size_t at = 0; at < length; at += kChunkBytes)
-    append_chunk(png, "IDAT", {std::span<const std::uint8_t>(stream.get() + at, std::min(kChunkBytes, length - at))});
-  append_chunk(png, "IEND", {});
+  append_image_data(png, std::span<const std::uint8_t>(stream.get(), length));
   return png;
 }
 
-namespace {
-
-// A PNG's chunks in order (PNG spec 5.3): each one's type and its bytes in the file (length, type,
-// data and CRC), or std::nullopt when they are not laid out as the spec says (no signature, a
-// chunk running past the end, nothing after IEND's place).
-struct Chunk {
-  std::string_view type;
-  std::span<const std::uint8_t> whole, data;
-};
-std::optional<std::vector<Chunk>> chunks_of(std::span<const std::uint8_t> png) {
-  if (png.size() < sizeof kSignature || std::memcmp(png.data(), kSignature, sizeof kSignature) != 0)
-    return std::nullopt;
-  std::vector<Chunk> chunks;
-  for (std::size_t at = sizeof kSignature; at < png.size();) {
-    if (png.size() - at < 12) return std::nullopt;
-    const std::size_t length = big_endian32(png, at);
-    if (length > 0x7FFFFFFFu || length > png.size() - at - 12) return std::nullopt;
-    chunks.push_back({std::string_view(reinterpret_cast<const char*>(&png[at + 4]), 4), png.subspan(at, 12 + length),
-                      png.subspan(at + 8, length)});
-    at += 12 + length;
-    if (chunks.back().type == "IEND") return chunks;
-  }
-  return std::nullopt;  // no IEND
-}
-
-}  // namespace
-
 std::optional<std::vector<std::uint32_t>> png_palette(std::span<const std::uint8_t> png) {
-  const std::optional<std::vector<Chunk>> chunks = chunks_of(png);
-  // IHDR first (PNG spec 11.2.2): 13 bytes, colour type (byte 9) 3 for a palette image.
-  if (!chunks || chunks->front().type != "IHDR" || chunks->front().data.size() != 13 || chunks->front().data[9] != 3)
+  // Read as the decoder reads it (libspng: IHDR, and PLTE and tRNS before the image data, each
+  // chunk's CRC checked), so the colours are the ones a decode of the file expands its indices to.
+  Context ctx(spng_ctx_new(0), &spng_ctx_free);
+  if (!ctx) throw std::bad_alloc();
+  spng_ihdr header{};
+  spng_plte plte{};
+  spng_trns transparency{};
+  if (spng_set_chunk_limits(ctx.get(), kChunkLimit, kChunkLimit) != 0 ||
+      spng_set_png_buffer(ctx.get(), png.data(), png.size()) != 0 || spng_get_ihdr(ctx.get(), &header) != 0 ||
+      header.color_type != SPNG_COLOR_TYPE_INDEXED || spng_get_plte(ctx.get(), &plte) != 0)
     return std::nullopt;
-  std::vector<std::uint32_t> palette;
-  for (const Chunk& chunk : *chunks) {
-    if (chunk.type == "IDAT") break;  // PLTE and tRNS come before the image data (PNG spec 5.6)
-    if (chunk.type == "PLTE") {
-      if (!palette.empty() || chunk.data.empty() || chunk.data.size() % 3 != 0 || chunk.data.size() > 256 * 3)
-        return std::nullopt;
-      for (std::size_t i = 0; i < chunk.data.size(); i += 3)
-        palette.push_back(std::uint32_t{chunk.data[i]} | std::uint32_t{chunk.data[i + 1]} << 8 |
-                          std::uint32_t{chunk.data[i + 2]} << 16 | 0xFF000000u);
-    } else if (chunk.type == "tRNS") {
-      if (palette.empty() || chunk.data.size() > palette.size()) return std::nullopt;
-      for (std::size_t i = 0; i < chunk.data.size(); ++i)
-        palette[i] = (palette[i] & 0x00FFFFFFu) | std::uint32_t{chunk.data[i]} << 24;
-    }
+  const int trns = spng_get_trns(ctx.get(), &transparency);
+  if (trns != 0 && trns != SPNG_ECHUNKAVAIL) return std::nullopt;
+  std::vector<std::uint32_t> palette(plte.n_entries);
+  for (std::uint32_t i = 0; i < plte.n_entries; ++i) {
+    const std::uint8_t colour[4] = {
+        plte.entries[i].red, plte.entries[i].green, plte.entries[i].blue,
+        trns == 0 && i < transparency.n_type3_entries ? transparency.type3_alpha[i] : std::uint8_t{255}};
+    palette[i] = packed_rgba(colour, 4);
   }
-  if (palette.empty()) return std::nullopt;
   return palette;
 }
 
 std::optional<Bytes> png_with_palette(std::span<const std::uint8_t> png, std::span<const std::uint32_t> palette) {
   const std::optional<std::vector<std::uint32_t>> old_palette = png_palette(png);
   if (!old_palette || old_palette->size() != palette.size()) return std::nullopt;
-  // The new PLTE and tRNS in the old PLTE's place (tRNS must follow PLTE); every other chunk as it was.
-  Bytes out(kSignature, kSignature + sizeof kSignature);
-  out.reserve(png.size() + 256);
-  const std::optional<std::vector<Chunk>> chunks = chunks_of(png);  // read by png_palette: they are laid out right
-  for (const Chunk& chunk : *chunks)
-    if (chunk.type == "PLTE")
-      append_palette(out, palette);
-    else if (chunk.type != "tRNS")
-      out.insert(out.end(), chunk.whole.begin(), chunk.whole.end());
+  std::vector<std::uint8_t> joined;
+  const std::span<const std::uint8_t> stream = image_data(png, joined);
+  if (stream.empty()) return std::nullopt;
+  // The signature and IHDR as they are (libspng read IHDR there: first, 13 bytes of data), the new
+  // PLTE and tRNS, the image data. Nothing else: the colour-space and other ancillary chunks
+  // described the old colours, and a baked map carries none (glTF reads base colour as sRGB).
+  constexpr std::size_t kHeadBytes = sizeof kSignature + 12 + 13;
+  Bytes out(png.begin(), png.begin() + kHeadBytes);
+  append_palette(out, palette);
+  append_image_data(out, stream);
   return out;
 }
 

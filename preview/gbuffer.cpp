@@ -57,8 +57,11 @@ glm::vec2 sign_not_zero(glm::vec2 v) { return {v.x >= 0.0f ? 1.0f : -1.0f, v.y >
 }  // namespace
 
 std::uint32_t pack_octahedral_12_12(glm::vec3 n) {
-  // Cigolle et al. 2014, listing 1: project onto the octahedron, fold the lower hemisphere.
-  n /= (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+  // Cigolle et al. 2014, listing 1: project onto the octahedron, fold the lower hemisphere. A
+  // normal with no direction (zero, NaN or infinite: a skin that scales past float's range) is
+  // stored as +Z rather than converted out of range.
+  const float l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+  n = l1 > 0.0f && std::isfinite(l1) ? n / l1 : glm::vec3(0.0f, 0.0f, 1.0f);
   glm::vec2 e(n.x, n.y);
   if (n.z < 0.0f) e = (glm::vec2(1.0f) - glm::abs(glm::vec2(e.y, e.x))) * sign_not_zero(e);
   auto q = [](float v) {

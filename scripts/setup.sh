@@ -91,9 +91,11 @@ PYTHON
   fuzzing() {
     cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DGLTF_PBR_FUZZ=ON -DGLTF_PBR_TESTS=OFF >/dev/null &&
-      cmake --build build-fuzz -j "$jobs" --target fuzz-validate fuzz-convert &&
-      bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-validate "${GLTF_PBR_FUZZ_SECONDS:-120}" &&
-      bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-convert "${GLTF_PBR_FUZZ_SECONDS:-120}"
+      cmake --build build-fuzz -j "$jobs" --target fuzz-validate fuzz-convert || return 1
+    local status=0  # both run, whatever the first finds
+    bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-validate "${GLTF_PBR_FUZZ_SECONDS:-120}" || status=1
+    bash scripts/fuzz.sh build-fuzz/fuzz/fuzz-convert "${GLTF_PBR_FUZZ_SECONDS:-120}" || status=1
+    return "$status"
   }
   phase "plain tests" plain_tests
   phase "sanitizer tests" sanitizer_tests

@@ -1194,6 +1194,18 @@ TEST(LostOutputs, AHeatMapFolderHoldingAFileTheInputReadsUnderAHeatMapsNameIsRef
   // Elsewhere the heat map is written under that name (BoxTextured's diffuse + F0 exceeds 1: exit 1).
   EXPECT_EQ(run_cli("validate -q " + quoted(gltf) + " --heatmaps " + quoted(scratch / "maps"), scratch).exit_code, 1);
   EXPECT_TRUE(fs::exists(scratch / "maps" / heat_map_name));
+  // A symbolic link named as the heat map, to a texture outside the heat maps' folder: writing the
+  // heat map would rename it over the link the input reads.
+  fs::create_directories(scratch / "in" / "maps");
+  fs::create_symlink("../" + heat_map_name, scratch / "in" / "maps" / heat_map_name);
+  std::string linked = text;
+  linked.replace(linked.find(heat_map_name), heat_map_name.size(), "maps/" + heat_map_name);
+  test::write_text(gltf, linked);
+  const auto through_link =
+      run_cli("validate -q " + quoted(gltf) + " --heatmaps " + quoted(scratch / "in" / "maps"), scratch);
+  EXPECT_EQ(through_link.exit_code, 2) << through_link.err;
+  EXPECT_TRUE(fs::is_symlink(scratch / "in" / "maps" / heat_map_name));
+  test::write_text(gltf, text);
   // A file of the folder that no heat map is named as stays no reason to refuse.
   fs::copy(scratch / "in" / heat_map_name, scratch / "in" / "BoxTextured-material0-texture0.jpg");
   text.replace(text.find(heat_map_name), heat_map_name.size(), "BoxTextured-material0-texture0.jpg");

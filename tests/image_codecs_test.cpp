@@ -576,10 +576,11 @@ TEST(LeanCodecs, ADamagedPngIsReadOrRefusedAsLibspngAloneReadsOrRefusesIt) {
 namespace gltf_pbr {
 namespace {
 
-// png_with_palette gives a palette PNG other colours and changes nothing else: every texel reads
-// as its index's new colour in both decoders, the image data and every other chunk (iCCP before,
-// a text chunk after) stay byte for byte, and tRNS is written exactly when a colour is not opaque.
-TEST(PalettePng, ANewPaletteRecoloursEveryIndexAndKeepsEveryOtherChunkAsItWas) {
+// png_with_palette gives a palette PNG other colours: every texel reads as its index's new colour
+// in both decoders, IHDR and the image data stay byte for byte, tRNS is written exactly when a
+// colour is not opaque, and the ancillary chunks that described the old colours (an ICC profile
+// here) or anything else (a text chunk) are left out, as a baked map has none.
+TEST(PalettePng, ANewPaletteRecoloursEveryIndexKeepingTheHeaderAndImageData) {
   const Bytes plte = {10, 20, 30, 40, 50, 60, 70, 80, 90, 200, 210, 220};
   for (const int depth : {2, 8})
     for (const Bytes& transparency : {Bytes{}, Bytes{128, 0}}) {
@@ -609,15 +610,20 @@ TEST(PalettePng, ANewPaletteRecoloursEveryIndexAndKeepsEveryOtherChunkAsItWas) {
                                                     0xFF808080u};
         const std::optional<Bytes> recoloured = png_with_palette(png, colours);
         ASSERT_TRUE(recoloured.has_value());
-        std::vector<std::string> kept, now;
-        for (const Chunk& c : chunks_with_correct_crcs(png))
-          if (c.type != "PLTE" && c.type != "tRNS") kept.push_back(c.type + std::string(c.data.begin(), c.data.end()));
-        for (const Chunk& c : chunks_with_correct_crcs(*recoloured))
-          if (c.type != "PLTE" && c.type != "tRNS") now.push_back(c.type + std::string(c.data.begin(), c.data.end()));
-        EXPECT_EQ(now, kept);
-        const auto types = chunks_with_correct_crcs(*recoloured);
-        EXPECT_EQ(std::count_if(types.begin(), types.end(), [](const Chunk& c) { return c.type == "tRNS"; }),
-                  opaque ? 0 : 1);
+        const auto critical = [](const Bytes& file, bool with_transparency) {
+          std::vector<std::string> kept;
+          for (const Chunk& c : chunks_with_correct_crcs(file))
+            if (c.type != "PLTE" && (c.type != "tRNS" || with_transparency) && c.type != "iCCP" && c.type != "tEXt")
+              kept.push_back(c.type + std::string(c.data.begin(), c.data.end()));
+          return kept;
+        };
+        EXPECT_EQ(critical(*recoloured, false), critical(png, false));  // IHDR, IDAT, IEND
+        std::vector<std::string> types;
+        for (const Chunk& c : chunks_with_correct_crcs(*recoloured)) types.push_back(c.type);
+        const std::vector<std::string> expected =
+            opaque ? std::vector<std::string>{"IHDR", "PLTE", "IDAT", "IEND"}
+                   : std::vector<std::string>{"IHDR", "PLTE", "tRNS", "IDAT", "IEND"};
+        EXPECT_EQ(types, expected);
         for (const auto inflater : {codecs::PngInflater::Libdeflate, codecs::PngInflater::Libspng}) {
           const Pixels pixels = codecs::decode_png(*recoloured, ~std::uint64_t{0}, inflater);
           ASSERT_EQ(pixels.channels, opaque ? 3 : 4);
@@ -636,18 +642,27 @@ TEST(PalettePng, ANewPaletteRecoloursEveryIndexAndKeepsEveryOtherChunkAsItWas) {
     }
 }
 
-TEST(PalettePng, NoPaletteIsReadFromAnotherColourTypeOrFromChunksThatDoNotRead) {
+// The palette is read as the decoder reads it: none from another colour type or from a file cut
+// before its image data; an odd tRNS (more alphas than colours, PNG spec 11.3.2.1) gives the
+// alphas the decoded texels have.
+TEST(PalettePng, ThePaletteIsTheOneTheDecoderExpandsIndicesTo) {
   const Bytes rgb = make_png(kW, kH, 8, 2, [](int) { return Bytes(static_cast<size_t>(kW) * 3, 7); });
   EXPECT_FALSE(png_palette(rgb).has_value());
   EXPECT_FALSE(png_with_palette(rgb, std::vector<std::uint32_t>(1, 0xFFFFFFFFu)).has_value());
   const Bytes indexed = make_png(kW, kH, 8, 3, [](int) { return Bytes(static_cast<size_t>(kW), 0); }, {1, 2, 3});
   ASSERT_TRUE(png_palette(indexed).has_value());
-  for (size_t cut : {size_t{0}, size_t{7}, size_t{20}, indexed.size() - 1})  // cut short: IEND or more missing
+  for (size_t cut : {size_t{0}, size_t{7}, size_t{20}, size_t{40}})  // inside the signature, IHDR, PLTE
     EXPECT_FALSE(png_palette(std::span(indexed).first(cut)).has_value()) << cut;
-  Bytes too_long_trns =
-      make_png(kW, kH, 8, 3, [](int) { return Bytes(static_cast<size_t>(kW), 0); }, {1, 2, 3}, {5, 6});
-  EXPECT_FALSE(png_palette(too_long_trns).has_value());  // more alphas than colours (PNG spec 11.3.2.1)
   EXPECT_FALSE(png_palette(Bytes{1, 2, 3}).has_value());
+  const Bytes long_trns =
+      make_png(kW, kH, 8, 3, [](int) { return Bytes(static_cast<size_t>(kW), 0); }, {1, 2, 3}, {5, 6});
+  const std::optional<std::vector<std::uint32_t>> palette = png_palette(long_trns);
+  const Pixels decoded = codecs::decode_png(long_trns, ~std::uint64_t{0});
+  ASSERT_TRUE(palette.has_value());
+  ASSERT_EQ(palette->size(), 1u);
+  const std::uint32_t alpha = decoded.channels == 4 ? decoded.bytes[3] : 255;  // libspng drops a tRNS it refuses
+  EXPECT_EQ((*palette)[0], std::uint32_t{decoded.bytes[0]} | std::uint32_t{decoded.bytes[1]} << 8 |
+                               std::uint32_t{decoded.bytes[2]} << 16 | alpha << 24);
 }
 
 }  // namespace

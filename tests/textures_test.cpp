@@ -522,6 +522,60 @@ TEST(Textures, DiffuseAlphaFactorAppliesOnceWhetherAlphaVariesOrNot) {
   }
 }
 
+// The same with transparency (tRNS) and a diffuse alpha factor of 0.5: varying, the texture keeps
+// each index's baked alpha; constant, the factor takes it and the palette is opaque. Either way a
+// viewer sees each texel's alpha and colour as the bake made them, from the input's image data.
+TEST(Textures, APaletteDiffuseWithTransparencyKeepsItsImageDataAndEveryTexelsAlpha) {
+  ScratchDir scratch;
+  for (const bool alpha_varies : {true, false}) {
+    SCOPED_TRACE(alpha_varies ? "alpha varies" : "alpha constant");
+    constexpr int w = 9, h = 6;
+    const Texels diffuse(w, h, 4, [&](int x, int y) {  // six colours: a palette PNG with tRNS
+      const int k = (x + y) % 6;
+      return Texel{static_cast<std::uint8_t>(40 * k), static_cast<std::uint8_t>(200 - 30 * k), 90,
+                   static_cast<std::uint8_t>(alpha_varies ? 60 + 30 * k : 128)};
+    });
+    SpecGlossModel built;
+    built.diffuse_texture(built.add_png(diffuse, "diffuse"))
+        .factor("diffuseFactor", numbers({1.0, 1.0, 1.0, 0.5}))
+        .factor("specularFactor", numbers({0.3, 0.3, 0.3}));
+    const fs::path folder = scratch / (alpha_varies ? "varies" : "constant");
+    Asset asset = built.save_and_load(folder / "palette.gltf");
+    const auto input = encoded_image_bytes(asset, 0);
+    ASSERT_TRUE(png_palette(input).has_value());
+    const Bytes input_bytes(input.begin(), input.end());
+    const Pixels decoded = decode_image(input, "diffuse");
+    const LegacyMaterial legacy = read_legacy_material(asset, 0);
+
+    ConversionReport report;
+    const Asset converted = convert_save_reload(asset, folder / "converted" / "palette.gltf", &report);
+    ASSERT_EQ(report.materials.at(0).outputs.base_color, TextureOutcome::Baked);
+    const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
+    const int image = converted.model.textures.at(static_cast<size_t>(pbr.baseColorTexture.index)).source;
+    const auto written = encoded_image_bytes(converted, image);
+    EXPECT_EQ(image_data(written), image_data(input_bytes));
+
+    BakeInputs inputs;
+    inputs.diffuse_factor = legacy.diffuse_factor;
+    inputs.specular_factor = legacy.specular_factor;
+    inputs.glossiness_factor = legacy.glossiness_factor;
+    inputs.diffuse = &decoded;
+    inputs.width = w, inputs.height = h;
+    const BakedTexels baked = bake(inputs, ConvertOptions().solver, 0);
+    const Pixels base = decode_image(written, "the base colour");
+    EXPECT_EQ(base.channels, alpha_varies ? 4 : 3);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t at = (static_cast<size_t>(y) * w + static_cast<size_t>(x)) * 4;
+        for (int c = 0; c < 3; ++c)
+          EXPECT_EQ(byte_at(base, x, y, c), baked.base_color[at + static_cast<size_t>(c)]) << x << "," << y;
+        EXPECT_NEAR(seen_alpha(base, x, y, pbr.baseColorFactor), baked.base_color[at + 3] / 255.0, 1e-6)
+            << x << "," << y;
+        EXPECT_NEAR(seen_alpha(base, x, y, pbr.baseColorFactor), 0.5 * diffuse.at(x, y)[3] / 255.0, 1.0 / 255);
+      }
+  }
+}
+
 TEST(Textures, ConstantBakedTexturesBecomeFactorsAndNoImageIsWritten) {
   ScratchDir scratch;
   const Texel diffuse_texel{180, 90, 30, 255}, spec_gloss_texel{120, 120, 120, 200};

@@ -12,6 +12,7 @@
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
 #include "core/color.hpp"
+#include "preview/gbuffer.hpp"
 #include "preview/preview.hpp"
 
 namespace gltf_pbr::preview {
@@ -108,6 +109,16 @@ PreviewOptions small(int size) {
   PreviewOptions options;
   options.width = options.height = size;
   return options;
+}
+
+TEST(GBuffer, UnitNormalsPackWithinAStepAndOnesWithNoDirectionAsPlusZ) {
+  for (const glm::vec3 n : {glm::vec3(0, 0, 1), glm::vec3(0, 0, -1), glm::normalize(glm::vec3(1, -2, 3)),
+                            glm::normalize(glm::vec3(-3, 1, -0.5f)), glm::vec3(1, 0, 0)})
+    EXPECT_GT(glm::dot(unpack_octahedral_12_12(pack_octahedral_12_12(n)), n), 0.9999f);
+  // A skin scaled past float's range gives normals of infinity or NaN; a degenerate triangle, zero.
+  for (const glm::vec3 n :
+       {glm::vec3(0.0f), glm::vec3(NAN, 0, 1), glm::vec3(INFINITY, -INFINITY, 0), glm::vec3(INFINITY, 0, 0)})
+    EXPECT_EQ(pack_octahedral_12_12(n), pack_octahedral_12_12(glm::vec3(0, 0, 1)));
 }
 
 TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {

@@ -626,21 +626,22 @@ std::string heat_map_name(const std::string& stem, int material, int texture) {
   return stem + "-material" + std::to_string(material) + "-texture" + std::to_string(texture) + ".png";
 }
 
-bool is_heat_map_name(const std::string& stem, const std::string& name) {
-  // stem "-material" digits "-texture" digits ".png", as heat_map_name spells them
-  const auto digits = [&](std::size_t& at) {
-    const std::size_t from = at;
-    while (at < name.size() && name[at] >= '0' && name[at] <= '9') ++at;
-    return at > from;
-  };
-  const auto literal = [&](std::size_t& at, std::string_view text) {
-    if (name.compare(at, text.size(), text) != 0) return false;
-    at += text.size();
+std::optional<std::string> heat_map_stem(std::string_view name) {
+  // Read from the end, as heat_map_name appends: ".png", digits, "-texture", digits, "-material".
+  const auto drop_suffix = [&](std::string_view suffix) {
+    if (!name.ends_with(suffix)) return false;
+    name.remove_suffix(suffix.size());
     return true;
   };
-  std::size_t at = 0;
-  return literal(at, stem) && literal(at, "-material") && digits(at) && literal(at, "-texture") && digits(at) &&
-         literal(at, ".png") && at == name.size();
+  const auto drop_digits = [&] {
+    const std::size_t kept = name.find_last_not_of("0123456789") + 1;  // npos + 1 = 0: all digits
+    if (kept == name.size()) return false;
+    name = name.substr(0, kept);
+    return true;
+  };
+  if (drop_suffix(".png") && drop_digits() && drop_suffix("-texture") && drop_digits() && drop_suffix("-material"))
+    return std::string(name);
+  return std::nullopt;
 }
 
 void validate_materials(const Asset& asset, const RuleSet& rules, const MaterialCheckOptions& options, Report& report) {

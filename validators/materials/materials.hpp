@@ -2,6 +2,9 @@
 // rules/materials.json.
 #pragma once
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include "core/asset.hpp"
 #include "core/image.hpp"
@@ -33,10 +36,10 @@ struct MaterialCheckOptions {
 };
 
 // The heat map's file name for material `material` and texture `texture` of the asset whose file
-// stem is `stem`, and whether `name` is one of that asset's (so a run can refuse to write one over
-// a file it reads before it starts).
+// stem is `stem`; and the stem of the asset whose heat map `name` would be, if it is one (so a run
+// can refuse to write one over a file it reads before it starts).
 std::string heat_map_name(const std::string& stem, int material, int texture);
-bool is_heat_map_name(const std::string& stem, const std::string& name);
+std::optional<std::string> heat_map_stem(std::string_view name);
 
 // Every material is evaluated under its own model (core/material_model.hpp). An image is decoded
 // only when an enabled texel rule reads it, and at most once per call.
