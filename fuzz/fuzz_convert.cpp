@@ -2,33 +2,14 @@
 // texture (PNG and JPEG decoders, the solver), pruning, the writer, and the preview's renderer on
 // the input and its conversion. Bad input must end in an InputError that names the file; anything
 // else thrown, a crash, a hang or unbounded memory is a finding. scripts/fuzz.sh runs it seeded
-// with small spec-gloss assets packed as GLB (scripts/fuzz_seeds.py).
-#include <unistd.h>
-
-#include <cstdint>
-#include <fstream>
-
+// with small spec-gloss assets packed as single files (scripts/fuzz_seeds.py).
 #include "api/files.hpp"
-
-namespace {
-const std::filesystem::path& scratch_folder() {
-  static const std::filesystem::path folder = [] {
-    auto path = std::filesystem::temp_directory_path() / ("gltf-pbr-fuzz-convert-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(path);
-    return path;
-  }();
-  return folder;
-}
-}  // namespace
+#include "fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const bool binary = size >= 4 && data[0] == 'g' && data[1] == 'l' && data[2] == 'T' && data[3] == 'F';
-  const auto& folder = scratch_folder();
-  const auto input = folder / (binary ? "input.glb" : "input.gltf");
-  {
-    std::ofstream out(input, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  const std::filesystem::path input = gltf_pbr::fuzz::write_input("convert", data, size);
+  const bool binary = input.extension() == ".glb";
+  const std::filesystem::path folder = input.parent_path();
   // Each run writes a fresh output and preview: an output left by the last input is not this one's.
   std::filesystem::remove_all(folder / "out");
   gltf_pbr::ConvertFileOptions options;
