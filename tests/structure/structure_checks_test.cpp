@@ -81,6 +81,28 @@ TEST(StructureChecks, IndexBeyondTheVertexCountIsOutOfBounds) {
       "Indices accessor element at index 2 has value 5 that is greater than the maximum vertex index available (2).");
 }
 
+TEST(StructureChecks, AnIndicesAccessorOfAnotherFormatHasItsValuesLeftUnchecked) {
+  // Float indices (an invalid format, reported as such) holding 5, beyond the three vertices, and
+  // 7e34, beyond int64: only the format is reported (the npm validator's answer on this file,
+  // with and without the view's target), and nothing converts 7e34 to an integer (the sanitizer
+  // build reports that; fuzz-convert found it).
+  for (const char* target : {R"(,"target":34963)", ""}) {
+    const std::string text =
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":48,"uri":")" +
+        float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 7e34f, 1}) +
+        R"("}],)"
+        R"("bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":12)" +
+        std::string(target) +
+        R"(}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+        R"({"bufferView":1,"componentType":5126,"count":3,"type":"SCALAR"}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
+    const Report report = validate_text(text);
+    EXPECT_NE(find(report, "MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT"), nullptr);
+    EXPECT_EQ(find(report, "ACCESSOR_INDEX_OOB"), nullptr);
+    EXPECT_EQ(find(report, "ACCESSOR_INDEX_TRIANGLE_DEGENERATE"), nullptr);
+  }
+}
+
 // A skinned triangle: node 0 draws mesh 0 with skin 0 (joints: nodes 1, 2 and 3). Each set n of
 // `joints` (4 per vertex, unsigned bytes) and `weights` (4 floats per vertex) becomes JOINTS_n
 // and WEIGHTS_n; `extra_nodes` and `extra_skins` are appended to their lists.

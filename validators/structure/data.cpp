@@ -326,7 +326,7 @@ class AccessorData {
     using Usage = AccessorModel::Usage;
     switch (a.usage) {
       case Usage::Index:
-        index_checks(a, use, first, carry);
+        if (a.has_index_format()) index_checks(a, use, first, carry);
         break;
       case Usage::Vertex:
         vertex_checks(a, first, count);

@@ -577,9 +577,7 @@ class Linker {
           texture_coordinates(*variant_material, mapping.material_pointer);
       }
       if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
-        const bool valid =
-            indices->type == "SCALAR" && !indices->normalized &&
-            (indices->component_type == 5121 || indices->component_type == 5123 || indices->component_type == 5125);
+        const bool valid = indices->has_index_format();
         // As the reference: the uses first (accessor, then buffer view), then the format.
         use_accessor(*indices, AccessorModel::Usage::Index, p + "/indices");
         use_view_as(*indices, 34963, "IndexBuffer", p + "/indices");

@@ -109,6 +109,13 @@ struct AccessorModel : EntityModel {
   // checks each element once for each of them (a NORMAL shared by two primitives, or key times
   // shared by two samplers, are reported at both).
   std::vector<std::string> data_uses;
+
+  // glTF 2.0 section 3.7.2.1: indices are unsigned scalars, not normalized. Only such an accessor's
+  // values are index-checked (the npm validator checks a float one's none, whatever they hold).
+  bool has_index_format() const {
+    return type == "SCALAR" && !normalized &&
+           (component_type == 5121 || component_type == 5123 || component_type == 5125);
+  }
 };
 
 struct BufferViewModel : EntityModel {
