@@ -338,8 +338,8 @@ void append_chunk(Bytes& png, const char (&type)[5], std::initializer_list<std::
   png.insert(png.end(), tail, tail + 4);
 }
 
-// PLTE, and tRNS when a colour is not opaque (PNG spec 11.2.3, 11.3.2.1), of `palette` (RGBA
-// packed, little-end first).
+// PLTE, and tRNS up to the last colour that is not opaque (PNG spec 11.2.3, 11.3.2.1), of
+// `palette` (RGBA packed, little-end first).
 void append_palette(Bytes& png, std::span<const std::uint32_t> palette) {
   std::vector<std::uint8_t> plte, trns;
   for (const std::uint32_t rgba : palette) {
@@ -348,7 +348,9 @@ void append_palette(Bytes& png, std::span<const std::uint32_t> palette) {
     trns.push_back(static_cast<std::uint8_t>(rgba >> 24));
   }
   append_chunk(png, "PLTE", {plte});
-  if (std::any_of(trns.begin(), trns.end(), [](std::uint8_t a) { return a != 255; })) append_chunk(png, "tRNS", {trns});
+  // Entries past tRNS's end are opaque (PNG spec 11.3.2.1): its trailing 255s are left out.
+  while (!trns.empty() && trns.back() == 255) trns.pop_back();
+  if (!trns.empty()) append_chunk(png, "tRNS", {trns});
 }
 
 // The image data's zlib stream in IDAT chunks of 1 MiB (any split reads the same; PNG spec 10.1),
