@@ -27,7 +27,9 @@ case "$(basename "$binary")" in
     done
     ;;
   fuzz-convert)
-    python3 "$root/scripts/fuzz_seeds.py" "$corpus" "$shared/assets" 65536
+    # Debian's interpreter, whose Pillow (python3-pil) the test set-up installs; another python3
+    # on the PATH may have none.
+    /usr/bin/python3 "$root/scripts/fuzz_seeds.py" "$corpus" "$shared/assets" 65536
     ;;
   *) echo "fuzz.sh: no seeds known for $binary" >&2; exit 2 ;;
 esac

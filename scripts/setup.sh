@@ -15,7 +15,8 @@ packages=(g++ cmake ninja-build pkg-config libtinygltf-dev nlohmann-json3-dev li
           libbenchmark-dev python3-dev python3-pybind11)
 # The Python module's tests run under Debian's pytest; the Dask driver's (dist/) on a local cluster.
 if [ "$mode" = test ]; then packages+=(python3-pytest python3-distributed); fi
-# The meshopt asset test (tests/meshopt) compares preview images with Pillow.
+# The meshopt asset test (tests/meshopt) compares preview images with Pillow, and the convert
+# fuzzer's seeds (scripts/fuzz_seeds.py) are made with it.
 if [ "$mode" = test ]; then packages+=(python3-pil); fi
 # The gallery page's test opens it in Debian's headless chromium (tests/preview/browser.py).
 if [ "$mode" = test ]; then packages+=(chromium); fi
