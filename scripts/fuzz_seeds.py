@@ -18,6 +18,13 @@ from urllib.parse import unquote
 from PIL import Image
 
 
+def mime_of(data):
+    """The media type of a buffer's or an image's bytes, by signature."""
+    if data.startswith(b"\x89PNG"):
+        return "image/png"
+    return "image/jpeg" if data.startswith(b"\xff\xd8") else "application/octet-stream"
+
+
 def glb(document, binary):
     """A GLB of a document whose one buffer is `binary` (glTF 2.0 section 4.4)."""
     binary += b"\0" * (-len(binary) % 4)
@@ -51,7 +58,7 @@ def pack(gltf_path):
         if "uri" not in image:
             continue
         data = (gltf_path.parent / unquote(image.pop("uri"))).read_bytes()
-        image["mimeType"] = "image/png" if data.startswith(b"\x89PNG") else "image/jpeg"
+        image["mimeType"] = mime_of(data)
         views.append({"buffer": 0, "byteOffset": append(data), "byteLength": len(data)})
         image["bufferView"] = len(views) - 1
     return glb(document, bytes(binary))
@@ -63,8 +70,7 @@ def embedded(gltf_path):
     for item in document.get("buffers", []) + document.get("images", []):
         if "uri" in item:
             data = (gltf_path.parent / unquote(item["uri"])).read_bytes()
-            mime = "image/png" if data.startswith(b"\x89PNG") else "image/jpeg" if data.startswith(b"\xff\xd8") else "application/octet-stream"
-            item["uri"] = f"data:{mime};base64," + base64.b64encode(data).decode()
+            item["uri"] = f"data:{mime_of(data)};base64," + base64.b64encode(data).decode()
     return json.dumps(document, separators=(",", ":")).encode()
 
 
@@ -99,7 +105,6 @@ def constructed(diffuse, spec_gloss):
         parts.extend(b"\0" * (-len(parts) % 4))
         views.append({"buffer": 0, "byteOffset": len(parts), "byteLength": len(data)})
         parts.extend(data)
-    mime = lambda data: "image/png" if data.startswith(b"\x89PNG") else "image/jpeg"
     document = {
         "asset": {"version": "2.0"},
         "extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"],
@@ -113,7 +118,7 @@ def constructed(diffuse, spec_gloss):
             {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
         ],
         "bufferViews": views,
-        "images": [{"bufferView": 3, "mimeType": mime(diffuse)}, {"bufferView": 4, "mimeType": mime(spec_gloss)}],
+        "images": [{"bufferView": 3, "mimeType": mime_of(diffuse)}, {"bufferView": 4, "mimeType": mime_of(spec_gloss)}],
         "textures": [{"source": 0}, {"source": 1}],
         "materials": [{
             "extensions": {"KHR_materials_pbrSpecularGlossiness": {

@@ -397,6 +397,17 @@ Bytes image_data(std::span<const std::uint8_t> png) {
   return data;
 }
 
+// What the conversion's bake makes of `legacy`'s factors over `diffuse` alone, every texel.
+BakedTexels bake_diffuse_alone(const LegacyMaterial& legacy, const Pixels& diffuse) {
+  BakeInputs inputs;
+  inputs.diffuse_factor = legacy.diffuse_factor;
+  inputs.specular_factor = legacy.specular_factor;
+  inputs.glossiness_factor = legacy.glossiness_factor;
+  inputs.diffuse = &diffuse;
+  inputs.width = diffuse.width, inputs.height = diffuse.height;
+  return bake(inputs, ConvertOptions().solver, 0);
+}
+
 // A palette PNG diffuse decodes to its palette's colours. Baked without a specular-glossiness
 // texture, its base colour is its own file with the baked colours as the palette: the image data
 // byte for byte (nothing re-encoded), each texel what the bake gives that texel's colour.
@@ -439,13 +450,7 @@ TEST(Textures, APaletteDiffuseBakesToItsOwnImageDataWithTheBakedColoursAsItsPale
     ASSERT_TRUE(png_palette(written).has_value());
     EXPECT_EQ(image_data(written), image_data(*bytes));
     EXPECT_LE(written.size(), bytes->size());
-    BakeInputs inputs;
-    inputs.diffuse_factor = legacy.diffuse_factor;
-    inputs.specular_factor = legacy.specular_factor;
-    inputs.glossiness_factor = legacy.glossiness_factor;
-    inputs.diffuse = &decoded;
-    inputs.width = decoded.width, inputs.height = decoded.height;
-    const BakedTexels baked = bake(inputs, ConvertOptions().solver, 0);
+    const BakedTexels baked = bake_diffuse_alone(legacy, decoded);
     const Pixels base = decode_image(written, "the base colour");
     ASSERT_EQ(base.width, decoded.width);
     ASSERT_EQ(base.height, decoded.height);
@@ -555,13 +560,7 @@ TEST(Textures, APaletteDiffuseWithTransparencyKeepsItsImageDataAndEveryTexelsAlp
     const auto written = encoded_image_bytes(converted, image);
     EXPECT_EQ(image_data(written), image_data(input_bytes));
 
-    BakeInputs inputs;
-    inputs.diffuse_factor = legacy.diffuse_factor;
-    inputs.specular_factor = legacy.specular_factor;
-    inputs.glossiness_factor = legacy.glossiness_factor;
-    inputs.diffuse = &decoded;
-    inputs.width = w, inputs.height = h;
-    const BakedTexels baked = bake(inputs, ConvertOptions().solver, 0);
+    const BakedTexels baked = bake_diffuse_alone(legacy, decoded);
     const Pixels base = decode_image(written, "the base colour");
     EXPECT_EQ(base.channels, alpha_varies ? 4 : 3);
     for (int y = 0; y < h; ++y)
