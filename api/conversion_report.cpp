@@ -60,6 +60,8 @@ json file_json(const FileResult& r) {
                     {"metallicRoughness", texture_outcome_name(m.outputs.metallic_roughness)}}},
                   {"deltaE2000", {{"readingA", error_json(m.error_a)}, {"readingB", error_json(m.error_b)}}},
                   {"timeMs", times_json(m.times)}};
+    if (m.metalness_levels)
+      entry["metalnessLevels"] = {{"solved", m.metalness_levels->solved}, {"written", m.metalness_levels->written}};
     if (!m.note.empty()) entry["note"] = m.note;
     materials.push_back(entry);
   }

@@ -118,9 +118,9 @@ std::string run_settings(const ConvertFileOptions& options) {
   text << "convert " << tool_version() << " target " << target_name(options.target) << " solver "
        << solver_effort_name(options.solver) << " error-model " << error_model_name(options.error_model)
        << " specular-tolerance " << options.specular_tolerance << " png-libdeflate " << options.png_compression
-       << " jpeg " << options.jpeg_quality << " error-samples " << options.error_samples << " allow-outside "
-       << options.allow_outside_uris << " max-image-pixels " << max_image_pixels() << " preview-size "
-       << options.preview_size << " preview-lint "
+       << " jpeg " << options.jpeg_quality << " metalness-tolerance " << options.metalness_tolerance
+       << " error-samples " << options.error_samples << " allow-outside " << options.allow_outside_uris
+       << " max-image-pixels " << max_image_pixels() << " preview-size " << options.preview_size << " preview-lint "
        << (options.preview_lint ? lint_profile_name(*options.preview_lint) : "off") << '\n'
        << builtin_rules_text();
   return text.str();
@@ -184,6 +184,7 @@ ConvertOptions conversion_options(const ConvertFileOptions& options) {
   converter.specular_tolerance = options.specular_tolerance;
   converter.png_compression = options.png_compression;
   converter.jpeg_quality = options.jpeg_quality;
+  converter.metalness_tolerance = options.metalness_tolerance;
   converter.max_error_samples = options.error_samples;
   return converter;
 }

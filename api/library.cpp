@@ -20,6 +20,8 @@ void check(const ConvertFileOptions& o) {
   require(o.jpeg_quality >= 1 && o.jpeg_quality <= 100, "jpeg_quality", "1-100", o.jpeg_quality);
   require(std::isfinite(o.specular_tolerance) && o.specular_tolerance >= 0, "specular_tolerance",
           "a finite number >= 0", o.specular_tolerance);
+  require(std::isfinite(o.metalness_tolerance) && o.metalness_tolerance >= 0, "metalness_tolerance",
+          "a finite number >= 0", o.metalness_tolerance);
   require(o.preview_size >= 16 && o.preview_size <= 8192, "preview_size", "16-8192", o.preview_size);
 }
 void check(const PreviewFileOptions& o) {

@@ -99,6 +99,8 @@ std::vector<std::string> child_options(const ConvertArgs& args) {
                                    std::to_string(args.file.png_compression),
                                    "--jpeg-quality",
                                    std::to_string(args.file.jpeg_quality),
+                                   "--metalness-tolerance",
+                                   exact_text(args.file.metalness_tolerance),
                                    "--error-samples",
                                    std::to_string(args.file.error_samples),
                                    "--max-image-pixels",
@@ -238,6 +240,12 @@ void declare_options(CLI::App& cmd, ConvertArgs& args) {
   cmd.add_option("--jpeg-quality", args.file.jpeg_quality,
                  "quality 1-100 of base colours baked from JPEG diffuse textures")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd.add_option("--metalness-tolerance", args.file.metalness_tolerance,
+                 "ΔE2000 a material's error (the error model's figure) may rise by where its metalness map is "
+                 "written with fewer distinct values: 2, 4, 8 or 16 levels, the fewest that stay within it (smaller "
+                 "files; the report gives metalnessLevels); 0 writes every value the solve gave")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd.add_option("--error-samples", args.file.error_samples,
                  "texels sampled per texture for the error statistics (0: all)")

@@ -1,11 +1,13 @@
 #include "converter/bake.hpp"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -501,7 +503,7 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   out.error_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
   out.error_b = ErrorAccumulator(samples);
   out.sample_stride = stride;
-  if (in.measure_as_written) out.sampled_legacy.resize(samples);
+  if (in.measure_as_written || in.keep_sampled_legacy) out.sampled_legacy.resize(samples);
   if (in.measure_extension_route) {
     out.extension_a = ErrorAccumulator(samples, settings.error_model == ErrorModel::Appearance);
     out.extension_b = ErrorAccumulator(samples);
@@ -535,9 +537,8 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // since a 64-bit division a texel was 2% of a 4096² bake's CPU).
   const auto take_sample = [&](size_t i, auto& solved, auto& cache) {
     const size_t sample = i / stride;
-    if (in.measure_as_written)
-      out.sampled_legacy[sample] = texels_of.legacy(i);
-    else
+    if (in.measure_as_written || in.keep_sampled_legacy) out.sampled_legacy[sample] = texels_of.legacy(i);
+    if (!in.measure_as_written)
       cache.take_error(
           solved, [&] { return texels_of.legacy(i); }, sample, set_error);
     if (in.measure_extension_route) {
@@ -714,15 +715,19 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
   return errors;
 }
 
+using Levels = std::array<std::uint8_t, 256>;
+
 // The texel as written: 8-bit sRGB `base` with `channels` a texel on the bake's grid, and the
-// bake's metalness.
-auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels) {
+// bake's metalness, through `levels` where given (fewer_metalness_levels).
+auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                       const Levels* levels = nullptr) {
   const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
   if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
     throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
-  return [&texels, base, channels](size_t texel, StoredTexel& stored) {
+  return [&texels, base, channels, levels](size_t texel, StoredTexel& stored) {
     for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base[texel * static_cast<size_t>(channels) + c]);
-    stored.metalness = texels.metalness[texel];
+    const std::uint8_t metalness = texels.metalness[texel];
+    stored.metalness = levels ? (*levels)[metalness] : metalness;
   };
 }
 
@@ -745,9 +750,138 @@ void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings
   std::tie(texels.error_a, texels.error_b) = measure_samples(texels, settings, 1, stored_as_dielectric_copy);
 }
 
+Levels metalness_levels(const std::array<std::uint64_t, 256>& histogram, int levels) {
+  Levels to;
+  for (int v = 0; v < 256; ++v) to[static_cast<size_t>(v)] = static_cast<std::uint8_t>(v);
+  std::vector<int> values;  // the values texels hold, ascending
+  for (int v = 0; v < 256; ++v)
+    if (histogram[static_cast<size_t>(v)] > 0) values.push_back(v);
+  const int n = static_cast<int>(values.size());
+  if (levels < 2 || n <= levels) return to;
+  // Prefix sums of the weights w, w v and w v² over the sorted values give a cluster's cost,
+  // sum w (v - level)², for any level in constant time.
+  std::vector<double> w(static_cast<size_t>(n) + 1), wv(w.size()), wvv(w.size());
+  for (int i = 0; i < n; ++i) {
+    const double weight = static_cast<double>(histogram[static_cast<size_t>(values[static_cast<size_t>(i)])]);
+    const double v = values[static_cast<size_t>(i)];
+    w[static_cast<size_t>(i) + 1] = w[static_cast<size_t>(i)] + weight;
+    wv[static_cast<size_t>(i) + 1] = wv[static_cast<size_t>(i)] + weight * v;
+    wvv[static_cast<size_t>(i) + 1] = wvv[static_cast<size_t>(i)] + weight * v * v;
+  }
+  // The level of the values i..j (indices into `values`): their weighted mean, rounded to a byte,
+  // or 0 or 255 where the cluster holds that end of the range.
+  const auto level_of = [&](int i, int j) {
+    if (values[static_cast<size_t>(i)] == 0) return 0.0;
+    if (values[static_cast<size_t>(j)] == 255) return 255.0;
+    const auto a = static_cast<size_t>(i), b = static_cast<size_t>(j) + 1;
+    return std::round((wv[b] - wv[a]) / (w[b] - w[a]));
+  };
+  const auto cost = [&](int i, int j) {
+    const auto a = static_cast<size_t>(i), b = static_cast<size_t>(j) + 1;
+    const double c = level_of(i, j);
+    return (wvv[b] - wvv[a]) - 2.0 * c * (wv[b] - wv[a]) + c * c * (w[b] - w[a]);
+  };
+  // best[k][j]: the least cost of the first j + 1 values in k + 1 clusters; first[k][j]: where
+  // its last cluster starts.
+  const auto k_count = static_cast<size_t>(levels), n_count = static_cast<size_t>(n);
+  std::vector<double> best(k_count * n_count, std::numeric_limits<double>::infinity());
+  std::vector<int> first(k_count * n_count, 0);
+  for (int j = 0; j < n; ++j) best[static_cast<size_t>(j)] = cost(0, j);
+  for (size_t k = 1; k < k_count; ++k)
+    for (int j = static_cast<int>(k); j < n; ++j)
+      for (int i = static_cast<int>(k); i <= j; ++i) {
+        const double total = best[(k - 1) * n_count + static_cast<size_t>(i) - 1] + cost(i, j);
+        if (total < best[k * n_count + static_cast<size_t>(j)])
+          best[k * n_count + static_cast<size_t>(j)] = total, first[k * n_count + static_cast<size_t>(j)] = i;
+      }
+  // Back from the last value, cluster by cluster.
+  int j = n - 1;
+  for (size_t k = k_count; k-- > 0;) {
+    const int i = k == 0 ? 0 : first[k * n_count + static_cast<size_t>(j)];
+    const auto level = static_cast<std::uint8_t>(level_of(i, j));
+    for (int v = i; v <= j; ++v) to[static_cast<size_t>(values[static_cast<size_t>(v)])] = level;
+    j = i - 1;
+  }
+  return to;
+}
+
+namespace {
+
+// Texels a metalness value, counted on the pool with four interleaved counts a thread (a run of
+// equal bytes would otherwise wait on its own count from one texel to the next).
+std::array<std::uint64_t, 256> histogram_of(std::span<const std::uint8_t> values) {
+  const auto size = static_cast<std::int64_t>(values.size());
+  const std::int64_t parts = std::clamp<std::int64_t>(size >> 20, 1, ThreadPool::shared().threads());
+  std::vector<std::array<std::array<std::uint64_t, 256>, 4>> counts(static_cast<size_t>(parts));
+  ThreadPool::shared().run(parts, [&](std::int64_t part) {
+    auto& count = counts[static_cast<size_t>(part)];
+    count = {};
+    const auto begin = static_cast<size_t>(size * part / parts), end = static_cast<size_t>(size * (part + 1) / parts);
+    size_t i = begin;
+    for (; i + 4 <= end; i += 4)
+      ++count[0][values[i]], ++count[1][values[i + 1]], ++count[2][values[i + 2]], ++count[3][values[i + 3]];
+    for (; i < end; ++i) ++count[0][values[i]];
+  });
+  std::array<std::uint64_t, 256> histogram{};
+  for (const auto& part : counts)
+    for (const auto& count : part)
+      for (size_t v = 0; v < 256; ++v) histogram[v] += count[v];
+  return histogram;
+}
+
+// The step between the error samples a decision looks at, to see about `wanted` of them. Odd: the
+// samples run along rows, and an even step that divides a row's count (a power-of-two texture's)
+// would look at a few columns only (4096²: one).
+size_t decision_step(size_t samples, size_t wanted) {
+  return std::max<size_t>(1, samples / std::max<size_t>(1, wanted)) | 1;
+}
+
+}  // namespace
+
+MetalnessLevels fewer_metalness_levels(BakedTexels& texels, const SolverSettings& settings, double tolerance,
+                                       bool bake_measured) {
+  const std::array<std::uint64_t, 256> histogram = histogram_of(texels.metalness);
+  MetalnessLevels out;
+  out.solved = out.written = static_cast<int>(
+      std::count_if(histogram.begin(), histogram.end(), [](std::uint64_t count) { return count > 0; }));
+  if (!(tolerance > 0) || texels.sampled_legacy.empty() || texels.metal_rough_constant) return out;
+  const auto measure = [&](size_t step, const Levels* levels) {
+    return measure_samples(texels, settings, step,
+                           stored_as_written(texels, texels.base_color, texels.base_channels, levels));
+  };
+  const auto judged = [&](const ErrorAccumulator& errors) {
+    return judged_error(ErrorAccumulator(errors).finish(), settings.error_model);
+  };
+  // A candidate is looked at on kDecisionSamples of the samples first (most that fail, fail
+  // there), then judged on every sample, so the rise the report shows is the rise allowed.
+  const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
+  std::optional<double> solved_part, solved;
+  for (const int count : {2, 4, 8, 16}) {
+    if (count >= out.solved) break;
+    const Levels levels = metalness_levels(histogram, count);
+    if (step > 1) {
+      if (!solved_part) solved_part = judged(measure(step, nullptr).first);
+      if (!(judged(measure(step, &levels).first) - *solved_part <= tolerance)) continue;
+    }
+    if (!solved) solved = judged(bake_measured ? texels.error_a : measure(1, nullptr).first);
+    auto errors = measure(1, &levels);
+    if (!(judged(errors.first) - *solved <= tolerance)) continue;
+    std::uint8_t* const metalness = texels.metalness.data();
+    parallel_for(0, static_cast<std::int64_t>(texels.metalness.size()),
+                 [&](std::int64_t i) { metalness[i] = levels[metalness[i]]; });
+    std::tie(texels.error_a, texels.error_b) = std::move(errors);
+    std::array<bool, 256> held{};
+    for (size_t v = 0; v < 256; ++v)
+      if (histogram[v] > 0) held[levels[v]] = true;
+    out.written = static_cast<int>(std::count(held.begin(), held.end(), true));
+    break;
+  }
+  return out;
+}
+
 WrittenAgainstCopy written_against_copy(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
                                         const SolverSettings& settings, size_t samples) {
-  const size_t step = std::max<size_t>(1, texels.sampled_legacy.size() / std::max<size_t>(1, samples));
+  const size_t step = decision_step(texels.sampled_legacy.size(), samples);
   WrittenAgainstCopy out;
   out.written = measure_samples(texels, settings, step, stored_as_written(texels, base, channels)).first.finish();
   out.copy = measure_samples(texels, settings, step, stored_as_dielectric_copy).first.finish();

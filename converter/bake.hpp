@@ -1,5 +1,6 @@
 // Texel-by-texel baking of spec-gloss textures into baseColor and metallicRoughness texels.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -33,6 +34,9 @@ struct BakeInputs {
   // differ from the bake's (a JPEG): the bake keeps each error sample's legacy texel
   // (BakedTexels::sampled_legacy) instead of measuring it.
   bool measure_as_written = false;
+  // Keep each error sample's legacy texel as well as measuring it, for a caller that may change
+  // the texels and measure them again (fewer_metalness_levels).
+  bool keep_sampled_legacy = false;
 };
 
 struct BakedTexels {
@@ -95,7 +99,28 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
 // them, for a material that keeps its diffuse image (converter/convert.cpp).
 void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings);
 
-// Reading A's figures of both, finished, on about `samples` of the error samples (every k-th):
+// A metalness map written with fewer distinct values than the solve gave where that costs almost
+// no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 4: 5.6 KB to
+// about 2). The values move to the fewest levels of 2, 4, 8 or 16 (fewer than the map holds)
+// whose judged_error rises by at most `tolerance` ΔE2000; the base colour stays as solved. The levels are the 1-D
+// k-means of the map's values, each weighed by its texels, solved exactly by dynamic programming over the sorted values
+// (Wang & Song 2011, "Ckmeans.1d.dp: optimal k-means clustering in one dimension"), except that a level holding 0 or
+// 255 stays there: a pure dielectric or a pure metal stays exact. Needs the samples' legacy texels (keep_sampled_legacy
+// or measure_as_written). A candidate is looked at on kDecisionSamples of the error samples first; the rise is judged
+// on every error sample, against the bake's own figures where `bake_measured` (else measured first), and error_a and
+// error_b become those of the map as written. Distinct values before and after; equal when the
+// map is left as it was.
+inline constexpr size_t kDecisionSamples = 4096;
+struct MetalnessLevels {
+  int solved = 0, written = 0;
+};
+MetalnessLevels fewer_metalness_levels(BakedTexels& texels, const SolverSettings& settings, double tolerance,
+                                       bool bake_measured);
+// The level each metalness byte moves to with `levels` (at least 2) levels (see above), from the
+// map's histogram (texels a value); a value no texel holds keeps itself.
+std::array<std::uint8_t, 256> metalness_levels(const std::array<std::uint64_t, 256>& histogram, int levels);
+
+// Reading A's figures of both, finished, on about `samples` of the error samples (every k-th, k odd):
 // enough to choose between them at a fraction of a full measure's cost.
 struct WrittenAgainstCopy {
   ReflectanceError written, copy;

@@ -110,6 +110,8 @@ class Converter {
     // whichever thread made them), and what making them cost it.
     Bytes base_color_bytes, metal_rough_bytes;
     bool base_color_jpeg = false, images_added = false;
+    // The metalness map's distinct values as solved and as written (fewer_metalness_levels).
+    std::optional<MetalnessLevels> metalness_levels;
     StageTimes times;
     int baked_for = -1;  // the material whose conversion baked it; later ones share its images
     // What a material using this bake gets in the slot whose image is `image`.
@@ -191,6 +193,7 @@ class Converter {
     } else {
       pbr.metallicRoughnessTexture = texture_for(baked.metal_rough_image, *mapping);
       pbr.roughnessFactor = roughness_factor;
+      entry.metalness_levels = baked.metalness_levels;
     }
     entry.outputs.metallic_roughness =
         baked.outcome(baked.metal_rough_image, baked.metal_rough_written_before, entry.index);
@@ -388,10 +391,23 @@ class Converter {
       // written (below), not by the bake.
       const bool error_as_written = jpeg_diffuse && !roughness_only;
       inputs.measure_as_written = error_as_written;
+      // The diffuse may be kept as it is instead of the JPEG baked from it (keeps_diffuse_as_it_is,
+      // VC: 130 of its 167 materials), which writes no metalness map: its levels wait for that.
+      const bool copy_possible = error_as_written && !legacy.spec_gloss_texture && diffuse_passes;
+      const bool fewer_levels = !roughness_only && options_.metalness_tolerance > 0;
+      inputs.keep_sampled_legacy = fewer_levels;
+      const auto choose_levels = [&] {
+        bake.metalness_levels = fewer_metalness_levels(bake.texels, options_.solver, options_.metalness_tolerance,
+                                                       /*bake_measured=*/!error_as_written);
+      };
       bake.times.decode_ms += ms_since(start);
 
       start = Clock::now();
       bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
+      if (fewer_levels && !copy_possible) {
+        choose_levels();
+        if (!error_as_written) bake.texels.sampled_legacy = std::vector<SpecGloss>();  // freed
+      }
       bake.reuse_diffuse = !roughness_only && diffuse && diffuse_passes &&
                            legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
                            bake.texels.equals_diffuse;
@@ -430,20 +446,23 @@ class Converter {
         TexelBytes* const given = !rgb.empty() ? &rgb : !error_as_written ? &t.base_color : nullptr;
         base_png = filter_baked_png(base_texels, given, t.width, t.height, t.alpha_constant ? 3 : 4);
       }
-      parallel_invoke(
-          [&] {
-            if (t.metal_rough_constant) return;
-            // A map of at most 256 pairs is indexed from the planes; the preview, which keeps the
-            // texels, and larger maps interleave them for filter_png.
-            const std::optional<BakedTexels::Indexed> indexed =
-                options_.keep_decoded ? std::nullopt : t.metal_rough_indexed();
-            TexelBytes texels = indexed ? TexelBytes() : t.metal_rough();
-            // The planes are read no more, unless the error is measured on the metalness below.
-            if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
-            metal_rough = indexed
-                              ? deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height),
+      const auto encode_metal_rough = [&] {
+        if (t.metal_rough_constant) return;
+        // A map of at most 256 pairs is indexed from the planes; the preview, which keeps the
+        // texels, and larger maps interleave them for filter_png.
+        const std::optional<BakedTexels::Indexed> indexed =
+            options_.keep_decoded ? std::nullopt : t.metal_rough_indexed();
+        TexelBytes texels = indexed ? TexelBytes() : t.metal_rough();
+        // The planes are read no more, unless the error is measured on the metalness below.
+        if (!error_as_written) TexelBytes().swap(t.metalness), TexelBytes().swap(t.roughness);
+        metal_rough = indexed ? deflate_png(filter_palette_png(indexed->indices, indexed->palette, t.width, t.height),
                                             options_.png_compression)
                               : deflate_baked_png(filter_baked_png(texels, &texels, t.width, t.height, 3));
+      };
+      const bool levels_wait = fewer_levels && copy_possible;
+      parallel_invoke(
+          [&] {
+            if (!levels_wait) encode_metal_rough();
           },
           [&] {
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
@@ -461,16 +480,19 @@ class Converter {
           written = std::make_shared<Pixels>(decode_image(base_color, "the baked baseColor"));
           ++images_decoded_;
         }
-        if (written && !legacy.spec_gloss_texture && diffuse_passes && keeps_diffuse_as_it_is(bake, *written)) {
+        if (written && copy_possible && keeps_diffuse_as_it_is(bake, *written)) {
           measure_dielectric_copy(t, options_.solver);
           if (options_.keep_decoded && !metal_rough.empty())  // the preview's copy of a map not written
             options_.keep_decoded->forget(image_content_key(metal_rough));
           Bytes().swap(base_color), Bytes().swap(metal_rough);
-        } else if (written) {
-          measure_as_written(t, written->bytes, written->channels, options_.solver);
-          if (options_.keep_decoded) options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
         } else {
-          measure_as_written(t, t.base_color, t.base_channels, options_.solver);
+          if (levels_wait) choose_levels(), encode_metal_rough();
+          if (written) {
+            measure_as_written(t, written->bytes, written->channels, options_.solver);
+            if (options_.keep_decoded) options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
+          } else {
+            measure_as_written(t, t.base_color, t.base_channels, options_.solver);
+          }
         }
         t.sampled_legacy = std::vector<SpecGloss>();  // freed (assigning {} would keep the capacity)
       }
@@ -523,19 +545,15 @@ class Converter {
   // A JPEG diffuse bakes to a JPEG base colour, and the re-encoding can cost more error than the
   // bake removes (VC, specular 0: diffuse means of 1.9-4.4 ΔE2000 as written, 0.3-0.7 for the
   // diffuse kept as it is). Where the diffuse image kept as it is, metallic 0, measures no worse
-  // by the error model's own figure (the sum of the diffuse and F0 means under normal incidence,
-  // the appearance mean under the appearance model) on kDecisionSamples of the error samples, the
+  // by the error model's own figure (judged_error) on kDecisionSamples of the error samples, the
   // material gets that, and no image is written. Only where the glossiness is a factor: a
   // specularGlossiness texture's roughness needs a map anyway.
-  static constexpr size_t kDecisionSamples = 4096;
   bool keeps_diffuse_as_it_is(Bake& bake, const Pixels& written) const {
     const WrittenAgainstCopy part =
         written_against_copy(bake.texels, written.bytes, written.channels, options_.solver, kDecisionSamples);
     const bool appearance = options_.solver.error_model == ErrorModel::Appearance;
-    const auto judged = [&](const ReflectanceError& e) {
-      return appearance && e.appearance ? e.appearance->mean : e.diffuse.mean + e.f0.mean;
-    };
-    const double baked = judged(part.written), copy = judged(part.copy);
+    const double baked = judged_error(part.written, options_.solver.error_model),
+                 copy = judged_error(part.copy, options_.solver.error_model);
     if (copy > baked) return false;
     char note[260];
     std::snprintf(note, sizeof note,

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "converter/bake.hpp"  // MetalnessLevels
 #include "converter/error_stats.hpp"
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
@@ -19,6 +20,9 @@ struct ConvertOptions {
   double specular_tolerance = 2.0;      // ΔE2000: a worse metalness fit gets the extensions (Target::Specular)
   int png_compression = 1;              // libdeflate level 0-9 of baked PNGs (at least 9 for small ones)
   int jpeg_quality = 90;                // quality of base colours baked from JPEG diffuse textures
+  // ΔE2000 (judged_error) a metalness map may add when written with fewer distinct values
+  // (fewer_metalness_levels); 0 writes every value the solve gave.
+  double metalness_tolerance = 0.01;
   size_t max_error_samples = 1u << 16;  // texels sampled for the error statistics (0: all)
   // When set, every image the conversion decodes (its inputs, and the JPEG base colours it measures
   // as written) and every PNG it bakes is kept here as pixels for a later reader in the same run
@@ -69,6 +73,8 @@ struct MaterialReport {
   // ΔE2000 of what was written, against legacy reading A (the one solved for) and B; std::nullopt
   // where nothing was measured (a material left as spec-gloss), reported as null, never as 0.
   std::optional<ReflectanceError> error_a, error_b;
+  // The metalness map's distinct values as solved and as written, where a map was baked.
+  std::optional<MetalnessLevels> metalness_levels;
   MaterialOutputs outputs;
   StageTimes times;
 };

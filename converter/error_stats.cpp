@@ -71,4 +71,9 @@ float appearance_delta_e(const Appearance& expected, const Appearance& actual) {
   return static_cast<float>(sum / kAppearanceRings);
 }
 
+double judged_error(const ReflectanceError& error, ErrorModel model) {
+  return model == ErrorModel::Appearance && error.appearance ? error.appearance->mean
+                                                             : error.diffuse.mean + error.f0.mean;
+}
+
 }  // namespace gltf_pbr

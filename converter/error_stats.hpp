@@ -44,4 +44,9 @@ class ErrorAccumulator {
 // ΔE2000 between two appearances: the mean over the rings (each an equal share of a sphere).
 float appearance_delta_e(const Appearance& expected, const Appearance& actual);
 
+// The one figure by which a choice between two ways of writing a material is judged, the error
+// model's own: the sum of the diffuse and F0 means at normal incidence, the appearance mean under
+// the appearance model (where measured).
+double judged_error(const ReflectanceError& error, ErrorModel model);
+
 }  // namespace gltf_pbr

@@ -47,8 +47,8 @@ gltf_pbr::ErrorModel error_model_of(const std::string& name) {
 
 gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const std::string& solver,
                                              const std::string& error_model, double specular_tolerance,
-                                             int png_compression, int jpeg_quality, std::size_t error_samples,
-                                             bool allow_outside_uris, bool replace_input) {
+                                             int png_compression, int jpeg_quality, double metalness_tolerance,
+                                             std::size_t error_samples, bool allow_outside_uris, bool replace_input) {
   gltf_pbr::ConvertFileOptions options;
   options.target = parse_choice(target, gltf_pbr::target_from_name, "target", "metalness, specular");
   options.solver =
@@ -57,6 +57,7 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
   options.specular_tolerance = specular_tolerance;
   options.png_compression = png_compression;
   options.jpeg_quality = jpeg_quality;
+  options.metalness_tolerance = metalness_tolerance;
   options.error_samples = error_samples;
   options.allow_outside_uris = allow_outside_uris;
   options.replace_input = replace_input;
@@ -67,7 +68,8 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
 #define GLTF_PBR_CONVERT_KEYWORDS                                                                         \
   py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence", \
                  "specular_tolerance"_a = 2.0, "png_compression"_a = 1, "jpeg_quality"_a = 90,            \
-                 "error_samples"_a = std::size_t{1} << 16, "allow_outside_uris"_a = false, "replace_input"_a = false
+                 "metalness_tolerance"_a = 0.01, "error_samples"_a = std::size_t{1} << 16,                \
+                 "allow_outside_uris"_a = false, "replace_input"_a = false
 
 }  // namespace
 
@@ -98,11 +100,11 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "convert",
       [](const fs::path& src, const fs::path& dst, const std::string& target, const std::string& solver,
          const std::string& error_model, double specular_tolerance, int png_compression, int jpeg_quality,
-         std::size_t error_samples, bool allow_outside_uris, bool replace_input,
+         double metalness_tolerance, std::size_t error_samples, bool allow_outside_uris, bool replace_input,
          const std::optional<fs::path>& preview) {
         const gltf_pbr::ConvertFileOptions options =
             convert_options(target, solver, error_model, specular_tolerance, png_compression, jpeg_quality,
-                            error_samples, allow_outside_uris, replace_input);
+                            metalness_tolerance, error_samples, allow_outside_uris, replace_input);
         gltf_pbr::FileConversion result;
         {
           py::gil_scoped_release released;
@@ -120,10 +122,11 @@ PYBIND11_MODULE(gltf_pbr, m) {
       "convert_many",
       [](const std::vector<std::tuple<fs::path, fs::path>>& jobs, unsigned threads, const std::string& target,
          const std::string& solver, const std::string& error_model, double specular_tolerance, int png_compression,
-         int jpeg_quality, std::size_t error_samples, bool allow_outside_uris, bool replace_input) {
+         int jpeg_quality, double metalness_tolerance, std::size_t error_samples, bool allow_outside_uris,
+         bool replace_input) {
         const gltf_pbr::ConvertFileOptions options =
             convert_options(target, solver, error_model, specular_tolerance, png_compression, jpeg_quality,
-                            error_samples, allow_outside_uris, replace_input);
+                            metalness_tolerance, error_samples, allow_outside_uris, replace_input);
         std::vector<gltf_pbr::ConvertJob> files;
         for (const auto& [src, dst] : jobs) files.push_back({src, dst, {}});
         std::vector<gltf_pbr::FileConversion> results;

@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <set>
@@ -132,8 +134,9 @@ class SpecGlossModel {
 
 // Converts, saves the result as `output` (in a scratch folder, never beside a shared asset) and
 // loads that back.
-Asset convert_save_reload(Asset& asset, const fs::path& output, ConversionReport* report = nullptr) {
-  const ConversionReport r = convert(asset);
+Asset convert_save_reload(Asset& asset, const fs::path& output, ConversionReport* report = nullptr,
+                          const ConvertOptions& options = {}) {
+  const ConversionReport r = convert(asset, options);
   if (report) *report = r;
   save_asset(asset, output);
   return load_asset(output);
@@ -183,6 +186,15 @@ Texel ramp_spec_gloss(int x, int y, int w, int h) {
 
 // Both baked textures hold, texel for texel, what the solver gives for the inputs (±1 for the
 // rounding of the PNG round trip).
+// Every metalness value the solve gives written as it is (no fewer_metalness_levels), for the
+// tests that compare a bake texel for texel with the solver.
+ConvertOptions every_metalness_value() {
+  ConvertOptions options;
+  options.metalness_tolerance = 0;
+  return options;
+}
+
+// The converted material's maps against the solver, texel for texel (converted with every_metalness_value()).
 void expect_baked(const Asset& converted, const Texels& diffuse, const Texels& spec_gloss) {
   const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
   ASSERT_GE(pbr.baseColorTexture.index, 0);
@@ -263,7 +275,8 @@ TEST(Textures, NonPowerOfTwoTexturesBakeAtTheirOwnSizeTexelForTexel) {
   Asset asset = built.save_and_load(scratch / "npot.gltf");
 
   ConversionReport report;
-  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  const Asset converted =
+      convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report, every_metalness_value());
   ASSERT_EQ(report.materials.size(), 1u);
   EXPECT_EQ(report.materials[0].texels, w * h);
   EXPECT_EQ(report.textures_baked, 2);
@@ -808,7 +821,8 @@ TEST(Textures, SharedTextureTransformIsCopiedOntoBothBakedTextures) {
   Asset asset = built.save_and_load(scratch / "transform.gltf");
 
   ConversionReport report;
-  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report);
+  const Asset converted =
+      convert_save_reload(asset, scratch / "converted" / asset.path.filename(), &report, every_metalness_value());
   ASSERT_EQ(report.materials.size(), 1u);
   EXPECT_EQ(report.materials[0].outcome, MaterialOutcome::Metalness);
   EXPECT_TRUE(no_spec_gloss(converted));
@@ -855,7 +869,8 @@ TEST(Textures, GlbInputKeepsBakedImagesInsideTheBinChunk) {
   ASSERT_TRUE(asset.binary);
   for (const auto& image : asset.model.images) EXPECT_GE(image.bufferView, 0);
 
-  const Asset converted = convert_save_reload(asset, scratch / "converted" / asset.path.filename());
+  const Asset converted =
+      convert_save_reload(asset, scratch / "converted" / asset.path.filename(), nullptr, every_metalness_value());
   EXPECT_TRUE(converted.binary);
   EXPECT_EQ(files_under(scratch / "converted").size(), 1u);  // the .glb stands alone
   for (const auto& image : converted.model.images) {
@@ -960,6 +975,151 @@ TEST(Textures, AMetallicRoughnessMapIndexedFromItsPlanesIsTheFileFilterPngWrites
         const Pixels decoded = decode_image(from_planes, "the indexed map");
         EXPECT_TRUE(decoded.bytes == t.metal_rough());
       }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Metalness levels
+// ---------------------------------------------------------------------------------------------
+
+// Texels times the squared distance each moves.
+double squared_move(const std::array<std::uint64_t, 256>& histogram, const std::array<std::uint8_t, 256>& to) {
+  double sum = 0;
+  for (size_t v = 0; v < 256; ++v)
+    sum += static_cast<double>(histogram[v]) * std::pow(static_cast<double>(to[v]) - static_cast<double>(v), 2);
+  return sum;
+}
+
+// The least squared move over every way to cut the held values (ascending) into `levels` runs, each
+// run moved to its weighted mean rounded to a byte, or to 0 or 255 where it holds that end.
+double least_squared_move(const std::array<std::uint64_t, 256>& histogram, int levels) {
+  std::vector<int> values;
+  for (int v = 0; v < 256; ++v)
+    if (histogram[static_cast<size_t>(v)]) values.push_back(v);
+  const int n = static_cast<int>(values.size());
+  double best = std::numeric_limits<double>::infinity();
+  // Each subset of the n - 1 gaps with levels - 1 cuts.
+  for (std::uint32_t cuts = 0; cuts < (1u << (n - 1)); ++cuts) {
+    if (std::popcount(cuts) != levels - 1) continue;
+    double sum = 0;
+    for (int first = 0; first < n;) {
+      int last = first;
+      while (last < n - 1 && !(cuts >> last & 1u)) ++last;
+      double weight = 0, weighted = 0;
+      for (int i = first; i <= last; ++i) {
+        const auto count = static_cast<double>(histogram[static_cast<size_t>(values[static_cast<size_t>(i)])]);
+        weight += count, weighted += count * values[static_cast<size_t>(i)];
+      }
+      const double level = values[static_cast<size_t>(first)] == 0    ? 0.0
+                           : values[static_cast<size_t>(last)] == 255 ? 255.0
+                                                                      : std::round(weighted / weight);
+      for (int i = first; i <= last; ++i)
+        sum += static_cast<double>(histogram[static_cast<size_t>(values[static_cast<size_t>(i)])]) *
+               std::pow(values[static_cast<size_t>(i)] - level, 2);
+      first = last + 1;
+    }
+    best = std::min(best, sum);
+  }
+  return best;
+}
+
+TEST(MetalnessLevels, AreTheLeastSquaredMoveOfAnySplitOfTheValuesWithPureDielectricAndMetalHeld) {
+  std::mt19937 random(11);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::array<std::uint64_t, 256> histogram{};
+    const int held = 3 + static_cast<int>(random() % 8);
+    for (int i = 0; i < held; ++i) histogram[random() % 256] = 1 + random() % 5000;
+    if (trial % 3 == 0) histogram[0] = 1 + random() % 5000;    // pure dielectric texels
+    if (trial % 4 == 0) histogram[255] = 1 + random() % 5000;  // pure metal texels
+    const int distinct = static_cast<int>(std::count_if(histogram.begin(), histogram.end(), [](auto c) { return c; }));
+    for (int levels = 2; levels <= 5; ++levels) {
+      SCOPED_TRACE("trial " + std::to_string(trial) + ", " + std::to_string(levels) + " levels of " +
+                   std::to_string(distinct));
+      const std::array<std::uint8_t, 256> to = metalness_levels(histogram, levels);
+      std::set<int> written;
+      int last = -1;
+      for (int v = 0; v < 256; ++v) {
+        if (!histogram[static_cast<size_t>(v)]) {
+          EXPECT_EQ(to[static_cast<size_t>(v)], v) << "a value no texel holds keeps itself";
+          continue;
+        }
+        written.insert(to[static_cast<size_t>(v)]);
+        EXPECT_GE(int{to[static_cast<size_t>(v)]}, last) << "the order of values is kept";
+        last = to[static_cast<size_t>(v)];
+      }
+      if (histogram[0]) {
+        EXPECT_EQ(to[0], 0);
+      }
+      if (histogram[255]) {
+        EXPECT_EQ(to[255], 255);
+      }
+      if (distinct <= levels) {
+        EXPECT_EQ(static_cast<int>(written.size()), distinct) << "nothing moves";
+        EXPECT_EQ(squared_move(histogram, to), 0.0);
+        continue;
+      }
+      EXPECT_LE(static_cast<int>(written.size()), levels);
+      EXPECT_NEAR(squared_move(histogram, to), least_squared_move(histogram, levels),
+                  1e-9 * least_squared_move(histogram, levels));
+    }
+  }
+}
+
+// Real assets whose metalness maps the solve fills with many values close together: written with
+// fewer, the map takes fewer bytes, the base colour stays as solved (the same bytes), a texel of
+// pure dielectric or pure metal keeps its value, the report counts the values the files hold, and
+// (PNG base colours, measured as baked) the error the report gives rises by at most the tolerance.
+// CesiumMan's base colour is a JPEG: its error is measured as written, the levels chosen on the
+// base colour as baked.
+TEST(MetalnessLevels, AMapWithFewerValuesIsSmallerWithinTheToleranceAndKeepsTheBaseColour) {
+  ScratchDir scratch;
+  for (const std::string model : {"BoxTextured", "BoxTexturedNonPowerOfTwo", "CesiumMan"}) {
+    SCOPED_TRACE(model);
+    const fs::path input = model_folder(model) / (model + ".gltf");
+    ConversionReport every_report, fewer_report;
+    Asset every_asset = load_asset(input), fewer_asset = load_asset(input);
+    const Asset every =
+        convert_save_reload(every_asset, scratch / model / "every.gltf", &every_report, every_metalness_value());
+    const Asset fewer = convert_save_reload(fewer_asset, scratch / model / "fewer.gltf", &fewer_report);
+    ASSERT_EQ(fewer_report.materials.size(), 1u);
+    const MaterialReport &e = every_report.materials[0], &f = fewer_report.materials[0];
+    EXPECT_FALSE(e.metalness_levels) << "not counted when every value is written";
+    ASSERT_TRUE(f.metalness_levels);
+    EXPECT_LT(f.metalness_levels->written, f.metalness_levels->solved);
+    EXPECT_LE(f.metalness_levels->written, 16);
+
+    const auto& ep = every.model.materials[0].pbrMetallicRoughness;
+    const auto& fp = fewer.model.materials[0].pbrMetallicRoughness;
+    const auto image_of = [](const Asset& a, int texture) {
+      return a.model.textures.at(static_cast<size_t>(texture)).source;
+    };
+    const auto bytes_of = [&](const Asset& a, int texture) {
+      const std::span<const std::uint8_t> bytes = encoded_image_bytes(a, image_of(a, texture));
+      return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
+    };
+    EXPECT_TRUE(bytes_of(every, ep.baseColorTexture.index) == bytes_of(fewer, fp.baseColorTexture.index));
+    EXPECT_LT(bytes_of(fewer, fp.metallicRoughnessTexture.index).size(),
+              bytes_of(every, ep.metallicRoughnessTexture.index).size());
+
+    const Pixels every_map = texture_pixels(every, ep.metallicRoughnessTexture.index);
+    const Pixels fewer_map = texture_pixels(fewer, fp.metallicRoughnessTexture.index);
+    ASSERT_EQ(every_map.bytes.size(), fewer_map.bytes.size());
+    std::set<int> every_values, fewer_values;
+    for (size_t i = 2; i < every_map.bytes.size(); i += static_cast<size_t>(every_map.channels)) {
+      every_values.insert(every_map.bytes[i]), fewer_values.insert(fewer_map.bytes[i]);
+      if (every_map.bytes[i] == 0 || every_map.bytes[i] == 255) {
+        EXPECT_EQ(fewer_map.bytes[i], every_map.bytes[i]);
+      }
+      EXPECT_EQ(fewer_map.bytes[i - 1], every_map.bytes[i - 1]) << "roughness is not moved";
+    }
+    EXPECT_EQ(static_cast<int>(every_values.size()), f.metalness_levels->solved);
+    EXPECT_EQ(static_cast<int>(fewer_values.size()), f.metalness_levels->written);
+
+    if (model != "CesiumMan") {
+      EXPECT_LE(
+          judged_error(*f.error_a, ErrorModel::NormalIncidence) - judged_error(*e.error_a, ErrorModel::NormalIncidence),
+          ConvertOptions().metalness_tolerance + 1e-9);
     }
   }
 }
