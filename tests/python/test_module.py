@@ -154,6 +154,26 @@ def test_convert_many_keeps_the_order_and_a_failure_stops_no_other_file(tmp_path
     assert not (tmp_path / "b").exists()
 
 
+def test_the_metalness_tolerance_is_the_tools(tmp_path):
+    box = SHARED / "assets/BoxTextured/specgloss/BoxTextured.gltf"
+    ran = tool("convert", box, "-o", tmp_path / "tool/Box.gltf", "--metalness-tolerance", "0",
+               "--report", tmp_path / "tool.json", "-q")
+    assert ran.returncode == 0, ran.stderr
+    by_tool = json.loads((tmp_path / "tool.json").read_text())["files"][0]
+
+    every = gltf_pbr.convert(box, tmp_path / "every/Box.gltf", metalness_tolerance=0)
+    fewer = gltf_pbr.convert(box, tmp_path / "fewer/Box.gltf")
+
+    assert "metalnessLevels" not in every["materials"][0]
+    levels = fewer["materials"][0]["metalnessLevels"]
+    assert levels["written"] < levels["solved"]
+    for key in ("input", "output"):
+        by_tool.pop(key), every.pop(key)
+    assert without_times(every) == without_times(by_tool)
+    with pytest.raises(ValueError, match="metalness_tolerance must be a finite number >= 0"):
+        gltf_pbr.convert(box, tmp_path / "x/Box.gltf", metalness_tolerance=-1)
+
+
 def test_options_are_checked_by_name():
     with pytest.raises(ValueError, match="target must be one of metalness, specular"):
         gltf_pbr.convert(DUCK, "/nonexistent/out.gltf", target="gold")
