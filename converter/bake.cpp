@@ -537,12 +537,12 @@ void bake_texels(const BakeInputs& in, const SolverSettings& settings, size_t ma
   // since a 64-bit division a texel was 2% of a 4096² bake's CPU).
   const auto take_sample = [&](size_t i, auto& solved, auto& cache) {
     const size_t sample = i / stride;
-    if (in.measure_as_written || in.keep_sampled_legacy) out.sampled_legacy[sample] = texels_of.legacy(i);
-    if (!in.measure_as_written)
-      cache.take_error(
-          solved, [&] { return texels_of.legacy(i); }, sample, set_error);
+    const bool kept = !out.sampled_legacy.empty();
+    if (kept) out.sampled_legacy[sample] = texels_of.legacy(i);
+    const auto legacy_texel = [&] { return kept ? out.sampled_legacy[sample] : texels_of.legacy(i); };
+    if (!in.measure_as_written) cache.take_error(solved, legacy_texel, sample, set_error);
     if (in.measure_extension_route) {
-      const SpecGloss legacy = texels_of.legacy(i);
+      const SpecGloss legacy = legacy_texel();
       const Reflectance route = specular_extension_reflectance(legacy.diffuse, legacy.specular);
       out.extension_a.set(sample, legacy_reflectance(legacy, LegacyReading::A), route);
       out.extension_b.set(sample, legacy_reflectance(legacy, LegacyReading::B), route);
@@ -685,6 +685,42 @@ size_t error_sample_stride(size_t texels, size_t max_error_samples) {
 
 namespace {
 
+// The distinct stored texels of a batch of at most 4096, by their values' bits (an open-addressed
+// table of 8192 slots, each the index plus one).
+class DistinctTexels {
+ public:
+  // `texel`'s index in `distinct`, to which it is added unless an equal one is there.
+  std::uint32_t index_of(const StoredTexel& texel, std::vector<StoredTexel>& distinct) {
+    const Key key = key_of(texel);
+    std::uint64_t h = 0;
+    for (const std::uint32_t word : key.words) h = h * 0x9E3779B97F4A7C15ull + word;
+    h = mix_bits(h);
+    for (size_t slot = h & (kSlots - 1);; slot = (slot + 1) & (kSlots - 1)) {
+      if (slots_[slot] == 0) {
+        distinct.push_back(texel);
+        keys_.push_back(key);
+        slots_[slot] = static_cast<std::uint32_t>(distinct.size());
+        return slots_[slot] - 1;
+      }
+      if (keys_[slots_[slot] - 1].words == key.words) return slots_[slot] - 1;
+    }
+  }
+
+ private:
+  static constexpr size_t kSlots = 8192;
+  struct Key {
+    std::array<std::uint32_t, 11> words;  // legacy diffuse, specular, glossiness, base, metalness
+  };
+  static Key key_of(const StoredTexel& t) {
+    const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
+    return {{bits(t.legacy.diffuse.r), bits(t.legacy.diffuse.g), bits(t.legacy.diffuse.b), bits(t.legacy.specular.r),
+             bits(t.legacy.specular.g), bits(t.legacy.specular.b), bits(t.legacy.glossiness), bits(t.base.r),
+             bits(t.base.g), bits(t.base.b), t.metalness}};
+  }
+  std::vector<std::uint32_t> slots_ = std::vector<std::uint32_t>(kSlots);
+  std::vector<Key> keys_;
+};
+
 // error_a and error_b of every `step`-th error sample of `texels` as the texel `store(texel,
 // stored)` writes (stored.legacy is the sample's legacy texel), in batches of bounded scratch on
 // the pool (ErrorAccumulator takes each sample once, from any thread).
@@ -698,18 +734,26 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
   constexpr size_t kBatch = 4096;
   parallel_dynamic(static_cast<std::int64_t>((samples + kBatch - 1) / kBatch), [&](std::int64_t index) {
     const size_t first = static_cast<size_t>(index) * kBatch;
-    std::vector<StoredTexel> batch(std::min(kBatch, samples - first));
-    for (size_t j = 0; j < batch.size(); ++j) {
+    const size_t count = std::min(kBatch, samples - first);
+    // Samples repeat (flat regions, few colours: BoxTextured's 65,536 samples hold a few thousand
+    // distinct texels), so each distinct stored texel of the batch is measured once.
+    std::vector<StoredTexel> distinct;
+    std::vector<std::uint32_t> distinct_of(count);
+    DistinctTexels seen;
+    for (size_t j = 0; j < count; ++j) {
       const size_t sample = (first + j) * step;
-      batch[j].legacy = texels.sampled_legacy[sample];
-      store(sample * texels.sample_stride, batch[j]);
+      StoredTexel texel;
+      texel.legacy = texels.sampled_legacy[sample];
+      store(sample * texels.sample_stride, texel);
+      distinct_of[j] = seen.index_of(texel, distinct);
     }
-    std::vector<StoredTexelErrors::DeltaE> delta_e(batch.size());
-    StoredTexelErrors().measure(batch, appearance, delta_e);
-    for (size_t j = 0; j < batch.size(); ++j) {
-      errors.first.set(first + j, delta_e[j][0], delta_e[j][1]);
-      if (appearance) errors.first.set_appearance(first + j, delta_e[j][4]);
-      errors.second.set(first + j, delta_e[j][2], delta_e[j][3]);
+    std::vector<StoredTexelErrors::DeltaE> delta_e(distinct.size());
+    StoredTexelErrors().measure(distinct, appearance, delta_e);
+    for (size_t j = 0; j < count; ++j) {
+      const StoredTexelErrors::DeltaE& e = delta_e[distinct_of[j]];
+      errors.first.set(first + j, e[0], e[1]);
+      if (appearance) errors.first.set_appearance(first + j, e[4]);
+      errors.second.set(first + j, e[2], e[3]);
     }
   });
   return errors;
@@ -838,22 +882,20 @@ size_t decision_step(size_t samples, size_t wanted) {
 
 }  // namespace
 
-MetalnessLevels fewer_metalness_levels(BakedTexels& texels, const SolverSettings& settings, double tolerance,
-                                       bool bake_measured) {
+MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+                                       const SolverSettings& settings, double tolerance) {
   const std::array<std::uint64_t, 256> histogram = histogram_of(texels.metalness);
   MetalnessLevels out;
   out.solved = out.written = static_cast<int>(
       std::count_if(histogram.begin(), histogram.end(), [](std::uint64_t count) { return count > 0; }));
   if (!(tolerance > 0) || texels.sampled_legacy.empty() || texels.metal_rough_constant) return out;
   const auto measure = [&](size_t step, const Levels* levels) {
-    return measure_samples(texels, settings, step,
-                           stored_as_written(texels, texels.base_color, texels.base_channels, levels));
+    return measure_samples(texels, settings, step, stored_as_written(texels, base, channels, levels));
   };
-  const auto judged = [&](const ErrorAccumulator& errors) {
-    return judged_error(ErrorAccumulator(errors).finish(), settings.error_model);
-  };
+  const auto judged = [&](const ErrorAccumulator& errors) { return errors.judged(settings.error_model); };
   // A candidate is looked at on kDecisionSamples of the samples first (most that fail, fail
-  // there), then judged on every sample, so the rise the report shows is the rise allowed.
+  // there), then judged on every sample against the figures measured on `base` (the caller's),
+  // so the rise the report shows is the rise allowed.
   const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
   std::optional<double> solved_part, solved;
   for (const int count : {2, 4, 8, 16}) {
@@ -863,7 +905,7 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, const SolverSettings
       if (!solved_part) solved_part = judged(measure(step, nullptr).first);
       if (!(judged(measure(step, &levels).first) - *solved_part <= tolerance)) continue;
     }
-    if (!solved) solved = judged(bake_measured ? texels.error_a : measure(1, nullptr).first);
+    if (!solved) solved = judged(texels.error_a);
     auto errors = measure(1, &levels);
     if (!(judged(errors.first) - *solved <= tolerance)) continue;
     std::uint8_t* const metalness = texels.metalness.data();

@@ -391,23 +391,12 @@ class Converter {
       // written (below), not by the bake.
       const bool error_as_written = jpeg_diffuse && !roughness_only;
       inputs.measure_as_written = error_as_written;
-      // The diffuse may be kept as it is instead of the JPEG baked from it (keeps_diffuse_as_it_is,
-      // VC: 130 of its 167 materials), which writes no metalness map: its levels wait for that.
-      const bool copy_possible = error_as_written && !legacy.spec_gloss_texture && diffuse_passes;
       const bool fewer_levels = !roughness_only && options_.metalness_tolerance > 0;
       inputs.keep_sampled_legacy = fewer_levels;
-      const auto choose_levels = [&] {
-        bake.metalness_levels = fewer_metalness_levels(bake.texels, options_.solver, options_.metalness_tolerance,
-                                                       /*bake_measured=*/!error_as_written);
-      };
       bake.times.decode_ms += ms_since(start);
 
       start = Clock::now();
       bake.texels = gltf_pbr::bake(inputs, options_.solver, options_.max_error_samples);
-      if (fewer_levels && !copy_possible) {
-        choose_levels();
-        if (!error_as_written) bake.texels.sampled_legacy = std::vector<SpecGloss>();  // freed
-      }
       bake.reuse_diffuse = !roughness_only && diffuse && diffuse_passes &&
                            legacy.diffuse_factor == glm::vec4(glm::vec3(1.0f), legacy.diffuse_factor.a) &&
                            bake.texels.equals_diffuse;
@@ -418,6 +407,18 @@ class Converter {
 
       start = Clock::now();
       BakedTexels& t = bake.texels;
+      // The metalness map's levels are chosen on the base colour as the file holds it: the bake's
+      // (here, before it goes to its encoder), or a JPEG's decode (below, once it is written; the
+      // diffuse may then be kept as it is instead, with no metalness map: VC's 130 of 167).
+      const auto choose_levels = [&](std::span<const std::uint8_t> base, int channels) {
+        bake.metalness_levels =
+            fewer_metalness_levels(t, base, channels, options_.solver, options_.metalness_tolerance);
+      };
+      const bool levels_wait = fewer_levels && error_as_written;
+      if (fewer_levels && !levels_wait) {
+        choose_levels(t.base_color, t.base_channels);
+        t.sampled_legacy = std::vector<SpecGloss>();  // freed
+      }
       // Images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
       const bool jpeg_base = t.alpha_constant && has_diffuse && jpeg_diffuse;
@@ -459,7 +460,6 @@ class Converter {
                                             options_.png_compression)
                               : deflate_baked_png(filter_baked_png(texels, &texels, t.width, t.height, 3));
       };
-      const bool levels_wait = fewer_levels && copy_possible;
       parallel_invoke(
           [&] {
             if (!levels_wait) encode_metal_rough();
@@ -480,19 +480,18 @@ class Converter {
           written = std::make_shared<Pixels>(decode_image(base_color, "the baked baseColor"));
           ++images_decoded_;
         }
-        if (written && copy_possible && keeps_diffuse_as_it_is(bake, *written)) {
+        if (written && !legacy.spec_gloss_texture && diffuse_passes && keeps_diffuse_as_it_is(bake, *written)) {
           measure_dielectric_copy(t, options_.solver);
           if (options_.keep_decoded && !metal_rough.empty())  // the preview's copy of a map not written
             options_.keep_decoded->forget(image_content_key(metal_rough));
           Bytes().swap(base_color), Bytes().swap(metal_rough);
         } else {
-          if (levels_wait) choose_levels(), encode_metal_rough();
-          if (written) {
-            measure_as_written(t, written->bytes, written->channels, options_.solver);
-            if (options_.keep_decoded) options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
-          } else {
-            measure_as_written(t, t.base_color, t.base_channels, options_.solver);
-          }
+          const std::span<const std::uint8_t> held = written ? written->bytes : t.base_color;
+          const int channels = written ? written->channels : t.base_channels;
+          measure_as_written(t, held, channels, options_.solver);
+          if (levels_wait) choose_levels(held, channels), encode_metal_rough();
+          if (written && options_.keep_decoded)
+            options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
         }
         t.sampled_legacy = std::vector<SpecGloss>();  // freed (assigning {} would keep the capacity)
       }

@@ -71,6 +71,15 @@ float appearance_delta_e(const Appearance& expected, const Appearance& actual) {
   return static_cast<float>(sum / kAppearanceRings);
 }
 
+double ErrorAccumulator::judged(ErrorModel model) const {
+  const auto mean = [](const std::vector<float>& values) {
+    double sum = 0.0;
+    for (const float v : values) sum += v;
+    return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+  };
+  return model == ErrorModel::Appearance && !appearance_.empty() ? mean(appearance_) : mean(diffuse_) + mean(f0_);
+}
+
 double judged_error(const ReflectanceError& error, ErrorModel model) {
   return model == ErrorModel::Appearance && error.appearance ? error.appearance->mean
                                                              : error.diffuse.mean + error.f0.mean;

@@ -35,6 +35,8 @@ class ErrorAccumulator {
   void set(size_t sample, float diffuse_delta_e, float f0_delta_e);  // already computed ΔE2000 values
   void set_appearance(size_t sample, float delta_e) { appearance_[sample] = delta_e; }
   ReflectanceError finish();  // reorders the samples (a partial sort for the percentile)
+  // judged_error (below) of the samples as they are, from their means alone: nothing reordered.
+  double judged(ErrorModel model) const;
   size_t samples() const { return diffuse_.size(); }
 
  private:

@@ -163,6 +163,10 @@ def test_the_metalness_tolerance_is_the_tools(tmp_path):
 
     every = gltf_pbr.convert(box, tmp_path / "every/Box.gltf", metalness_tolerance=0)
     fewer = gltf_pbr.convert(box, tmp_path / "fewer/Box.gltf")
+    ran = tool("convert", box, "-o", tmp_path / "tool-default/Box.gltf", "--report", tmp_path / "default.json", "-q")
+    assert ran.returncode == 0, ran.stderr
+    by_tool_default = json.loads((tmp_path / "default.json").read_text())["files"][0]
+    assert without_times(fewer)["materials"] == without_times(by_tool_default)["materials"]
 
     assert "metalnessLevels" not in every["materials"][0]
     levels = fewer["materials"][0]["metalnessLevels"]
