@@ -12,12 +12,16 @@ double delta_e(glm::vec3 a, glm::vec3 b) {
   return delta_e_2000(linear_srgb_to_lab(glm::dvec3(a)), linear_srgb_to_lab(glm::dvec3(b)));
 }
 
+double mean_of(const std::vector<float>& values) {
+  double sum = 0.0;
+  for (const float v : values) sum += v;
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
+
 ErrorStats summarise(std::vector<float>& values) {
   ErrorStats stats;
   if (values.empty()) return stats;
-  double sum = 0.0;
-  for (float v : values) sum += v;
-  stats.mean = sum / static_cast<double>(values.size());
+  stats.mean = mean_of(values);
   // Nearest-rank percentile.
   const size_t rank = std::min(values.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(values.size())));
   const auto p95 = values.begin() + static_cast<std::ptrdiff_t>(rank);
@@ -71,18 +75,22 @@ float appearance_delta_e(const Appearance& expected, const Appearance& actual) {
   return static_cast<float>(sum / kAppearanceRings);
 }
 
+namespace {
+
+double judged_of(ErrorModel model, double diffuse_mean, double f0_mean, std::optional<double> appearance_mean) {
+  return model == ErrorModel::Appearance && appearance_mean ? *appearance_mean : diffuse_mean + f0_mean;
+}
+
+}  // namespace
+
 double ErrorAccumulator::judged(ErrorModel model) const {
-  const auto mean = [](const std::vector<float>& values) {
-    double sum = 0.0;
-    for (const float v : values) sum += v;
-    return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
-  };
-  return model == ErrorModel::Appearance && !appearance_.empty() ? mean(appearance_) : mean(diffuse_) + mean(f0_);
+  return judged_of(model, mean_of(diffuse_), mean_of(f0_),
+                   appearance_.empty() ? std::nullopt : std::optional<double>(mean_of(appearance_)));
 }
 
 double judged_error(const ReflectanceError& error, ErrorModel model) {
-  return model == ErrorModel::Appearance && error.appearance ? error.appearance->mean
-                                                             : error.diffuse.mean + error.f0.mean;
+  return judged_of(model, error.diffuse.mean, error.f0.mean,
+                   error.appearance ? std::optional<double>(error.appearance->mean) : std::nullopt);
 }
 
 }  // namespace gltf_pbr
