@@ -184,8 +184,6 @@ Texel ramp_spec_gloss(int x, int y, int w, int h) {
   return {s, s, s, static_cast<std::uint8_t>(255 * y / std::max(1, h - 1))};
 }
 
-// Both baked textures hold, texel for texel, what the solver gives for the inputs (±1 for the
-// rounding of the PNG round trip).
 // Every metalness value the solve gives written as it is (no fewer_metalness_levels), for the
 // tests that compare a bake texel for texel with the solver.
 ConvertOptions every_metalness_value() {
@@ -194,7 +192,8 @@ ConvertOptions every_metalness_value() {
   return options;
 }
 
-// The converted material's maps against the solver, texel for texel (converted with every_metalness_value()).
+// Both baked textures hold, texel for texel, what the solver gives for the inputs (±1 for the
+// rounding of the PNG round trip); converted with every_metalness_value().
 void expect_baked(const Asset& converted, const Texels& diffuse, const Texels& spec_gloss) {
   const auto& pbr = converted.model.materials.at(0).pbrMetallicRoughness;
   ASSERT_GE(pbr.baseColorTexture.index, 0);
