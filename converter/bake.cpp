@@ -698,11 +698,10 @@ class DistinctTexels {
     for (size_t slot = h & (kSlots - 1);; slot = (slot + 1) & (kSlots - 1)) {
       if (slots_[slot] == 0) {
         distinct.push_back(texel);
-        keys_.push_back(key);
         slots_[slot] = static_cast<std::uint32_t>(distinct.size());
         return slots_[slot] - 1;
       }
-      if (keys_[slots_[slot] - 1].words == key.words) return slots_[slot] - 1;
+      if (key_of(distinct[slots_[slot] - 1]).words == key.words) return slots_[slot] - 1;
     }
   }
 
@@ -718,7 +717,6 @@ class DistinctTexels {
              bits(t.base.g), bits(t.base.b), t.metalness}};
   }
   std::vector<std::uint32_t> slots_ = std::vector<std::uint32_t>(kSlots);
-  std::vector<Key> keys_;
 };
 
 // error_a and error_b of every `step`-th error sample of `texels` as the texel `store(texel,
@@ -888,7 +886,7 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
   MetalnessLevels out;
   out.solved = out.written = static_cast<int>(
       std::count_if(histogram.begin(), histogram.end(), [](std::uint64_t count) { return count > 0; }));
-  if (!(tolerance > 0) || texels.sampled_legacy.empty() || texels.metal_rough_constant) return out;
+  if (!(tolerance > 0) || out.solved <= 2 || texels.sampled_legacy.empty() || texels.metal_rough_constant) return out;
   const auto measure = [&](size_t step, const Levels* levels) {
     return measure_samples(texels, settings, step, stored_as_written(texels, base, channels, levels));
   };
@@ -897,17 +895,14 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
   // there), then judged on every sample against the figures measured on `base` (the caller's),
   // so the rise the report shows is the rise allowed.
   const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
-  std::optional<double> solved_part, solved;
+  const double solved = judged(texels.error_a);
+  const double solved_part = step > 1 ? judged(measure(step, nullptr).first) : solved;
   for (const int count : {2, 4, 8, 16}) {
     if (count >= out.solved) break;
     const Levels levels = metalness_levels(histogram, count);
-    if (step > 1) {
-      if (!solved_part) solved_part = judged(measure(step, nullptr).first);
-      if (!(judged(measure(step, &levels).first) - *solved_part <= tolerance)) continue;
-    }
-    if (!solved) solved = judged(texels.error_a);
+    if (step > 1 && !(judged(measure(step, &levels).first) - solved_part <= tolerance)) continue;
     auto errors = measure(1, &levels);
-    if (!(judged(errors.first) - *solved <= tolerance)) continue;
+    if (!(judged(errors.first) - solved <= tolerance)) continue;
     std::uint8_t* const metalness = texels.metalness.data();
     parallel_for(0, static_cast<std::int64_t>(texels.metalness.size()),
                  [&](std::int64_t i) { metalness[i] = levels[metalness[i]]; });

@@ -489,7 +489,10 @@ class Converter {
           const std::span<const std::uint8_t> held = written ? written->bytes : t.base_color;
           const int channels = written ? written->channels : t.base_channels;
           measure_as_written(t, held, channels, options_.solver);
-          if (levels_wait) choose_levels(held, channels), encode_metal_rough();
+          if (levels_wait) {
+            choose_levels(held, channels);
+            encode_metal_rough();
+          }
           if (written && options_.keep_decoded)
             options_.keep_decoded->keep(image_content_key(base_color), std::move(written));
         }
