@@ -1,6 +1,9 @@
 // Saving: container round trips keep every byte that matters, and a failed save leaves nothing.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+#include <regex>
+
 #include "core/asset.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
@@ -42,6 +45,21 @@ void expect_same_content(const Asset& a, const Asset& b) {
   EXPECT_EQ(a.model.extensionsUsed, b.model.extensionsUsed);
 }
 
+// dump(2)'s text with each array that holds only numbers joined onto one line: a reference
+// written against the text rather than the tree, so it shares nothing with the writer.
+std::string text_with_numbers_inline(const std::string& text) {
+  static const std::regex numbers_array(R"(\[\n\s*(-?[0-9][-+.eE0-9]*(?:,\n\s*-?[0-9][-+.eE0-9]*)*)\n\s*\])");
+  static const std::regex separator(R"(,\n\s*)");
+  std::string out;
+  auto rest = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), numbers_array), end; it != end; ++it) {
+    out.append(rest, (*it)[0].first);
+    out += "[" + std::regex_replace((*it)[1].str(), separator, ", ") + "]";
+    rest = (*it)[0].second;
+  }
+  return out.append(rest, text.cend());
+}
+
 TEST(SaveRoundTrip, GltfToGlbToGltfKeepsAccessorAndImageBytes) {
   ScratchDir scratch;
   const fs::path input = assets_dir() / "Duck" / "specgloss" / "Duck.gltf";
@@ -65,6 +83,20 @@ TEST(SaveRoundTrip, UntouchedGltfSavedElsewhereKeepsItsResourceFilesByteForByte)
   EXPECT_EQ(read_file(scratch / "BoxTextured0.bin"), read_file(folder / "BoxTextured0.bin"));
   EXPECT_EQ(read_file(scratch / "CesiumLogoFlat.png"), read_file(folder / "CesiumLogoFlat.png"));
   expect_same_content(load_asset(folder / "BoxTextured.gltf"), load_asset(scratch / "BoxTextured.gltf"));
+}
+
+TEST(SaveRoundTrip, GltfJsonWritesEachArrayOfNumbersOnOneLineAndParsesToTheSameDocument) {
+  // 2CylinderEngine has node matrices, accessor min/max and colour factors: arrays of numbers.
+  ScratchDir scratch;
+  const fs::path input = assets_dir() / "2CylinderEngine" / "specgloss" / "2CylinderEngine.gltf";
+  Asset asset = load_asset(input);
+  save_asset(asset, scratch / "out.gltf");
+  const std::string text = test::read_text(scratch / "out.gltf");
+  const auto document = nlohmann::json::parse(text);
+  EXPECT_EQ(text, text_with_numbers_inline(document.dump(2)) + "\n");
+  EXPECT_EQ(text.find("[\n      1.0"), std::string::npos);
+  EXPECT_NE(text.find("\"matrix\": [1.0, 0.0, 0.0, 0.0, 0.0,"), std::string::npos);
+  expect_same_content(load_asset(input), load_asset(scratch / "out.gltf"));
 }
 
 TEST(SaveRoundTrip, FailedSaveLeavesNoFileBehind) {
