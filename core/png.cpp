@@ -380,6 +380,18 @@ Bytes png_head(int width, int height, ColourType colour_type, std::span<const st
 // The filters the encoder writes (PNG spec 9.2): None for palette images, Average for the rest.
 enum class RowFilter : std::uint8_t { None = 0, Average = 3 };
 
+// A row under the Average filter (PNG spec 9.2): each byte less the mean of the byte a pixel
+// before (0 at the left) and the one above. The pointers are declared apart so that the loop is
+// vectorised: through the caller's buffers the compiler reloaded them for every byte (Avocado's
+// 4096² base colour: 50 MB filtered a byte at a time, about 55 ms of CPU).
+void average_filtered_row(const std::uint8_t* __restrict row, const std::uint8_t* __restrict above,
+                          std::uint8_t* __restrict out, std::size_t row_bytes, std::size_t pixel_bytes) {
+  const std::size_t left_edge = std::min(pixel_bytes, row_bytes);
+  for (std::size_t i = 0; i < left_edge; ++i) out[i] = static_cast<std::uint8_t>(row[i] - (above[i] >> 1));
+  for (std::size_t i = left_edge; i < row_bytes; ++i)
+    out[i] = static_cast<std::uint8_t>(row[i] - ((row[i - pixel_bytes] + above[i]) >> 1));
+}
+
 // The filtered rows (PNG spec 7.3, 9), converted and filtered in parts on the pool into one
 // buffer; it is not zeroed. `row_of(y, scratch)` gives row y as stored: the caller's texels, or
 // their conversion written into `scratch` (room for a row). `release`, when given, holds the
@@ -405,15 +417,10 @@ void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::
       const std::uint8_t* const row = row_of(y, scratch.data() + (y - first) % 2 * row_bytes);
       std::uint8_t* const out = png.rows.get() + y * filtered_row_bytes;
       out[0] = static_cast<std::uint8_t>(filter);
-      std::uint8_t* const out_row = out + 1;
-      if (filter == RowFilter::None) {
-        std::memcpy(out_row, row, row_bytes);
-      } else {  // each byte less the mean of the byte a pixel before (0 at the left) and the one above
-        const std::size_t left_edge = std::min(pixel_bytes, row_bytes);
-        for (std::size_t i = 0; i < left_edge; ++i) out_row[i] = static_cast<std::uint8_t>(row[i] - (above[i] >> 1));
-        for (std::size_t i = left_edge; i < row_bytes; ++i)
-          out_row[i] = static_cast<std::uint8_t>(row[i] - ((row[i - pixel_bytes] + above[i]) >> 1));
-      }
+      if (filter == RowFilter::None)
+        std::memcpy(out + 1, row, row_bytes);
+      else
+        average_filtered_row(row, above, out + 1, row_bytes, pixel_bytes);
       above = row;
     }
   });
