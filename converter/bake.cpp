@@ -719,7 +719,7 @@ class DistinctTexels {
   std::vector<std::uint32_t> slots_ = std::vector<std::uint32_t>(kSlots);
 };
 
-// error_a and error_b of every `step`-th error sample of `texels` as the texel `store(texel,
+// error_a and error_b of every `step`-th error sample of `texels` as the texel `store(sample,
 // stored)` writes (stored.legacy is the sample's legacy texel), in batches of bounded scratch on
 // the pool (ErrorAccumulator takes each sample once, from any thread).
 template <typename Store>
@@ -742,7 +742,7 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
       const size_t sample = (first + j) * step;
       StoredTexel texel;
       texel.legacy = texels.sampled_legacy[sample];
-      store(sample * texels.sample_stride, texel);
+      store(sample, texel);
       distinct_of[j] = seen.index_of(texel, distinct);
     }
     std::vector<StoredTexelErrors::DeltaE> delta_e(distinct.size());
@@ -759,16 +759,21 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
 
 using Levels = std::array<std::uint8_t, 256>;
 
-// The texel as written: 8-bit sRGB `base` with `channels` a texel on the bake's grid, and the
-// bake's metalness, through `levels` where given (fewer_metalness_levels).
+// The texel as written: 8-bit sRGB `base` and the bake's metalness, through `levels` where given
+// (fewer_metalness_levels). `base` is the whole image on the bake's grid, `channels` (3 or 4) a
+// texel, or with `at_samples` the samples' base colours alone (base_at_samples: RGB).
 auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
-                       const Levels* levels = nullptr) {
+                       const Levels* levels = nullptr, bool at_samples = false) {
   const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
-  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
+  const size_t samples = (texel_count + texels.sample_stride - 1) / texels.sample_stride;
+  if (at_samples ? base.size() != samples * 3
+                 : (channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
     throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
-  return [&texels, base, channels, levels](size_t texel, StoredTexel& stored) {
-    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base[texel * static_cast<size_t>(channels) + c]);
-    const std::uint8_t metalness = texels.metalness[texel];
+  const size_t step = at_samples ? 1 : texels.sample_stride, stride = at_samples ? 3 : static_cast<size_t>(channels);
+  return [&texels, base, step, stride, levels](size_t sample, StoredTexel& stored) {
+    const std::uint8_t* const rgb = &base[sample * step * stride];
+    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(rgb[c]);
+    const std::uint8_t metalness = texels.metalness[sample * texels.sample_stride];
     stored.metalness = levels ? (*levels)[metalness] : metalness;
   };
 }
@@ -786,6 +791,16 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
                         const SolverSettings& settings) {
   std::tie(texels.error_a, texels.error_b) =
       measure_samples(texels, settings, 1, stored_as_written(texels, base, channels));
+}
+
+TexelBytes base_at_samples(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels) {
+  const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
+  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
+    throw std::logic_error("base_at_samples: the base colour is not 8-bit RGB(A) on the bake's grid");
+  TexelBytes out((texel_count + texels.sample_stride - 1) / texels.sample_stride * 3);
+  for (size_t sample = 0; sample < out.size() / 3; ++sample)
+    std::memcpy(&out[sample * 3], &base[sample * texels.sample_stride * static_cast<size_t>(channels)], 3);
+  return out;
 }
 
 void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings) {
@@ -880,7 +895,7 @@ size_t decision_step(size_t samples, size_t wanted) {
 
 }  // namespace
 
-MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
+MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std::uint8_t> base_at_samples,
                                        const SolverSettings& settings, double tolerance) {
   const std::array<std::uint64_t, 256> histogram = histogram_of(texels.metalness);
   MetalnessLevels out;
@@ -888,11 +903,11 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
       std::count_if(histogram.begin(), histogram.end(), [](std::uint64_t count) { return count > 0; }));
   if (!(tolerance > 0) || out.solved <= 2 || texels.sampled_legacy.empty() || texels.metal_rough_constant) return out;
   const auto measure = [&](size_t step, const Levels* levels) {
-    return measure_samples(texels, settings, step, stored_as_written(texels, base, channels, levels));
+    return measure_samples(texels, settings, step, stored_as_written(texels, base_at_samples, 3, levels, true));
   };
   const auto judged = [&](const ErrorAccumulator& errors) { return errors.judged(settings.error_model); };
   // A candidate is looked at on kDecisionSamples of the samples first (most that fail, fail
-  // there), then judged on every sample against the figures measured on `base` (the caller's),
+  // there), then judged on every sample against the figures measured on the same base colour,
   // so the rise the report shows is the rise allowed.
   const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
   const double solved = judged(texels.error_a);

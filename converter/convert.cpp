@@ -407,18 +407,17 @@ class Converter {
 
       start = Clock::now();
       BakedTexels& t = bake.texels;
-      // The metalness map's levels are chosen on the base colour as the file holds it: the bake's
-      // (here, before it goes to its encoder), or a JPEG's decode (below, once it is written; the
-      // diffuse may then be kept as it is instead, with no metalness map: VC's 130 of 167).
-      const auto choose_levels = [&](std::span<const std::uint8_t> base, int channels) {
+      // The metalness map's levels are chosen on the base colour as the file holds it, read at the
+      // error samples: the bake's (taken here, and chosen beside the base colour's deflate), or a
+      // JPEG's decode (below, once it is written; the diffuse may then be kept as it is instead,
+      // with no metalness map: VC's 130 of 167).
+      const auto choose_levels = [&](std::span<const std::uint8_t> base_at_samples) {
         bake.metalness_levels =
-            fewer_metalness_levels(t, base, channels, options_.solver, options_.metalness_tolerance);
+            fewer_metalness_levels(t, base_at_samples, options_.solver, options_.metalness_tolerance);
       };
       const bool levels_wait = fewer_levels && error_as_written;
-      if (fewer_levels && !levels_wait) {
-        choose_levels(t.base_color, t.base_channels);
-        t.sampled_legacy = std::vector<SpecGloss>();  // freed
-      }
+      const TexelBytes levels_base =
+          fewer_levels && !levels_wait ? base_at_samples(t, t.base_color, t.base_channels) : TexelBytes();
       // Images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
       const bool jpeg_base = t.alpha_constant && has_diffuse && jpeg_diffuse;
@@ -462,7 +461,12 @@ class Converter {
       };
       parallel_invoke(
           [&] {
-            if (!levels_wait) encode_metal_rough();
+            if (levels_wait) return;
+            if (fewer_levels) {
+              choose_levels(levels_base);
+              t.sampled_legacy = std::vector<SpecGloss>();  // freed
+            }
+            encode_metal_rough();
           },
           [&] {
             // A lossy source stays lossy: a JPEG diffuse bakes to JPEG (PNG would be several times larger).
@@ -490,7 +494,7 @@ class Converter {
           const int channels = written ? written->channels : t.base_channels;
           measure_as_written(t, held, channels, options_.solver);
           if (levels_wait) {
-            choose_levels(held, channels);
+            choose_levels(base_at_samples(t, held, channels));
             encode_metal_rough();
           }
           if (written && options_.keep_decoded)
