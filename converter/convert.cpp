@@ -432,8 +432,8 @@ class Converter {
       const std::span<const std::uint8_t> base_texels =
           rgb.empty() ? std::span<const std::uint8_t>(t.base_color) : std::span<const std::uint8_t>(rgb);
       // A PNG base colour's rows are filtered first, on the whole pool; its deflate (one thread)
-      // then runs beside the metallicRoughness map's encode. With a map a thread from the start,
-      // the 4096² base colour's 50 MB were filtered on one core.
+      // then runs beside the metalness levels' choice and the metallicRoughness map's encode. With
+      // a map a thread from the start, the 4096² base colour's 50 MB were filtered on one core.
       std::optional<BakedPng> base_png;
       std::optional<Bytes> base_by_palette;
       if (bake_base && diffuse_palette)
