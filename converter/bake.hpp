@@ -124,7 +124,8 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
 // The base colour `base` (8-bit sRGB, `channels` 3 or 4 a texel on the bake's grid) at each error
 // sample, RGB in sample order: what measuring the texels as written reads of it.
 TexelBytes base_at_samples(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels);
-// The level each metalness byte moves to with `levels` (at least 2) levels (see above), from the
+// The level each metalness byte moves to with `levels` (at least 2) levels: the clusters of
+// fewer_metalness_levels (above) at their means, before they are placed. From the
 // map's histogram (texels a value); a value no texel holds keeps itself.
 std::array<std::uint8_t, 256> metalness_levels(const std::array<std::uint64_t, 256>& histogram, int levels);
 

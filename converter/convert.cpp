@@ -416,7 +416,7 @@ class Converter {
             fewer_metalness_levels(t, base_at_samples, options_.solver, options_.metalness_tolerance);
       };
       const bool levels_wait = fewer_levels && error_as_written;
-      const TexelBytes levels_base =
+      TexelBytes levels_base =
           fewer_levels && !levels_wait ? base_at_samples(t, t.base_color, t.base_channels) : TexelBytes();
       // Images are added in a fixed order afterwards.
       Bytes metal_rough, base_color;
@@ -464,7 +464,7 @@ class Converter {
             if (levels_wait) return;
             if (fewer_levels) {
               choose_levels(levels_base);
-              t.sampled_legacy = std::vector<SpecGloss>();  // freed
+              t.sampled_legacy = std::vector<SpecGloss>(), levels_base = TexelBytes();  // freed
             }
             encode_metal_rough();
           },

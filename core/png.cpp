@@ -383,7 +383,7 @@ enum class RowFilter : std::uint8_t { None = 0, Average = 3 };
 // A row under the Average filter (PNG spec 9.2): each byte less the mean of the byte a pixel
 // before (0 at the left) and the one above. The pointers are declared apart so that the loop is
 // vectorised: through the caller's buffers the compiler reloaded them for every byte (Avocado's
-// 4096² base colour: 50 MB filtered a byte at a time, about 55 ms of CPU).
+// 4096² base colour: 50 MB filtered a byte at a time, about 55 ms of CPU; bench/RESULTS.md, session 38).
 void average_filtered_row(const std::uint8_t* __restrict row, const std::uint8_t* __restrict above,
                           std::uint8_t* __restrict out, std::size_t row_bytes, std::size_t pixel_bytes) {
   const std::size_t left_edge = std::min(pixel_bytes, row_bytes);

@@ -94,7 +94,6 @@ TEST(SaveRoundTrip, GltfJsonWritesEachArrayOfNumbersOnOneLineAndParsesToTheSameD
   const std::string text = test::read_text(scratch / "out.gltf");
   const auto document = nlohmann::json::parse(text);
   EXPECT_EQ(text, text_with_numbers_inline(document.dump(2)) + "\n");
-  EXPECT_EQ(text.find("[\n      1.0"), std::string::npos);
   EXPECT_NE(text.find("\"matrix\": [1.0, 0.0, 0.0, 0.0, 0.0,"), std::string::npos);
   expect_same_content(load_asset(input), load_asset(scratch / "out.gltf"));
 }

@@ -1116,8 +1116,9 @@ TEST(MetalnessLevels, AMapWithFewerValuesIsSmallerWithinTheToleranceAndKeepsTheB
     EXPECT_LE(
         judged_error(*f.error_a, ErrorModel::NormalIncidence) - judged_error(*e.error_a, ErrorModel::NormalIncidence),
         ConvertOptions().metalness_tolerance + 1e-9);
-    // Not a bound the rule gives but what its levels, each placed where its texels judge best,
-    // do on these three (issue 11: the error no higher than with every value written).
+    // Not a bound the rule gives but what its levels, each placed where the decision samples in
+    // it judge best, do on these three (issue 11's target: the error no higher than with every
+    // value written).
     EXPECT_LE(judged_error(*f.error_a, ErrorModel::NormalIncidence),
               judged_error(*e.error_a, ErrorModel::NormalIncidence));
   }
