@@ -902,108 +902,6 @@ size_t decision_step(size_t samples, size_t wanted) {
   return std::max<size_t>(1, samples / std::max<size_t>(1, wanted)) | 1;
 }
 
-// Moves each level of `levels` other than 0 and 255 to the value, within the range of values its
-// cluster holds, where the cluster's samples (every `step`-th error sample, with the base colour
-// at the samples) judge best. The solve's metalness minimises a linearised CIELAB objective with a
-// prior (solver.hpp), not ΔE2000 itself, so one value shared by a region can fit it better than the
-// values solved texel by texel: BoxTexturedNonPowerOfTwo's judged error (diffuse + F0 means, on
-// its 4,096 decision samples) is 12.162 as solved, 12.164 with its four clusters at their means
-// and 11.952 with them placed (bench/RESULTS.md, session 38). A sample's error depends on its own
-// metalness alone, so each cluster is placed on its own: at every value of a narrow range, else at
-// nine spread over it and then at every value around the best of those. Ties keep the mean.
-void place_levels(const BakedTexels& texels, std::span<const std::uint8_t> base_at_samples,
-                  const SolverSettings& settings, size_t step, const std::array<std::uint64_t, 256>& histogram,
-                  Levels& levels) {
-  struct Cluster {
-    int level = 0, lo = 0, hi = 0;
-    std::vector<StoredTexel> samples;  // its samples as written, metalness left to the trial
-    std::vector<float> weight;         // samples a distinct texel, in the order they are measured
-  };
-  std::vector<Cluster> clusters;
-  std::array<int, 256> cluster_of;
-  cluster_of.fill(-1);
-  for (int v = 0; v < 256; ++v) {
-    const int level = levels[static_cast<size_t>(v)];
-    if (histogram[static_cast<size_t>(v)] == 0 || level == 0 || level == 255) continue;
-    if (clusters.empty() || clusters.back().level != level) clusters.push_back({level, v, v, {}, {}});
-    clusters.back().hi = v;
-    cluster_of[static_cast<size_t>(v)] = static_cast<int>(clusters.size()) - 1;
-  }
-  for (size_t sample = 0; sample < texels.sampled_legacy.size(); sample += step) {
-    const int c = cluster_of[texels.metalness[sample * texels.sample_stride]];
-    if (c < 0) continue;
-    StoredTexel& texel = clusters[static_cast<size_t>(c)].samples.emplace_back();
-    texel.legacy = texels.sampled_legacy[sample];
-    for (int i = 0; i < 3; ++i) texel.base[i] = srgb8_to_linear(base_at_samples[sample * 3 + static_cast<size_t>(i)]);
-    texel.metalness = 0;
-  }
-  parallel_dynamic(static_cast<std::int64_t>(clusters.size()), [&](std::int64_t index) {
-    Cluster& cluster = clusters[static_cast<size_t>(index)];
-    // Equal texels measured once (flat regions repeat them): sorted by their bits, runs merged.
-    const auto bits = [](const StoredTexel& t) {
-      const auto b = [](float f) { return std::bit_cast<std::uint32_t>(f); };
-      return std::array<std::uint32_t, 10>{b(t.legacy.diffuse.r),
-                                           b(t.legacy.diffuse.g),
-                                           b(t.legacy.diffuse.b),
-                                           b(t.legacy.specular.r),
-                                           b(t.legacy.specular.g),
-                                           b(t.legacy.specular.b),
-                                           b(t.legacy.glossiness),
-                                           b(t.base.r),
-                                           b(t.base.g),
-                                           b(t.base.b)};
-    };
-    if (cluster.samples.empty() || cluster.lo == cluster.hi) return;  // nothing to judge by, or to move to
-    std::sort(cluster.samples.begin(), cluster.samples.end(),
-              [&](const StoredTexel& a, const StoredTexel& b) { return bits(a) < bits(b); });
-    std::vector<StoredTexel> distinct;
-    for (const StoredTexel& texel : cluster.samples) {
-      if (!distinct.empty() && bits(distinct.back()) == bits(texel)) {
-        ++cluster.weight.back();
-        continue;
-      }
-      distinct.push_back(texel);
-      cluster.weight.push_back(1.0f);
-    }
-    const bool appearance = settings.error_model == ErrorModel::Appearance;
-    StoredTexelErrors errors;
-    std::vector<StoredTexelErrors::DeltaE> delta_e(distinct.size());
-    const auto judged_at = [&](int value) {
-      for (StoredTexel& texel : distinct) texel.metalness = static_cast<std::uint8_t>(value);
-      errors.measure(distinct, appearance, delta_e);
-      double sum = 0.0;
-      for (size_t j = 0; j < distinct.size(); ++j)
-        sum += cluster.weight[j] * judged_of(settings.error_model, delta_e[j][0], delta_e[j][1],
-                                             appearance ? std::optional<double>(delta_e[j][4]) : std::nullopt);
-      return sum;
-    };
-    int best = cluster.level;
-    double best_sum = judged_at(best);
-    std::array<bool, 256> tried{};
-    tried[static_cast<size_t>(best)] = true;
-    const auto consider = [&](int value) {
-      if (value < cluster.lo || value > cluster.hi || tried[static_cast<size_t>(value)]) return;
-      tried[static_cast<size_t>(value)] = true;
-      const double sum = judged_at(value);
-      if (sum < best_sum) best = value, best_sum = sum;
-    };
-    constexpr int kSpread = 8;
-    const int range = cluster.hi - cluster.lo;
-    if (range <= 2 * kSpread) {
-      for (int value = cluster.lo; value <= cluster.hi; ++value) consider(value);
-    } else {
-      const int spacing = (range + kSpread - 1) / kSpread;
-      for (int i = 0; i <= kSpread; ++i) consider(cluster.lo + range * i / kSpread);
-      const int around = best;
-      for (int value = around - spacing + 1; value < around + spacing; ++value) consider(value);
-    }
-    cluster.level = best;
-  });
-  for (int v = 0; v < 256; ++v)
-    if (cluster_of[static_cast<size_t>(v)] >= 0)
-      levels[static_cast<size_t>(v)] = static_cast<std::uint8_t>(clusters[static_cast<size_t>(cluster_of[v])].level);
-}
-
 }  // namespace
 
 MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std::uint8_t> base_at_samples,
@@ -1021,30 +919,20 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
   const auto judged = [&](const ErrorAccumulator& errors) { return errors.judged(settings.error_model); };
   // A candidate is looked at on kDecisionSamples of the samples first (most that fail, fail
   // there), then judged on every sample against the figures measured on the same base colour,
-  // so the rise the report shows is the rise allowed. Levels placed on the decision samples are
-  // tried before the clusters' means: a cluster that few of them fall in may be placed where the
-  // rest of its texels fit worse.
+  // so the rise the report shows is the rise allowed.
   const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
   const double solved = judged(texels.error_a);
   const double solved_part = step > 1 ? judged(measure(step, nullptr).first) : solved;
-  const auto meets = [&](const Levels& levels) -> std::optional<std::pair<ErrorAccumulator, ErrorAccumulator>> {
-    if (step > 1 && !(judged(measure(step, &levels).first) - solved_part <= tolerance)) return std::nullopt;
-    auto errors = measure(1, &levels);
-    if (!(judged(errors.first) - solved <= tolerance)) return std::nullopt;
-    return errors;
-  };
   for (const int count : {2, 4, 8, 16}) {
     if (count >= out.solved) break;
-    const Levels means = metalness_levels(histogram, count);
-    Levels levels = means;
-    place_levels(texels, base_at_samples, settings, step, histogram, levels);
-    auto errors = meets(levels);
-    if (!errors && levels != means) errors = meets(levels = means);
-    if (!errors) continue;
+    const Levels levels = metalness_levels(histogram, count);
+    if (step > 1 && !(judged(measure(step, &levels).first) - solved_part <= tolerance)) continue;
+    auto errors = measure(1, &levels);
+    if (!(judged(errors.first) - solved <= tolerance)) continue;
     std::uint8_t* const metalness = texels.metalness.data();
     parallel_for(0, static_cast<std::int64_t>(texels.metalness.size()),
                  [&](std::int64_t i) { metalness[i] = levels[metalness[i]]; });
-    std::tie(texels.error_a, texels.error_b) = std::move(*errors);
+    std::tie(texels.error_a, texels.error_b) = std::move(errors);
     std::array<bool, 256> held{};
     for (size_t v = 0; v < 256; ++v)
       if (histogram[v] > 0) held[levels[v]] = true;

@@ -100,19 +100,18 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
 void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings);
 
 // A metalness map written with fewer distinct values than the solve gave where that costs almost
-// no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 2: 5,586 bytes
-// to 1,901). The values move to the fewest levels of 2, 4, 8 or 16 (fewer than the map holds)
+// no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 4: 5,586 bytes
+// to 2,566). The values move to the fewest levels of 2, 4, 8 or 16 (fewer than the map holds)
 // whose judged_error, with the base colour as the file holds it kept (`base_at_samples`, read at
 // the error samples only, so the image may go to its encoder meanwhile), rises by at most
 // `tolerance` ΔE2000 on every error sample; a candidate is looked at on kDecisionSamples of them
-// first, and one that rises by more there is not tried on all. A candidate's clusters are the 1-D
-// k-means of the map's values, each weighed by its texels, solved exactly by dynamic programming
-// over the sorted values (Wang & Song 2011, "Ckmeans.1d.dp: optimal k-means clustering in one
-// dimension"); each cluster's level is then the value in its range where its samples judge best
-// (place_levels, bake.cpp: the solve's own values are not the ΔE2000 optimum, so the error often
-// falls), except that a cluster holding 0 or 255 stays there: a pure dielectric or a pure metal
-// stays exact. Needs the samples' legacy texels (keep_sampled_legacy or measure_as_written) and
-// error_a and error_b as measured on that base colour with the map as solved; they become the
+// first, and one that rises by more there is not tried on all. The levels are the 1-D k-means of
+// the map's values, each weighed by its texels, solved exactly by dynamic programming over the
+// sorted values (Wang & Song 2011, "Ckmeans.1d.dp: optimal k-means clustering in one dimension"),
+// except that a level holding 0 or 255 stays there: a pure dielectric or a pure metal stays exact.
+// Levels moved within their clusters to lower this figure further made the rendered look worse
+// (bench/RESULTS.md, session 38), so they stay at the means. Needs the samples' legacy texels (keep_sampled_legacy or
+// measure_as_written) and error_a and error_b as measured on that base colour with the map as solved; they become the
 // figures of the map as written. Distinct values before and after; equal when the map is left as
 // it was.
 inline constexpr size_t kDecisionSamples = 4096;
@@ -124,8 +123,7 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
 // The base colour `base` (8-bit sRGB, `channels` 3 or 4 a texel on the bake's grid) at each error
 // sample, RGB in sample order: what measuring the texels as written reads of it.
 TexelBytes base_at_samples(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels);
-// The level each metalness byte moves to with `levels` (at least 2) levels: the clusters of
-// fewer_metalness_levels (above) at their means, before they are placed. From the
+// The level each metalness byte moves to with `levels` (at least 2) levels (see above), from the
 // map's histogram (texels a value); a value no texel holds keeps itself.
 std::array<std::uint8_t, 256> metalness_levels(const std::array<std::uint64_t, 256>& histogram, int levels);
 

@@ -75,9 +75,13 @@ float appearance_delta_e(const Appearance& expected, const Appearance& actual) {
   return static_cast<float>(sum / kAppearanceRings);
 }
 
-double judged_of(ErrorModel model, double diffuse, double f0, std::optional<double> appearance) {
-  return model == ErrorModel::Appearance && appearance ? *appearance : diffuse + f0;
+namespace {
+
+double judged_of(ErrorModel model, double diffuse_mean, double f0_mean, std::optional<double> appearance_mean) {
+  return model == ErrorModel::Appearance && appearance_mean ? *appearance_mean : diffuse_mean + f0_mean;
 }
+
+}  // namespace
 
 double ErrorAccumulator::judged(ErrorModel model) const {
   return judged_of(model, mean_of(diffuse_), mean_of(f0_),

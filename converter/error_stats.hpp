@@ -50,8 +50,5 @@ float appearance_delta_e(const Appearance& expected, const Appearance& actual);
 // model's own: the sum of the diffuse and F0 means at normal incidence, the appearance mean under
 // the appearance model (where measured).
 double judged_error(const ReflectanceError& error, ErrorModel model);
-// The same rule on the diffuse, F0 and appearance ΔE2000 means, or on one sample's values: it is
-// linear in them, so its sum over samples is their count times the figure of their means.
-double judged_of(ErrorModel model, double diffuse, double f0, std::optional<double> appearance);
 
 }  // namespace gltf_pbr
