@@ -26,8 +26,8 @@ struct ConvertArgs {
   std::vector<std::string> inputs;
   std::string output, format, report, preview;
   ConversionArgs conversion;
-  // The options bound straight to their field; target, solver, error model and preview lint come
-  // from their names in run.
+  // The options bound straight to their field; target, solver, error model, metalness tolerance and
+  // preview lint come from `conversion` and their names in run.
   ConvertFileOptions file;
   bool quiet = false, verbose = false, isolate = false;
   double file_timeout = 0;        // seconds, with --isolate; 0: none
@@ -100,7 +100,7 @@ std::vector<std::string> child_options(const ConvertArgs& args) {
                                    "--jpeg-quality",
                                    std::to_string(args.file.jpeg_quality),
                                    "--metalness-tolerance",
-                                   exact_text(args.file.metalness_tolerance),
+                                   exact_text(args.conversion.metalness_tolerance),
                                    "--error-samples",
                                    std::to_string(args.file.error_samples),
                                    "--max-image-pixels",
@@ -125,6 +125,7 @@ int run(const ConvertArgs& args) {
   options.target = *target_from_name(args.conversion.target);  // CLI::IsMember checked the names
   options.solver = *solver_effort_from_name(args.conversion.solver);
   options.error_model = *error_model_from_name(args.conversion.error_model);
+  options.metalness_tolerance = args.conversion.metalness_tolerance;
   if (!args.preview_lint.empty()) options.preview_lint = lint_profile_from_name(args.preview_lint);
   // Given or not: a --shard 0/1 run is the whole input, and still writes what merge-reports reads.
   const bool sharded = !args.pipeline.shard.empty();
@@ -240,12 +241,6 @@ void declare_options(CLI::App& cmd, ConvertArgs& args) {
   cmd.add_option("--jpeg-quality", args.file.jpeg_quality,
                  "quality 1-100 of base colours baked from JPEG diffuse textures")
       ->check(CLI::Range(1, 100))
-      ->capture_default_str();
-  cmd.add_option("--metalness-tolerance", args.file.metalness_tolerance,
-                 "ΔE2000 a material's error (the error model's figure) may rise by where its metalness map is "
-                 "written with fewer distinct values: 2, 4, 8 or 16 levels, the fewest that stay within it (smaller "
-                 "files; the report gives metalnessLevels); 0 writes every value the solve gave")
-      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd.add_option("--error-samples", args.file.error_samples,
                  "texels sampled per texture for the error statistics (0: all)")

@@ -119,6 +119,13 @@ void add_conversion_options(CLI::App& command, ConversionArgs& args) {
                   "over view angles, both lobes together (closer on some assets, farther on others: see README)")
       ->check(CLI::IsMember({"appearance", "normal-incidence"}))
       ->capture_default_str();
+  command
+      .add_option("--metalness-tolerance", args.metalness_tolerance,
+                  "ΔE2000 a material's error (the error model's figure) may rise by where its metalness map is "
+                  "written with fewer distinct values: 2, 4, 8 or 16 levels, the fewest that stay within it "
+                  "(smaller files; convert's report gives metalnessLevels); 0 writes every value the solve gave")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
 }
 
 void add_batch_options(CLI::App& command, const std::string& verb, unsigned& jobs, bool& allow_outside) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "gltf_pbr/gltf_pbr.hpp"
+
 namespace CLI {
 class App;
 }
@@ -25,10 +27,11 @@ std::string counted(std::size_t count, const std::string& noun);
 // --max-image-pixels N, for every command that decodes images (core/image.hpp's limit).
 void add_image_limit_option(CLI::App& command);
 
-// The conversion's settings, as convert and preview take them (--target, --solver, --error-model),
-// spelled as api/names.cpp names them; CLI11 checks the names.
+// The conversion's settings, as convert and preview take them (--target, --solver, --error-model,
+// --metalness-tolerance), the names spelled as api/names.cpp spells them; CLI11 checks them.
 struct ConversionArgs {
   std::string target = "metalness", solver = "balanced", error_model = "normal-incidence";
+  double metalness_tolerance = ConvertFileOptions().metalness_tolerance;
 };
 void add_conversion_options(CLI::App& command, ConversionArgs& args);
 

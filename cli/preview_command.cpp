@@ -52,8 +52,9 @@ std::string settings(const PreviewArgs& args, const preview::PreviewOptions& opt
        << " pitch " << args.pitch << " fov " << args.fov << " camera " << args.camera << " brdf " << args.brdf
        << " legacy-reading " << args.legacy_reading << " tone-map " << args.tone_map << " exposure " << args.exposure
        << " sun " << !args.no_sun << " target " << args.conversion.target << " solver " << args.conversion.solver
-       << " error-model " << args.conversion.error_model << " max-image-pixels " << max_image_pixels()
-       << " allow-outside " << args.allow_outside << " lint " << (args.lint.empty() ? "off" : args.lint) << " env ";
+       << " error-model " << args.conversion.error_model << " metalness-tolerance "
+       << args.conversion.metalness_tolerance << " max-image-pixels " << max_image_pixels() << " allow-outside "
+       << args.allow_outside << " lint " << (args.lint.empty() ? "off" : args.lint) << " env ";
   // The path too: the report names it.
   if (!args.environment.empty())
     text << args.environment << " " << cache.digest(args.environment).value_or("unreadable");
@@ -174,6 +175,7 @@ int run(const PreviewArgs& args) {
   options.convert.target = *target_from_name(args.conversion.target);  // CLI::IsMember checked the names
   options.convert.solver = solver_preset(*solver_effort_from_name(args.conversion.solver),
                                          *error_model_from_name(args.conversion.error_model));
+  options.convert.metalness_tolerance = args.conversion.metalness_tolerance;
   if (args.camera != "auto") {
     if (args.camera == "gltf") {
       options.gltf_camera = 0;

@@ -110,10 +110,10 @@ void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings
 // sorted values (Wang & Song 2011, "Ckmeans.1d.dp: optimal k-means clustering in one dimension"),
 // except that a level holding 0 or 255 stays there: a pure dielectric or a pure metal stays exact.
 // Levels moved within their clusters to lower this figure further made the rendered look worse
-// (bench/RESULTS.md, session 38), so they stay at the means. Needs the samples' legacy texels (keep_sampled_legacy or
-// measure_as_written) and error_a and error_b as measured on that base colour with the map as solved; they become the
-// figures of the map as written. Distinct values before and after; equal when the map is left as
-// it was.
+// (bench/RESULTS.md, session 38), so they stay at the means. Needs the samples' legacy texels
+// (keep_sampled_legacy or measure_as_written) and error_a and error_b as measured on that base
+// colour with the map as solved; they become the figures of the map as written. Distinct values
+// before and after; equal when the map is left as it was.
 inline constexpr size_t kDecisionSamples = 4096;
 struct MetalnessLevels {
   int solved = 0, written = 0;

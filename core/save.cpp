@@ -167,10 +167,10 @@ class FileNamer {
   std::set<std::string> taken_;
 };
 
-// A .gltf's JSON laid out as dump(2) lays it out, except that an array of numbers stays on one line:
-// a matrix, an accessor's min and max or a colour factor reads as the vector it is, in about a
-// third of the bytes (BoxTexturedNonPowerOfTwo's JSON: 2,810 -> 2,434 bytes; bench/RESULTS.md,
-// session 38).
+// A .gltf's JSON laid out as dump(2) lays it out, except that an array of numbers stays on one
+// line: a matrix, an accessor's min and max or a colour factor reads as the vector it is, each in
+// about a third of its bytes (BoxTexturedNonPowerOfTwo's JSON: 2,810 -> 2,434 bytes;
+// bench/RESULTS.md, session 38).
 void append_gltf_json(const nlohmann::json& value, int depth, std::string& out) {
   constexpr int kIndent = 2;
   const auto indent = [&](int level) { out.append(static_cast<size_t>(level * kIndent), ' '); };

@@ -85,6 +85,22 @@ TEST(PreviewCommand, LintPutsTheMaterialIssuesOfBothSidesIntoTheReport) {
   fs::remove_all(out);
 }
 
+// The in-memory conversion takes convert's --metalness-tolerance: BoxTextured's metalness map,
+// every value against the default's four levels, draws the same before and another after; a
+// negative tolerance is bad usage.
+TEST(PreviewCommand, TakesConvertsMetalnessTolerance) {
+  const fs::path out = fs::temp_directory_path() / "gltf-pbr-preview-command-test-tolerance";
+  fs::remove_all(out);
+  const std::string input = (fs::path(GLTF_PBR_SHARED_DIR) / "assets/BoxTextured/specgloss/BoxTextured.gltf").string();
+  ASSERT_EQ(run_preview(input + " -o " + (out / "every").string() + " --size 128 --metalness-tolerance 0"), 0);
+  ASSERT_EQ(run_preview(input + " -o " + (out / "default").string() + " --size 128"), 0);
+  EXPECT_EQ(read_file(out / "every" / "before.png"), read_file(out / "default" / "before.png"));
+  EXPECT_NE(read_file(out / "every" / "after.png"), read_file(out / "default" / "after.png"));
+  EXPECT_EQ(run_preview(input + " -o " + (out / "bad").string() + " --metalness-tolerance -1"), 2);
+  EXPECT_FALSE(fs::exists(out / "bad" / "report.json"));
+  fs::remove_all(out);
+}
+
 TEST(PreviewCommand, BadInputExitsOneAndBadUsageTwo) {
   const fs::path out = fs::temp_directory_path() / "gltf-pbr-preview-command-test-bad";
   EXPECT_EQ(run_preview("/nonexistent/model.gltf -o " + out.string()), 1);
