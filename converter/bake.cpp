@@ -759,31 +759,25 @@ std::pair<ErrorAccumulator, ErrorAccumulator> measure_samples(const BakedTexels&
 
 using Levels = std::array<std::uint8_t, 256>;
 
-// The bake's metalness of error sample `sample`, through `levels` where given (fewer_metalness_levels).
-std::uint8_t metalness_as_written(const BakedTexels& texels, size_t sample, const Levels* levels) {
-  const std::uint8_t metalness = texels.metalness[sample * texels.sample_stride];
-  return levels ? (*levels)[metalness] : metalness;
-}
-
-// The texel as written: 8-bit sRGB `base` with `channels` (3 or 4) a texel on the bake's grid,
-// and the bake's metalness, through `levels` where given.
-auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
-                       const Levels* levels = nullptr) {
+// The bytes from one error sample's texel to the next in `base`, checked to be 8-bit RGB(A),
+// `channels` a texel, on the bake's grid.
+size_t sample_bytes_on_grid(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels) {
   const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
   if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
-    throw std::logic_error("measure_as_written: the base colour is not 8-bit RGB(A) on the bake's grid");
-  return [&texels, base, channels, levels](size_t sample, StoredTexel& stored) {
-    const std::uint8_t* const rgb = &base[sample * texels.sample_stride * static_cast<size_t>(channels)];
-    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(rgb[c]);
-    stored.metalness = metalness_as_written(texels, sample, levels);
-  };
+    throw std::logic_error("bake: the base colour measured is not 8-bit RGB(A) on the bake's grid");
+  return texels.sample_stride * static_cast<size_t>(channels);
 }
 
-// The same from the base colour at the error samples alone (base_at_samples).
-auto stored_at_samples(const BakedTexels& texels, std::span<const std::uint8_t> base_at_samples, const Levels* levels) {
-  return [&texels, base_at_samples, levels](size_t sample, StoredTexel& stored) {
-    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(base_at_samples[sample * 3 + static_cast<size_t>(c)]);
-    stored.metalness = metalness_as_written(texels, sample, levels);
+// The texel as written: its 8-bit sRGB base colour, error sample s's at base[s × sample_bytes]
+// (the whole image, sample_bytes_on_grid; or base_at_samples, 3), and the bake's metalness,
+// through `levels` where given (fewer_metalness_levels).
+auto stored_as_written(const BakedTexels& texels, std::span<const std::uint8_t> base, size_t sample_bytes,
+                       const Levels* levels = nullptr) {
+  return [&texels, base, sample_bytes, levels](size_t sample, StoredTexel& stored) {
+    const std::uint8_t* const rgb = &base[sample * sample_bytes];
+    for (int c = 0; c < 3; ++c) stored.base[c] = srgb8_to_linear(rgb[c]);
+    const std::uint8_t metalness = texels.metalness[sample * texels.sample_stride];
+    stored.metalness = levels ? (*levels)[metalness] : metalness;
   };
 }
 
@@ -798,17 +792,16 @@ void stored_as_dielectric_copy(size_t, StoredTexel& stored) {
 
 void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base, int channels,
                         const SolverSettings& settings) {
-  std::tie(texels.error_a, texels.error_b) =
-      measure_samples(texels, settings, 1, stored_as_written(texels, base, channels));
+  std::tie(texels.error_a, texels.error_b) = measure_samples(
+      texels, settings, 1, stored_as_written(texels, base, sample_bytes_on_grid(texels, base, channels)));
 }
 
 TexelBytes base_at_samples(const BakedTexels& texels, std::span<const std::uint8_t> base, int channels) {
+  const size_t sample_bytes = sample_bytes_on_grid(texels, base, channels);
   const size_t texel_count = static_cast<size_t>(texels.width) * static_cast<size_t>(texels.height);
-  if ((channels != 3 && channels != 4) || base.size() != texel_count * static_cast<size_t>(channels))
-    throw std::logic_error("base_at_samples: the base colour is not 8-bit RGB(A) on the bake's grid");
   TexelBytes out((texel_count + texels.sample_stride - 1) / texels.sample_stride * 3);
   for (size_t sample = 0; sample < out.size() / 3; ++sample)
-    std::memcpy(&out[sample * 3], &base[sample * texels.sample_stride * static_cast<size_t>(channels)], 3);
+    std::memcpy(&out[sample * 3], &base[sample * sample_bytes], 3);
   return out;
 }
 
@@ -914,7 +907,7 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
   if (base_at_samples.size() != texels.sampled_legacy.size() * 3)
     throw std::logic_error("fewer_metalness_levels: the base colour is not RGB at each error sample");
   const auto measure = [&](size_t step, const Levels* levels) {
-    return measure_samples(texels, settings, step, stored_at_samples(texels, base_at_samples, levels));
+    return measure_samples(texels, settings, step, stored_as_written(texels, base_at_samples, 3, levels));
   };
   const auto judged = [&](const ErrorAccumulator& errors) { return errors.judged(settings.error_model); };
   // A candidate is looked at on kDecisionSamples of the samples first (most that fail, fail
@@ -946,7 +939,9 @@ WrittenAgainstCopy written_against_copy(const BakedTexels& texels, std::span<con
                                         const SolverSettings& settings, size_t samples) {
   const size_t step = decision_step(texels.sampled_legacy.size(), samples);
   WrittenAgainstCopy out;
-  out.written = measure_samples(texels, settings, step, stored_as_written(texels, base, channels)).first.finish();
+  out.written = measure_samples(texels, settings, step,
+                                stored_as_written(texels, base, sample_bytes_on_grid(texels, base, channels)))
+                    .first.finish();
   out.copy = measure_samples(texels, settings, step, stored_as_dielectric_copy).first.finish();
   out.samples = (texels.sampled_legacy.size() + step - 1) / step;
   return out;
