@@ -177,6 +177,13 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
 
 }  // namespace
 
+// The library converts as the tool does when left to its defaults.
+static_assert(ConvertFileOptions{}.specular_tolerance == ConvertOptions{}.specular_tolerance &&
+              ConvertFileOptions{}.png_compression == ConvertOptions{}.png_compression &&
+              ConvertFileOptions{}.jpeg_quality == ConvertOptions{}.jpeg_quality &&
+              ConvertFileOptions{}.metalness_tolerance == ConvertOptions{}.metalness_tolerance &&
+              ConvertFileOptions{}.error_samples == ConvertOptions{}.max_error_samples);
+
 ConvertOptions conversion_options(const ConvertFileOptions& options) {
   ConvertOptions converter;
   converter.target = options.target;

@@ -122,7 +122,7 @@ void add_conversion_options(CLI::App& command, ConversionArgs& args) {
   command
       .add_option("--metalness-tolerance", args.metalness_tolerance,
                   "ΔE2000 a material's error (the error model's figure) may rise by where its metalness map is "
-                  "written with fewer distinct values: 2, 4, 8 or 16 levels, the fewest that stay within it "
+                  "written with fewer distinct values: the fewest of 2 to 16 levels that stay within it "
                   "(smaller files; convert's report gives metalnessLevels); 0 writes every value the solve gave")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

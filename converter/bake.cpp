@@ -916,8 +916,7 @@ MetalnessLevels fewer_metalness_levels(BakedTexels& texels, std::span<const std:
   const size_t step = decision_step(texels.sampled_legacy.size(), kDecisionSamples);
   const double solved = judged(texels.error_a);
   const double solved_part = step > 1 ? judged(measure(step, nullptr).first) : solved;
-  for (const int count : {2, 4, 8, 16}) {
-    if (count >= out.solved) break;
+  for (int count = 2; count <= kMostMetalnessLevels && count < out.solved; ++count) {
     const Levels levels = metalness_levels(histogram, count);
     if (step > 1 && !(judged(measure(step, &levels).first) - solved_part <= tolerance)) continue;
     auto errors = measure(1, &levels);

@@ -101,7 +101,7 @@ void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings
 
 // A metalness map written with fewer distinct values than the solve gave where that costs almost
 // no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 4: 5,586 bytes
-// to 2,566). The values move to the fewest levels of 2, 4, 8 or 16 (fewer than the map holds)
+// to 2,566). The values move to the fewest levels, from 2 to kMostMetalnessLevels (fewer than the map holds),
 // whose judged_error, with the base colour as the file holds it kept (`base_at_samples`, read at
 // the error samples only, so the image may go to its encoder meanwhile), rises by at most
 // `tolerance` ΔE2000 on every error sample; a candidate is looked at on kDecisionSamples of them
@@ -115,6 +115,7 @@ void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings
 // colour with the map as solved; they become the figures of the map as written. Distinct values
 // before and after; equal when the map is left as it was.
 inline constexpr size_t kDecisionSamples = 4096;
+inline constexpr int kMostMetalnessLevels = 16;
 struct MetalnessLevels {
   int solved = 0, written = 0;
 };

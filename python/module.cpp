@@ -64,11 +64,13 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
   return options;
 }
 
-// convert's keywords, shared by convert and convert_many.
-#define GLTF_PBR_CONVERT_KEYWORDS                                                                         \
-  py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence", \
-                 "specular_tolerance"_a = 2.0, "png_compression"_a = 1, "jpeg_quality"_a = 90,            \
-                 "metalness_tolerance"_a = 0.01, "error_samples"_a = std::size_t{1} << 16,                \
+// convert's keywords, shared by convert and convert_many; the numbers default as the library's do.
+const gltf_pbr::ConvertFileOptions kDefaults{};
+#define GLTF_PBR_CONVERT_KEYWORDS                                                                                      \
+  py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence",              \
+                 "specular_tolerance"_a = kDefaults.specular_tolerance,                                                \
+                 "png_compression"_a = kDefaults.png_compression, "jpeg_quality"_a = kDefaults.jpeg_quality,           \
+                 "metalness_tolerance"_a = kDefaults.metalness_tolerance, "error_samples"_a = kDefaults.error_samples, \
                  "allow_outside_uris"_a = false, "replace_input"_a = false
 
 }  // namespace

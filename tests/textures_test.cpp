@@ -1118,16 +1118,24 @@ TEST(MetalnessLevels, AMapWithFewerValuesIsSmallerWithinTheToleranceAndKeepsTheB
         judged_error(*f.error_a, ErrorModel::NormalIncidence) - judged_error(*e.error_a, ErrorModel::NormalIncidence),
         ConvertOptions().metalness_tolerance + 1e-9);
 
-    if (model == "CesiumMan") continue;  // its levels lower the error: any tolerance takes them
+    // Under a tolerance of next to nothing, fewer values are written only where they do not raise
+    // the error (some level sets lower it: the solve's continuity prior is not this figure);
+    // otherwise the map is written as solved, byte for byte.
     ConvertOptions strict;
     strict.metalness_tolerance = 1e-9;
     ConversionReport strict_report;
     Asset strict_asset = load_asset(input);
     const Asset kept = convert_save_reload(strict_asset, scratch / model / "strict.gltf", &strict_report, strict);
-    ASSERT_TRUE(strict_report.materials[0].metalness_levels);
-    EXPECT_EQ(strict_report.materials[0].metalness_levels->written, f.metalness_levels->solved);
-    EXPECT_TRUE(texture_bytes(kept, kept.model.materials[0].pbrMetallicRoughness.metallicRoughnessTexture.index) ==
-                texture_bytes(every, ep.metallicRoughnessTexture.index));
+    const MaterialReport& s = strict_report.materials[0];
+    ASSERT_TRUE(s.metalness_levels);
+    if (s.metalness_levels->written == s.metalness_levels->solved) {
+      EXPECT_TRUE(texture_bytes(kept, kept.model.materials[0].pbrMetallicRoughness.metallicRoughnessTexture.index) ==
+                  texture_bytes(every, ep.metallicRoughnessTexture.index));
+    } else {
+      EXPECT_LE(judged_error(*s.error_a, ErrorModel::NormalIncidence),
+                judged_error(*e.error_a, ErrorModel::NormalIncidence) + 1e-9);
+      EXPECT_GE(s.metalness_levels->written, f.metalness_levels->written) << "a tighter tolerance, no fewer levels";
+    }
   }
 }
 

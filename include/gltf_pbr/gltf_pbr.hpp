@@ -70,9 +70,10 @@ struct ConvertFileOptions {
   int png_compression = 1;  // deflate level 0-9 of baked PNG textures (libdeflate; 9 is smallest; images of at most 64
                             // KiB of rows always take 9)
   int jpeg_quality = 90;                 // 1-100, of base colours baked from JPEG diffuse textures
-  // ΔE2000 a material's error may rise by where its metalness map is written with fewer distinct
-  // values (2, 4, 8 or 16 levels: smaller files); 0 writes every value the solve gave.
-  double metalness_tolerance = 0.01;
+  // ΔE2000 a material's error (the sum of its diffuse and F0 means) may rise by where its metalness
+  // map is written with fewer distinct values (the fewest of 2 to 16 levels: smaller files); 0
+  // writes every value the solve gave.
+  double metalness_tolerance = 0.002;
   std::size_t error_samples = 1u << 16;  // texels sampled per texture for the error statistics (0: all)
   bool allow_outside_uris = false;       // read absolute or "../" resource URIs
   bool replace_input = false;            // output == input replaces it (atomically); else refused
