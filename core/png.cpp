@@ -17,6 +17,7 @@
 #include "core/byte_order.hpp"
 #include "core/codecs.hpp"
 #include "core/parallel.hpp"
+#include "core/texel_buffer.hpp"
 
 namespace gltf_pbr::codecs {
 namespace {
@@ -50,6 +51,7 @@ std::span<const std::uint8_t> image_data(std::span<const std::uint8_t> png, std:
   }
   if (parts.size() <= 1) return parts.empty() ? std::span<const std::uint8_t>() : parts[0];
   joined.reserve(total);
+  advise_huge_pages(joined.data(), total);
   for (const auto part : parts) joined.insert(joined.end(), part.begin(), part.end());
   return joined;
 }
@@ -358,6 +360,7 @@ void append_palette(Bytes& png, std::span<const std::uint32_t> palette) {
 void append_image_data(Bytes& png, std::span<const std::uint8_t> stream) {
   constexpr std::size_t kChunkBytes = 1u << 20;
   png.reserve(png.size() + stream.size() + (stream.size() / kChunkBytes + 1) * 12 + 12);
+  advise_huge_pages(png.data() + png.size(), png.capacity() - png.size());
   for (std::size_t at = 0; at < stream.size(); at += kChunkBytes)
     append_chunk(png, "IDAT", {stream.subspan(at, std::min(kChunkBytes, stream.size() - at))});
   append_chunk(png, "IEND", {});
@@ -404,6 +407,7 @@ void filter_rows(FilteredPng& png, const RowOf& row_of, std::size_t width, std::
   // transient buffers would stay mapped after the encode.
   png.size = filtered_row_bytes * height;
   png.rows = std::make_unique_for_overwrite<std::uint8_t[]>(png.size);
+  advise_huge_pages(png.rows.get(), png.size);
   constexpr std::size_t kPartBytes = 1u << 20;
   const std::size_t rows_per_part = std::max<std::size_t>(1, kPartBytes / filtered_row_bytes);
   const std::vector<std::uint8_t> zeros(row_bytes, 0);  // the row above the first
@@ -536,6 +540,7 @@ Bytes deflate_png(FilteredPng&& filtered, int compression_level) {
     throw std::runtime_error("PNG encoder: libdeflate refused compression level " + std::to_string(compression_level));
   const std::size_t bound = libdeflate_zlib_compress_bound(compressor.get(), filtered.size);
   const auto stream = std::make_unique_for_overwrite<std::uint8_t[]>(bound);
+  advise_huge_pages(stream.get(), bound);
   const std::size_t length =
       libdeflate_zlib_compress(compressor.get(), filtered.rows.get(), filtered.size, stream.get(), bound);
   if (length == 0) throw std::runtime_error("PNG encoder: the compressed image overran libdeflate's bound");

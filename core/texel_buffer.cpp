@@ -19,12 +19,7 @@ namespace gltf_pbr {
 
 namespace {
 // Large buffers take whole regions of 2 MiB, so that freed ones join and serve later ones of
-// other sizes. They are not advised as transparent huge pages (so with THP in its usual madvise
-// mode their pages are 4 KiB): advised (MADV_HUGEPAGE), a fresh mapping took 2.0-2.3 ms per MB at
-// first touch on this VM whenever its memory had been free for a second or more (the host had
-// taken the freed huge pages back, see WarmPages), against 0.4-0.5 ms in 4 KiB pages; a 4096²
-// conversion after a pause took 0.80 against 0.74 s, a 512² preview 0.41 against 0.35, and back
-// to back the two were even (bench/RESULTS.md, session 31).
+// other sizes, each a huge page where the kernel has one (advise_huge_pages).
 constexpr std::size_t kRegion = std::size_t{2} << 20;
 
 #if defined(__linux__)
@@ -140,15 +135,18 @@ class WarmPages {
   // A mapping of `bytes` (whole regions): right below the last one when that range is free, else
   // wherever the kernel puts it.
   char* map_region(std::size_t bytes) {
+    void* mapped = MAP_FAILED;
     if (const auto top = reinterpret_cast<std::uintptr_t>(below_); top > bytes) {
       void* const wanted = reinterpret_cast<void*>(top - bytes);
-      void* placed =
-          mmap(wanted, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
-      if (placed == wanted) return below_ = static_cast<char*>(placed);
-      if (placed != MAP_FAILED) munmap(placed, bytes);  // a kernel before 4.17 took it as a hint only
+      mapped = mmap(wanted, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED_NOREPLACE, -1, 0);
+      if (mapped != wanted && mapped != MAP_FAILED) {  // a kernel before 4.17 took it as a hint only
+        munmap(mapped, bytes);
+        mapped = MAP_FAILED;
+      }
     }
-    void* const mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (mapped == MAP_FAILED) return nullptr;
+    advise_huge_pages(mapped, bytes);
     return below_ = static_cast<char*>(mapped);
   }
 
@@ -185,6 +183,17 @@ void end_reuse() {}
 
 #endif
 }  // namespace
+
+#if defined(__linux__)
+void advise_huge_pages(void* pointer, std::size_t bytes) noexcept {
+  const auto begin = reinterpret_cast<std::uintptr_t>(pointer);
+  const std::uintptr_t first = (begin + kRegion - 1) / kRegion * kRegion, end = (begin + bytes) / kRegion * kRegion;
+  // Advice only: where it is refused (THP off, an old kernel), the pages are 4 KiB as before.
+  if (end > first) madvise(reinterpret_cast<void*>(first), end - first, MADV_HUGEPAGE);
+}
+#else
+void advise_huge_pages(void*, std::size_t) noexcept {}
+#endif
 
 void* allocate_texels(std::size_t bytes) {
   void* pointer = bytes < kRegion ? std::malloc(bytes == 0 ? 1 : bytes) : allocate_large(bytes);

@@ -11,14 +11,24 @@
 
 namespace gltf_pbr {
 
-// Memory of per-pixel buffers: from 2 MiB up, mappings of whole 2 MiB regions in 4 KiB pages
-// (texel_buffer.cpp says why not transparent huge pages). While a TexelPageReuse lives, a freed
+// Memory of per-pixel buffers: from 2 MiB up, mappings of whole 2 MiB regions advised as
+// transparent huge pages (advise_huge_pages). While a TexelPageReuse lives, a freed
 // large buffer's pages stay mapped for the next ones, up to kIdleTexelLimit bytes
 // (texel_buffer.cpp says why). `bytes` must be the allocated size.
 void* allocate_texels(std::size_t bytes);
 void free_texels(void* pointer, std::size_t bytes) noexcept;
 inline constexpr std::size_t kIdleTexelLimit = std::size_t{256} << 20;
 std::size_t idle_texel_bytes();  // freed pages kept for reuse now (0 where none are kept)
+
+// Asks the kernel to back the whole 2 MiB pages inside [pointer, pointer + bytes) with transparent
+// huge pages at first touch (MADV_HUGEPAGE; THP's usual "madvise" mode does so only where asked),
+// for large buffers not yet written: the texel regions above, and the heap buffers of a PNG's
+// encode and decode (its filtered rows, zlib stream and file). The first touch of memory costs a
+// fault a page; on this VM a 4 KiB page's costs 2.5 ms per MB, a huge page's 1.1-1.6 ms per MB
+// when the host had taken the memory back and 0.06 when it had not (bench/RESULTS.md, session
+// 39). Session 31's VM was the other way round for memory the host had taken back (0.4-0.5
+// against 2.0-2.3 ms per MB), so this is measured, not universal.
+void advise_huge_pages(void* pointer, std::size_t bytes) noexcept;
 
 // Where buffers follow buffers of like size (a preview: the render's G-buffers after the
 // conversion's maps), the pages of the freed ones serve the next. Elsewhere (a conversion alone)
