@@ -100,9 +100,9 @@ void measure_as_written(BakedTexels& texels, std::span<const std::uint8_t> base,
 void measure_dielectric_copy(BakedTexels& texels, const SolverSettings& settings);
 
 // A metalness map written with fewer distinct values than the solve gave where that costs almost
-// no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 4: 5,586 bytes
-// to 2,566). The values move to the fewest levels, from 2 to kMostMetalnessLevels (fewer than the map holds),
-// whose judged_error, with the base colour as the file holds it kept (`base_at_samples`, read at
+// no error: its bytes shrink with the values' entropy (BoxTextured's 51 values in 5: 5,586 bytes
+// to 2,766). The values move to the fewest levels, from 2 to kMostMetalnessLevels (fewer than the
+// map holds), whose judged_error, with the base colour as the file holds it kept (`base_at_samples`, read at
 // the error samples only, so the image may go to its encoder meanwhile), rises by at most
 // `tolerance` ΔE2000 on every error sample; a candidate is looked at on kDecisionSamples of them
 // first, and one that rises by more there is not tried on all. The levels are the 1-D k-means of

@@ -28,9 +28,8 @@ std::size_t rounded_to_regions(std::size_t bytes) { return (bytes + kRegion - 1)
 
 // Memory that large buffers gave back, kept mapped for the next ones. A page a process touches
 // for the first time costs the kernel a fault and a zeroing, and under a hypervisor that hands
-// freed memory back to the host (virtio-balloon free page reporting) the host's fault too:
-// measured here, 2.0-2.3 ms per MB for huge pages whose memory had been free for a second, about
-// 0.1 for huge pages the process freed a moment before, and 0.4-0.5 for fresh 4 KiB pages (kRegion).
+// freed memory back to the host (virtio-balloon free page reporting) the host's fault too; pages
+// kept cost none of that again (texel_buffer.hpp, advise_huge_pages, has the figures of two VMs).
 // Buffers reuse the pages of the ones freed before them (decoded maps before the render's
 // G-buffers): the smallest idle region that holds a request serves it. Regions are never moved
 // together (mremap): a region that spans two mappings cannot be moved on Linux before 6.17, and
@@ -146,7 +145,9 @@ class WarmPages {
     }
     if (mapped == MAP_FAILED) mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (mapped == MAP_FAILED) return nullptr;
-    advise_huge_pages(mapped, bytes);
+    // The whole mapping, not only its aligned inside: one advice keeps it one area of the kernel's
+    // (mappings end to end then merge; give() notes why the count of areas matters).
+    madvise(mapped, bytes, MADV_HUGEPAGE);
     return below_ = static_cast<char*>(mapped);
   }
 

@@ -25,9 +25,10 @@ std::size_t idle_texel_bytes();  // freed pages kept for reuse now (0 where none
 // for large buffers not yet written: the texel regions above, and the heap buffers of a PNG's
 // encode and decode (its filtered rows, zlib stream and file). The first touch of memory costs a
 // fault a page; on this VM a 4 KiB page's costs 2.5 ms per MB, a huge page's 1.1-1.6 ms per MB
-// when the host had taken the memory back and 0.06 when it had not (bench/RESULTS.md, session
-// 39). Session 31's VM was the other way round for memory the host had taken back (0.4-0.5
-// against 2.0-2.3 ms per MB), so this is measured, not universal.
+// when the host had taken the memory back and 0.06 when it had not: Avocado 4096² converted in
+// 0.66-0.74 s against 0.98, at 4 MB more peak memory (4-11 MB on the smaller runs of
+// bench/ab.sh; bench/RESULTS.md, session 39). Session 31's VM was the other way round for memory
+// the host had taken back (0.4-0.5 against 2.0-2.3 ms per MB), so this is measured, not universal.
 void advise_huge_pages(void* pointer, std::size_t bytes) noexcept;
 
 // Where buffers follow buffers of like size (a preview: the render's G-buffers after the

@@ -1092,7 +1092,7 @@ TEST(MetalnessLevels, AMapWithFewerValuesIsSmallerWithinTheToleranceAndKeepsTheB
     EXPECT_FALSE(e.metalness_levels) << "not counted when every value is written";
     ASSERT_TRUE(f.metalness_levels);
     EXPECT_LT(f.metalness_levels->written, f.metalness_levels->solved);
-    EXPECT_LE(f.metalness_levels->written, 16);
+    EXPECT_LE(f.metalness_levels->written, kMostMetalnessLevels);
 
     const auto& ep = every.model.materials[0].pbrMetallicRoughness;
     const auto& fp = fewer.model.materials[0].pbrMetallicRoughness;
@@ -1187,6 +1187,56 @@ TEST(MetalnessLevels, AMapTheSolveFitsTexelByTexelIsKeptUnderATightTolerance) {
   EXPECT_GT(judged_error(*loose_report.materials[0].error_a, ErrorModel::NormalIncidence),
             judged_error(*every_report.materials[0].error_a, ErrorModel::NormalIncidence));
   EXPECT_LT(fewest.size(), every.size());
+}
+
+// A map of three tight clusters of metalness (each core material read back as spec-gloss, so the
+// solve fits it): two levels must merge two clusters, three only move values within theirs. Under
+// a tolerance of half what two levels cost, the fewest levels within it are three, not the next
+// power of two.
+TEST(MetalnessLevels, TheFewestLevelsWithinTheToleranceAreWritten) {
+  ScratchDir scratch;
+  constexpr int w = 27, h = 3;
+  const auto legacy_at = [](int x, int y) {
+    MetalRough core;
+    core.base = glm::vec3(0.7f, 0.5f, 0.35f) * (0.8f + 0.1f * static_cast<float>(y));
+    core.metalness = 0.2f + 0.3f * static_cast<float>(x / 9) + 0.01f * static_cast<float>(x % 3 - 1);
+    core.roughness = 0.5f;
+    return to_spec_gloss(core);
+  };
+  const auto srgb = [](float linear) { return to_byte(linear_to_srgb(linear)); };
+  const Texels diffuse(w, h, 4, [&](int x, int y) {
+    const glm::vec3 d = legacy_at(x, y).diffuse;
+    return Texel{srgb(d.r), srgb(d.g), srgb(d.b), 255};
+  });
+  const Texels spec_gloss(w, h, 4, [&](int x, int y) {
+    const SpecGloss l = legacy_at(x, y);
+    return Texel{srgb(l.specular.r), srgb(l.specular.g), srgb(l.specular.b), to_byte(l.glossiness)};
+  });
+  SpecGlossModel built;
+  built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
+  Asset asset = built.save_and_load(scratch / "clusters.gltf");
+  const auto converted = [&](const ConvertOptions& options, const std::string& name) {
+    ConversionReport report;
+    Asset copy = load_asset(asset.path);
+    convert_save_reload(copy, scratch / name / "out.gltf", &report, options);
+    return report.materials.at(0);
+  };
+  const auto judged = [](const MaterialReport& m) { return judged_error(*m.error_a, ErrorModel::NormalIncidence); };
+  ConvertOptions loose;
+  loose.metalness_tolerance = 100;
+  const MaterialReport every = converted(every_metalness_value(), "every"), two = converted(loose, "two");
+  ASSERT_TRUE(two.metalness_levels);
+  ASSERT_GE(two.metalness_levels->solved, 6) << "the solve kept the clusters' spread";
+  ASSERT_EQ(two.metalness_levels->written, 2);
+  const double two_levels_cost = judged(two) - judged(every);
+  ASSERT_GT(two_levels_cost, 0);
+
+  ConvertOptions half;
+  half.metalness_tolerance = two_levels_cost / 2;
+  const MaterialReport fewest = converted(half, "half");
+  ASSERT_TRUE(fewest.metalness_levels);
+  EXPECT_EQ(fewest.metalness_levels->written, 3);
+  EXPECT_LE(judged(fewest) - judged(every), half.metalness_tolerance + 1e-9);
 }
 
 // The bake's solve cache on inputs that overflow it: thousands of distinct colour pairs per band

@@ -86,7 +86,7 @@ TEST(PreviewCommand, LintPutsTheMaterialIssuesOfBothSidesIntoTheReport) {
 }
 
 // The in-memory conversion takes convert's --metalness-tolerance: BoxTextured's metalness map,
-// every value against the default's four levels, draws the same before and another after; a
+// every value against the default's fewer levels, draws the same before and another after; a
 // negative tolerance is bad usage.
 TEST(PreviewCommand, DrawsItsConversionWithTheMetalnessToleranceGiven) {
   const fs::path out = fs::temp_directory_path() / "gltf-pbr-preview-command-test-tolerance";
