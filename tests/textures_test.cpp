@@ -1143,28 +1143,34 @@ TEST(MetalnessLevels, AMapWithFewerValuesIsSmallerWithinTheToleranceAndKeepsTheB
 // metalness rising across it): any value shared by two of its values costs error, so under a
 // tolerance below that cost the map is written as solved, byte for byte, while a loose one takes
 // two levels.
-TEST(MetalnessLevels, AMapTheSolveFitsTexelByTexelIsKeptUnderATightTolerance) {
-  ScratchDir scratch;
-  constexpr int w = 24, h = 4;
-  const auto legacy_at = [](int x, int y) {
-    MetalRough core;
-    core.base = glm::vec3(0.8f, 0.55f, 0.3f) * (0.7f + 0.1f * static_cast<float>(y));
-    core.metalness = 0.15f + 0.7f * static_cast<float>(x) / (w - 1);
-    core.roughness = 0.5f;
-    return to_spec_gloss(core);
-  };
+// One spec-gloss material whose w × h texels are the core materials core_at(x, y) read back as
+// spec-gloss (to_spec_gloss), so that the solve can fit each texel exactly; saved at `path`.
+template <class CoreAt>
+Asset core_materials_as_spec_gloss(const fs::path& path, int w, int h, const CoreAt& core_at) {
   const auto srgb = [](float linear) { return to_byte(linear_to_srgb(linear)); };
   const Texels diffuse(w, h, 4, [&](int x, int y) {
-    const glm::vec3 d = legacy_at(x, y).diffuse;
+    const glm::vec3 d = to_spec_gloss(core_at(x, y)).diffuse;
     return Texel{srgb(d.r), srgb(d.g), srgb(d.b), 255};
   });
   const Texels spec_gloss(w, h, 4, [&](int x, int y) {
-    const SpecGloss l = legacy_at(x, y);
+    const SpecGloss l = to_spec_gloss(core_at(x, y));
     return Texel{srgb(l.specular.r), srgb(l.specular.g), srgb(l.specular.b), to_byte(l.glossiness)};
   });
   SpecGlossModel built;
   built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
-  Asset asset = built.save_and_load(scratch / "exact.gltf");
+  return built.save_and_load(path);
+}
+
+TEST(MetalnessLevels, AMapTheSolveFitsTexelByTexelIsKeptUnderATightTolerance) {
+  ScratchDir scratch;
+  constexpr int w = 24, h = 4;
+  const Asset asset = core_materials_as_spec_gloss(scratch / "exact.gltf", w, h, [](int x, int y) {
+    MetalRough core;
+    core.base = glm::vec3(0.8f, 0.55f, 0.3f) * (0.7f + 0.1f * static_cast<float>(y));
+    core.metalness = 0.15f + 0.7f * static_cast<float>(x) / (w - 1);
+    core.roughness = 0.5f;
+    return core;
+  });
 
   const auto metal_rough_bytes = [&](const ConvertOptions& options, const std::string& name, ConversionReport& report) {
     Asset copy = load_asset(asset.path);
@@ -1195,26 +1201,13 @@ TEST(MetalnessLevels, AMapTheSolveFitsTexelByTexelIsKeptUnderATightTolerance) {
 // power of two.
 TEST(MetalnessLevels, TheFewestLevelsWithinTheToleranceAreWritten) {
   ScratchDir scratch;
-  constexpr int w = 27, h = 3;
-  const auto legacy_at = [](int x, int y) {
+  const Asset asset = core_materials_as_spec_gloss(scratch / "clusters.gltf", 27, 3, [](int x, int y) {
     MetalRough core;
     core.base = glm::vec3(0.7f, 0.5f, 0.35f) * (0.8f + 0.1f * static_cast<float>(y));
     core.metalness = 0.2f + 0.3f * static_cast<float>(x / 9) + 0.01f * static_cast<float>(x % 3 - 1);
     core.roughness = 0.5f;
-    return to_spec_gloss(core);
-  };
-  const auto srgb = [](float linear) { return to_byte(linear_to_srgb(linear)); };
-  const Texels diffuse(w, h, 4, [&](int x, int y) {
-    const glm::vec3 d = legacy_at(x, y).diffuse;
-    return Texel{srgb(d.r), srgb(d.g), srgb(d.b), 255};
+    return core;
   });
-  const Texels spec_gloss(w, h, 4, [&](int x, int y) {
-    const SpecGloss l = legacy_at(x, y);
-    return Texel{srgb(l.specular.r), srgb(l.specular.g), srgb(l.specular.b), to_byte(l.glossiness)};
-  });
-  SpecGlossModel built;
-  built.diffuse_texture(built.add_png(diffuse, "diffuse")).spec_gloss_texture(built.add_png(spec_gloss, "specGloss"));
-  Asset asset = built.save_and_load(scratch / "clusters.gltf");
   const auto converted = [&](const ConvertOptions& options, const std::string& name) {
     ConversionReport report;
     Asset copy = load_asset(asset.path);
