@@ -24,7 +24,7 @@ std::size_t idle_texel_bytes();  // freed pages kept for reuse now (0 where none
 // huge pages at first touch (MADV_HUGEPAGE; THP's usual "madvise" mode does so only where asked),
 // for large buffers not yet written: the texel regions above, and the heap buffers of a PNG's
 // encode and decode (its filtered rows, zlib stream and file). The first touch of memory costs a
-// fault a page; on this VM a 4 KiB page's costs 2.5 ms per MB, a huge page's 1.1-1.6 ms per MB
+// fault a page; on session 39's VM a 4 KiB page's costs 2.5 ms per MB, a huge page's 1.1-1.6 ms per MB
 // when the host had taken the memory back and 0.06 when it had not: Avocado 4096² converted in
 // 0.66-0.74 s against 0.98, at 4 MB more peak memory (4-11 MB on the smaller runs of
 // bench/ab.sh; bench/RESULTS.md, session 39). Session 31's VM was the other way round for memory

@@ -64,10 +64,13 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
   return options;
 }
 
-// convert's keywords, shared by convert and convert_many; the numbers default as the library's do.
+// convert's keywords, shared by convert and convert_many, and preview's: they default as the library's do.
 const gltf_pbr::ConvertFileOptions kDefaults{};
+const gltf_pbr::PreviewFileOptions kPreviewDefaults{};
 #define GLTF_PBR_CONVERT_KEYWORDS                                                                                      \
-  py::kw_only(), "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence",              \
+  py::kw_only(), "target"_a = gltf_pbr::target_name(kDefaults.target),                                                 \
+                 "solver"_a = gltf_pbr::solver_effort_name(kDefaults.solver),                                          \
+                 "error_model"_a = gltf_pbr::error_model_name(kDefaults.error_model),                                  \
                  "specular_tolerance"_a = kDefaults.specular_tolerance,                                                \
                  "png_compression"_a = kDefaults.png_compression, "jpeg_quality"_a = kDefaults.jpeg_quality,           \
                  "metalness_tolerance"_a = kDefaults.metalness_tolerance, "error_samples"_a = kDefaults.error_samples, \
@@ -200,10 +203,13 @@ PYBIND11_MODULE(gltf_pbr, m) {
         }
         return from_json(result.report_json);
       },
-      "src"_a, "out_dir"_a, py::kw_only(), "size"_a = 512, "width"_a = py::none(), "height"_a = py::none(),
-      "camera"_a = py::none(), "yaw"_a = 35.0, "pitch"_a = 20.0, "fov"_a = 40.0, "environment"_a = py::none(),
-      "target"_a = "metalness", "solver"_a = "balanced", "error_model"_a = "normal-incidence",
-      "allow_outside_uris"_a = false, "lint"_a = py::none(),
+      "src"_a, "out_dir"_a, py::kw_only(), "size"_a = kPreviewDefaults.width, "width"_a = py::none(),
+      "height"_a = py::none(), "camera"_a = py::none(), "yaw"_a = kPreviewDefaults.yaw_degrees,
+      "pitch"_a = kPreviewDefaults.pitch_degrees, "fov"_a = kPreviewDefaults.fov_y_degrees,
+      "environment"_a = py::none(), "target"_a = gltf_pbr::target_name(kPreviewDefaults.target),
+      "solver"_a = gltf_pbr::solver_effort_name(kPreviewDefaults.solver),
+      "error_model"_a = gltf_pbr::error_model_name(kPreviewDefaults.error_model), "allow_outside_uris"_a = false,
+      "lint"_a = py::none(),
       "Draw src before and after conversion into out_dir (before.png, after.png, difference.png, sheet.png, "
       "report.json); returns report.json as a dict (FLIP, ΔE2000 mean and p95, RMS-dB, times). lint "
       "('tolerant' or 'strict'): also the material rules' PBR_* issues on both sides (material_issues).");

@@ -1,0 +1,69 @@
+#!/usr/bin/python3
+"""The error models judged by the preview on materials none of them was chosen on (issue 12): every
+distinct PNG and JPEG image in ../shared/assets as the diffuse texture of a spec-gloss material on
+one shared asset's mesh, under grey speculars and glossinesses given on the command line. Each is
+drawn by `gltf-pbr preview` under both error models (built-in sky and sun); prints the ΔE2000 and
+FLIP means over the cases, how many cases each model draws closer, and the mean per setting.
+  bench/preview/appearance_heldout.py GLTF_PBR [SHARED_DIR] [--mesh Avocado] [--specular 0,0.1,0.3]
+                                      [--glossiness 0.3,1.0] [--size 128]"""
+import argparse, glob, json, os, shutil, statistics, subprocess, tempfile
+
+parser = argparse.ArgumentParser()
+parser.add_argument('tool')
+parser.add_argument('shared', nargs='?', default=os.path.join(os.path.dirname(__file__), '../../../shared'))
+parser.add_argument('--mesh', default='Avocado')
+parser.add_argument('--specular', default='0,0.1,0.3')
+parser.add_argument('--glossiness', default='0.3,1.0')
+parser.add_argument('--size', default='128')
+args = parser.parse_args()
+mesh_dir = os.path.join(args.shared, 'assets', args.mesh, 'specgloss')
+document = json.load(open(os.path.join(mesh_dir, args.mesh + '.gltf')))
+speculars = [float(x) for x in args.specular.split(',')]
+glossinesses = [float(x) for x in args.glossiness.split(',')]
+models = ('normal-incidence', 'appearance')
+
+work = tempfile.mkdtemp(prefix='gltf-pbr-appearance-')
+images = sorted(set(glob.glob(f'{args.shared}/assets/*/*/*.png') + glob.glob(f'{args.shared}/assets/*/*/*.jpg')))
+seen, cases = set(), []
+for image in images:
+    if (os.path.basename(image), os.path.getsize(image)) in seen:
+        continue
+    seen.add((os.path.basename(image), os.path.getsize(image)))
+    for specular in speculars:
+        for glossiness in glossinesses:
+            case = os.path.join(work, f'case{len(cases):03d}')
+            os.makedirs(case)
+            for buffer in glob.glob(os.path.join(mesh_dir, '*.bin')):
+                shutil.copy(buffer, case)
+            extension = os.path.splitext(image)[1]
+            shutil.copy(image, os.path.join(case, 'diffuse' + extension))
+            g = json.loads(json.dumps(document))
+            g['images'] = [{'uri': 'diffuse' + extension}]
+            g['textures'] = [{'source': 0}]
+            g.pop('samplers', None)
+            g['materials'] = [{'extensions': {'KHR_materials_pbrSpecularGlossiness': {
+                'diffuseTexture': {'index': 0}, 'specularFactor': [specular] * 3, 'glossinessFactor': glossiness}}}]
+            g['extensionsUsed'] = ['KHR_materials_pbrSpecularGlossiness']
+            g.pop('extensionsRequired', None)
+            json.dump(g, open(os.path.join(case, 'm.gltf'), 'w'))
+            figures = {}
+            for model in models:
+                out = os.path.join(case, model)
+                subprocess.run([args.tool, 'preview', '-q', '--no-gallery', '--size', args.size, '--error-model', model,
+                                os.path.join(case, 'm.gltf'), '-o', out], check=True)
+                difference = json.load(open(os.path.join(out, 'report.json')))['difference']
+                figures[model] = (difference['delta_e_2000']['mean'], difference['flip']['mean'])
+            cases.append(((specular, glossiness), figures))
+shutil.rmtree(work)
+
+settings = [(s, g) for s in speculars for g in glossinesses]
+print(f'{len(cases)} materials ({len(seen)} images on {args.mesh}\'s mesh, {args.size}² previews)')
+print('| error model | ΔE2000 mean | FLIP mean | drawn closer (ΔE2000 mean) in | ΔE2000 mean by (specular, glossiness) |')
+print('|---|---|---|---|---|')
+for model in models:
+    other = models[1 - models.index(model)]
+    closer = sum(1 for _, f in cases if f[model][0] < f[other][0])
+    by = ', '.join(f'({s:g}, {g:g}) {statistics.mean(f[model][0] for k, f in cases if k == (s, g)):.2f}'
+                   for s, g in settings)
+    print(f'| {model} | {statistics.mean(f[model][0] for _, f in cases):.3f} | '
+          f'{statistics.mean(f[model][1] for _, f in cases):.4f} | {closer} of {len(cases)} | {by} |')
