@@ -5,7 +5,8 @@
 # ratio, peak memory, output bytes, and the error a core-only viewer and a full viewer see in each
 # output (gltf-pbr compare); the same for Avocado with its maps resized to SIZES (sharp, from the
 # peer's install) and the cost per added Mtexel; then error against time for each solver setting.
-#   bench/convert.sh [SHARED_DIR]        (RUNS=5, SIZES=512,1024,2048,4096 by default; SIZES= skips)
+#   bench/convert.sh [SHARED_DIR]        (RUNS=5, SIZES=512,1024,2048,4096 by default; SIZES= skips;
+#                                        the shared Avocado is a point of the growth table too)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$here/.."
