@@ -64,7 +64,7 @@ gltf_pbr::ConvertFileOptions convert_options(const std::string& target, const st
   return options;
 }
 
-// convert's keywords, shared by convert and convert_many, and preview's: they default as the library's do.
+// convert's keywords, shared by convert and convert_many; they default as the library's do, as do preview's (below).
 const gltf_pbr::ConvertFileOptions kDefaults{};
 const gltf_pbr::PreviewFileOptions kPreviewDefaults{};
 #define GLTF_PBR_CONVERT_KEYWORDS                                                                                      \

@@ -1,14 +1,16 @@
 #!/usr/bin/python3
-"""The error models judged by the preview on materials none of them was chosen on (issue 12): every
+"""The error models judged by the preview on materials whose textures and mesh neither model was chosen
+on (issue 12; the grey speculars overlap the constructed spheres' 0, 0.02, 0.1 and 0.2): every
 distinct PNG and JPEG image in ../shared/assets as the diffuse texture of a spec-gloss material on
 one shared asset's mesh, under grey speculars and glossinesses given on the command line. Each is
 drawn by `gltf-pbr preview` under both error models (built-in sky and sun); prints the ΔE2000 and
-FLIP means over the cases, how many cases each model draws closer, and the mean per setting.
+FLIP means over the cases, how many cases each model draws closer (and how many alike), and the
+mean per setting. The mesh must be textured (TEXCOORD_0 on every primitive).
   bench/preview/appearance_heldout.py GLTF_PBR [SHARED_DIR] [--mesh Avocado] [--specular 0,0.1,0.3]
                                       [--glossiness 0.3,1.0] [--size 128]"""
-import argparse, glob, json, os, shutil, statistics, subprocess, tempfile
+import argparse, glob, json, os, shutil, statistics, subprocess, sys, tempfile
 
-parser = argparse.ArgumentParser()
+parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 parser.add_argument('tool')
 parser.add_argument('shared', nargs='?', default=os.path.join(os.path.dirname(__file__), '../../../shared'))
 parser.add_argument('--mesh', default='Avocado')
@@ -17,12 +19,19 @@ parser.add_argument('--glossiness', default='0.3,1.0')
 parser.add_argument('--size', default='128')
 args = parser.parse_args()
 mesh_dir = os.path.join(args.shared, 'assets', args.mesh, 'specgloss')
-document = json.load(open(os.path.join(mesh_dir, args.mesh + '.gltf')))
+with open(os.path.join(mesh_dir, args.mesh + '.gltf')) as f:
+    document = json.load(f)
+# Every primitive takes the one material, whose diffuse texture reads TEXCOORD_0.
+for mesh in document['meshes']:
+    for primitive in mesh['primitives']:
+        if 'TEXCOORD_0' not in primitive['attributes']:
+            sys.exit(f'{args.mesh}: a primitive has no TEXCOORD_0 for the diffuse texture; take a textured mesh')
+        primitive['material'] = 0
 speculars = [float(x) for x in args.specular.split(',')]
 glossinesses = [float(x) for x in args.glossiness.split(',')]
 models = ('normal-incidence', 'appearance')
 
-work = tempfile.mkdtemp(prefix='gltf-pbr-appearance-')
+work = tempfile.TemporaryDirectory(prefix='gltf-pbr-appearance-')
 images = sorted(set(glob.glob(f'{args.shared}/assets/*/*/*.png') + glob.glob(f'{args.shared}/assets/*/*/*.jpg')))
 seen, cases = set(), []
 for image in images:
@@ -31,7 +40,7 @@ for image in images:
     seen.add((os.path.basename(image), os.path.getsize(image)))
     for specular in speculars:
         for glossiness in glossinesses:
-            case = os.path.join(work, f'case{len(cases):03d}')
+            case = os.path.join(work.name, f'case{len(cases):03d}')
             os.makedirs(case)
             for buffer in glob.glob(os.path.join(mesh_dir, '*.bin')):
                 shutil.copy(buffer, case)
@@ -43,21 +52,25 @@ for image in images:
             g.pop('samplers', None)
             g['materials'] = [{'extensions': {'KHR_materials_pbrSpecularGlossiness': {
                 'diffuseTexture': {'index': 0}, 'specularFactor': [specular] * 3, 'glossinessFactor': glossiness}}}]
-            g['extensionsUsed'] = ['KHR_materials_pbrSpecularGlossiness']
-            g.pop('extensionsRequired', None)
-            json.dump(g, open(os.path.join(case, 'm.gltf'), 'w'))
+            used = [e for e in g.get('extensionsUsed', []) if e != 'KHR_materials_pbrSpecularGlossiness']
+            g['extensionsUsed'] = used + ['KHR_materials_pbrSpecularGlossiness']
+            with open(os.path.join(case, 'm.gltf'), 'w') as f:
+                json.dump(g, f)
             figures = {}
             for model in models:
                 out = os.path.join(case, model)
                 subprocess.run([args.tool, 'preview', '-q', '--no-gallery', '--size', args.size, '--error-model', model,
                                 os.path.join(case, 'm.gltf'), '-o', out], check=True)
-                difference = json.load(open(os.path.join(out, 'report.json')))['difference']
+                with open(os.path.join(out, 'report.json')) as f:
+                    difference = json.load(f)['difference']
                 figures[model] = (difference['delta_e_2000']['mean'], difference['flip']['mean'])
             cases.append(((specular, glossiness), figures))
-shutil.rmtree(work)
+work.cleanup()
 
 settings = [(s, g) for s in speculars for g in glossinesses]
 print(f'{len(cases)} materials ({len(seen)} images on {args.mesh}\'s mesh, {args.size}² previews)')
+ties = sum(1 for _, f in cases if f[models[0]][0] == f[models[1]][0])
+print(f'{ties} drawn alike by both (the same conversion)')
 print('| error model | ΔE2000 mean | FLIP mean | drawn closer (ΔE2000 mean) in | ΔE2000 mean by (specular, glossiness) |')
 print('|---|---|---|---|---|')
 for model in models:
