@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """The error models judged by the preview on materials neither model was chosen on (issue 12): new
 pairings of the shared images and meshes (the grey speculars may overlap the constructed spheres'
-0, 0.02, 0.1 and 0.2). Every
-distinct PNG and JPEG image in ../shared/assets as the diffuse texture of a spec-gloss material on
-one shared asset's mesh, under grey speculars and glossinesses given on the command line. Each is
+0, 0.02, 0.1 and 0.2). Every distinct PNG and JPEG image in ../shared/assets as the diffuse texture
+of a spec-gloss material on one shared asset's mesh, under grey speculars and glossinesses given on
+the command line. Each is
 drawn by `gltf-pbr preview` under both error models (built-in sky and sun); prints the ΔE2000 and
 FLIP means over the cases, how many cases each model draws closer (and how many alike), and the
 mean per setting. The mesh must be textured (TEXCOORD_0 on every primitive).
