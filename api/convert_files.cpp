@@ -177,8 +177,11 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
 
 }  // namespace
 
-// The library converts as the tool does when left to its defaults.
-static_assert(ConvertFileOptions{}.specular_tolerance == ConvertOptions{}.specular_tolerance &&
+// The library converts as the tool does when left to its defaults (the solver's effort is a
+// preset, solver_preset, not a default of SolverSettings).
+static_assert(ConvertFileOptions{}.target == ConvertOptions{}.target &&
+              ConvertFileOptions{}.error_model == ConvertOptions{}.solver.error_model &&
+              ConvertFileOptions{}.specular_tolerance == ConvertOptions{}.specular_tolerance &&
               ConvertFileOptions{}.png_compression == ConvertOptions{}.png_compression &&
               ConvertFileOptions{}.jpeg_quality == ConvertOptions{}.jpeg_quality &&
               ConvertFileOptions{}.metalness_tolerance == ConvertOptions{}.metalness_tolerance &&
