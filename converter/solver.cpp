@@ -154,6 +154,9 @@ struct Term {
   glm::vec3 target;
 };
 constexpr int kMaxTerms = 2 * kAppearanceRings;
+// The appearance model's base weighs the normal-incidence terms by this share and its rings by
+// the rest (solver.hpp).
+constexpr float kNormalIncidenceShare = 0.5f;
 // A legacy radiance above this (a specular far above 1, which no material has) enters the fit
 // scaled down to it, hue kept: no core material reaches past about 1 anyway, and the squared
 // residuals of 1e30 would overflow.
@@ -163,18 +166,19 @@ glm::vec3 bounded(glm::vec3 target) {
   return largest > kBrightestTarget ? target * (kBrightestTarget / largest) : target;
 }
 
-// The terms of `model` for one legacy material (lane_solver::objectives_for builds the same
-// numbers, in the same operations, eight at a time).
-int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
+// The terms of one legacy material (lane_solver::objectives_for and with_appearance_terms build
+// the same numbers, in the same operations, eight at a time): the two normal-incidence terms,
+// and the appearance model's ring terms at their share.
+int normal_incidence_terms(const SpecGloss& legacy, Term* terms) {
   const Reflectance r = legacy_reflectance(legacy, LegacyReading::A);
-  if (model == ErrorModel::NormalIncidence) {
-    terms[0] = {kDielectricDiffuse, -kDielectricDiffuse, 0.0f, 0.0f, 1.0f, r.diffuse};
-    terms[1] = {0.0f, 1.0f, kDielectricF0, -kDielectricF0, 1.0f, r.f0};
-    return 2;
-  }
+  terms[0] = {kDielectricDiffuse, -kDielectricDiffuse, 0.0f, 0.0f, 1.0f, r.diffuse};
+  terms[1] = {0.0f, 1.0f, kDielectricF0, -kDielectricF0, 1.0f, r.f0};
+  return 2;
+}
+int appearance_terms(const SpecGloss& legacy, Term* terms) {
   const RingSplitSums split = ring_split_sums(roughness_of(legacy));
   const Appearance seen = legacy_appearance(legacy);
-  constexpr float kWeight = 1.0f / kAppearanceRings;
+  constexpr float kWeight = (1.0f - kNormalIncidenceShare) / kAppearanceRings;
   for (int k = 0; k < kAppearanceRings; ++k) {
     const glm::vec2 ab = split.ring[k];
     const float w = dielectric_transmission(ab);
@@ -200,7 +204,7 @@ int terms_of(const SpecGloss& legacy, ErrorModel model, Term* terms) {
 // same for two terms as for eight. Where the fit is close, E is a small difference of numbers
 // near |T|²_Q (10^3 ΔE² for a mid grey): float would leave noise of 10^-4 on it, enough to turn a
 // golden-section step along a flat minimum, so the polynomials are summed and evaluated in
-// double from the float terms and metrics; base_at solves H(m) b = g(m) rounded to float.
+// double from the float terms and metrics; base_for solves H(m) b = g(m) rounded to float.
 struct Polynomials {
   double h[3][6];  // symmetric: xx, yy, zz, xy, xz, yz
   double g[3][3];
@@ -247,9 +251,10 @@ GLTF_PBR_INLINE std::pair<float, float> metalness_prior(const SpecGloss& legacy)
                                                               (1.0f - smoothstep01(max3(r.diffuse) / kBrightDiffuse))};
 }
 
-Objective objective_for(const SpecGloss& legacy, ErrorModel model) {
+// The metalness fit of one legacy material: the normal-incidence terms and the prior.
+Objective objective_for(const SpecGloss& legacy) {
   Term terms[kMaxTerms];
-  const int count = terms_of(legacy, model, terms);
+  const int count = normal_incidence_terms(legacy, terms);
   Objective o{};
   for (int t = 0; t < count; ++t) accumulate(o.exact, terms[t], terms[t].weight * lab_metric(terms[t].target));
   std::tie(o.prior_m, o.prior_weight) = metalness_prior(legacy);
@@ -316,7 +321,28 @@ glm::vec3 base_for(const AtMetalness& at) {
   const float largest = max3(base);
   return largest > 1.0f ? base / largest : base;
 }
-glm::vec3 base_at(float m, const Objective& o) { return base_for(at_metalness(m, o)); }
+
+// The appearance model's H and g at the metalness the fit chose (solver.hpp): the fit's own at
+// their share, plus the ring terms evaluated at that m (each term's part of the polynomials of
+// accumulate(), at one m).
+AtMetalness with_appearance_terms(AtMetalness at, const SpecGloss& legacy) {
+  for (double& e : at.h) e *= kNormalIncidenceShare;
+  for (double& e : at.g) e *= kNormalIncidenceShare;
+  Term terms[kMaxTerms];
+  const int count = appearance_terms(legacy, terms);
+  for (int t = 0; t < count; ++t) {
+    const Term& term = terms[t];
+    const glm::mat3 q = term.weight * lab_metric(term.target);
+    const double a = term.a0 + at.m * term.a1, c = term.c0 + at.m * term.c1;
+    for (int e = 0; e < 6; ++e) at.h[e] += a * a * q[kColumn[e]][kRow[e]];
+    for (int i = 0; i < 3; ++i) {
+      double pull = 0.0, grey = 0.0;  // (Q T)_i, (Q 1)_i
+      for (int j = 0; j < 3; ++j) pull += q[j][i] * static_cast<double>(term.target[j]), grey += q[j][i];
+      at.g[i] += a * (pull - c * grey);
+    }
+  }
+  return at;
+}
 
 // The objective at m, for the base that m is given (Polynomials).
 float error_at(float m, const Objective& o) {
@@ -540,7 +566,6 @@ GLTF_PBR_INLINE Vec base_for(const AtMetalness& at) {
   for (int i = 0; i < 3; ++i) b.c[i] *= scale;
   return b;
 }
-GLTF_PBR_INLINE Vec base_at(Floats m, const Objectives& o) { return base_for(at_metalness(m, o)); }
 
 // error_at() of every lane.
 GLTF_PBR_INLINE Floats error_at(Floats m, const Objectives& o) {
@@ -622,44 +647,76 @@ GLTF_PBR_INLINE Vec bounded(Vec target) {
   return target;
 }
 
-// objective_for() of eight inputs at once: the terms of terms_of(), their metrics and the
-// polynomials, in lanes (inlined into solve(), so its AVX2 clone builds them too).
-GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy, ErrorModel model) {
-  const SlopeTable& table = cube_root_slope_table();
-  Objectives o{};
-  Vec specular, c_a;  // F0, and the diffuse weight under reading A
+// The legacy reflectance of eight inputs: F0, and the diffuse weight under reading A.
+struct LegacyLanes {
+  Vec specular, c_a;
+};
+GLTF_PBR_INLINE LegacyLanes legacy_lanes(const SpecGloss* legacy) {
+  LegacyLanes r;
   for (int l = 0; l < kLanes; ++l) {
     const glm::vec3 diffuse = legacy_reflectance(legacy[l], LegacyReading::A).diffuse;
-    for (int c = 0; c < 3; ++c) specular.c[c][l] = legacy[l].specular[c], c_a.c[c][l] = diffuse[c];
+    for (int c = 0; c < 3; ++c) r.specular.c[c][l] = legacy[l].specular[c], r.c_a.c[c][l] = diffuse[c];
+  }
+  return r;
+}
+
+// objective_for() of eight inputs at once: the terms of normal_incidence_terms(), their metrics
+// and the polynomials, in lanes (inlined into solve(), so its AVX2 clone builds them too).
+GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy) {
+  const SlopeTable& table = cube_root_slope_table();
+  Objectives o{};
+  for (int l = 0; l < kLanes; ++l) {
     const auto [prior_m, prior_weight] = metalness_prior(legacy[l]);
     o.prior_m[l] = prior_m, o.prior_weight[l] = prior_weight;
   }
-  if (model == ErrorModel::NormalIncidence) {
-    accumulate(o, splat(kDielectricDiffuse), splat(-kDielectricDiffuse), splat(0.0f), splat(0.0f), c_a,
-               lab_metric(c_a, 1.0f, table));
-    accumulate(o, splat(0.0f), splat(1.0f), splat(kDielectricF0), splat(-kDielectricF0), specular,
-               lab_metric(specular, 1.0f, table));
-  } else {
-    RingSplitSums split[kLanes];
-    for (int l = 0; l < kLanes; ++l) split[l] = ring_split_sums(roughness_of(legacy[l]));
-    constexpr float kWeight = 1.0f / kAppearanceRings;
-    for (int k = 0; k < kAppearanceRings; ++k) {
-      Floats a, b;  // the ring's split sum (A, B)
-      for (int l = 0; l < kLanes; ++l) a[l] = split[l].ring[k].x, b[l] = split[l].ring[k].y;
-      const Floats w = 1.0f - (kDielectricF0 * a + b);  // dielectric_transmission
-      const Floats lit = kAppearanceDiffuseLight * w;
-      const Floats c0 = kDielectricF0 * a + b, c1 = -kDielectricF0 * a;
-      Vec seen, mirrored;  // legacy_appearance's ring (in its order of operations), and the specular lobe alone
-      for (int c = 0; c < 3; ++c) {
-        seen.c[c] = c_a.c[c] * (kAppearanceDiffuseLight * w / kDielectricDiffuse) + specular.c[c] * a + b;
-        mirrored.c[c] = specular.c[c] * a + b;
-      }
-      const Vec seen_target = bounded(seen), mirrored_target = bounded(mirrored);
-      accumulate(o, lit, a - lit, c0, c1, seen_target, lab_metric(seen_target, kWeight, table));
-      accumulate(o, splat(0.0f), a, c0, c1, mirrored_target, lab_metric(mirrored_target, kWeight, table));
-    }
-  }
+  const auto [specular, c_a] = legacy_lanes(legacy);
+  accumulate(o, splat(kDielectricDiffuse), splat(-kDielectricDiffuse), splat(0.0f), splat(0.0f), c_a,
+             lab_metric(c_a, 1.0f, table));
+  accumulate(o, splat(0.0f), splat(1.0f), splat(kDielectricF0), splat(-kDielectricF0), specular,
+             lab_metric(specular, 1.0f, table));
   return o;
+}
+
+// One term's part of H and g at the metalness of `at` (accumulate()'s polynomials, at one m).
+GLTF_PBR_INLINE void accumulate_at(AtMetalness& at, Floats a0, Floats a1, Floats c0, Floats c1, const Vec& target,
+                                   const Symmetric& metric) {
+  const Doubles a = to_doubles(a0) + at.m * to_doubles(a1), c = to_doubles(c0) + at.m * to_doubles(c1);
+  Doubles q[6], t[3];
+  for (int e = 0; e < 6; ++e) q[e] = to_doubles(metric.e[e]);
+  for (int i = 0; i < 3; ++i) t[i] = to_doubles(target.c[i]);
+  for (int e = 0; e < 6; ++e) at.h[e] += a * a * q[e];
+  for (int i = 0; i < 3; ++i) {
+    const Doubles pull = q[kIndex[i][0]] * t[0] + q[kIndex[i][1]] * t[1] + q[kIndex[i][2]] * t[2];
+    const Doubles grey = q[kIndex[i][0]] + q[kIndex[i][1]] + q[kIndex[i][2]];
+    at.g[i] += a * (pull - c * grey);
+  }
+}
+
+// with_appearance_terms() of eight inputs at once: the terms of appearance_terms(), at m.
+GLTF_PBR_INLINE AtMetalness with_appearance_terms(AtMetalness at, const SpecGloss* legacy) {
+  const SlopeTable& table = cube_root_slope_table();
+  for (Doubles& e : at.h) e *= static_cast<double>(kNormalIncidenceShare);
+  for (Doubles& e : at.g) e *= static_cast<double>(kNormalIncidenceShare);
+  const auto [specular, c_a] = legacy_lanes(legacy);
+  RingSplitSums split[kLanes];
+  for (int l = 0; l < kLanes; ++l) split[l] = ring_split_sums(roughness_of(legacy[l]));
+  constexpr float kWeight = (1.0f - kNormalIncidenceShare) / kAppearanceRings;
+  for (int k = 0; k < kAppearanceRings; ++k) {
+    Floats a, b;  // the ring's split sum (A, B)
+    for (int l = 0; l < kLanes; ++l) a[l] = split[l].ring[k].x, b[l] = split[l].ring[k].y;
+    const Floats w = 1.0f - (kDielectricF0 * a + b);  // dielectric_transmission
+    const Floats lit = kAppearanceDiffuseLight * w;
+    const Floats c0 = kDielectricF0 * a + b, c1 = -kDielectricF0 * a;
+    Vec seen, mirrored;  // legacy_appearance's ring (in its order of operations), and the specular lobe alone
+    for (int c = 0; c < 3; ++c) {
+      seen.c[c] = c_a.c[c] * (kAppearanceDiffuseLight * w / kDielectricDiffuse) + specular.c[c] * a + b;
+      mirrored.c[c] = specular.c[c] * a + b;
+    }
+    const Vec seen_target = bounded(seen), mirrored_target = bounded(mirrored);
+    accumulate_at(at, lit, a - lit, c0, c1, seen_target, lab_metric(seen_target, kWeight, table));
+    accumulate_at(at, splat(0.0f), a, c0, c1, mirrored_target, lab_metric(mirrored_target, kWeight, table));
+  }
+  return at;
 }
 
 // refine() of every lane, each in its own bracket; iterations are the same for all lanes.
@@ -687,7 +744,7 @@ GLTF_PBR_INLINE void refine(Floats lo, Floats hi, Floats& m, Floats& error, int 
 
 GLTF_PBR_LANE_CLONES
 void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& settings) {
-  const Objectives o = objectives_for(legacy, settings.error_model);
+  const Objectives o = objectives_for(legacy);
   const int steps = std::max(1, settings.grid_steps);
   const size_t count = static_cast<size_t>(steps) + 1;
   // Each lane's sampled errors and minima, on the stack (a container of vectors would be code
@@ -720,7 +777,8 @@ void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& setti
   }
   Floats m = splat(0.0f);
   for (int l = 0; l < kLanes; ++l) m[l] = blended_metalness(std::span(minima[l], minima_count[l]));
-  const Vec base = base_at(m, o);
+  const AtMetalness fit = at_metalness(m, o);
+  const Vec base = base_for(settings.error_model == ErrorModel::Appearance ? with_appearance_terms(fit, legacy) : fit);
   for (int l = 0; l < kLanes; ++l)
     out[l] = {glm::vec3(base.c[0][l], base.c[1][l], base.c[2][l]), m[l], roughness_of(legacy[l])};
 }
@@ -814,7 +872,7 @@ SolverSettings solver_preset(SolverEffort effort, ErrorModel model) {
 
 MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   if (settings.reference_formula) return solve_reference(legacy);
-  const Objective objective = objective_for(legacy, settings.error_model);
+  const Objective objective = objective_for(legacy);
 
   // Coarse grid over m, then golden-section search around each local minimum of the samples.
   const int steps = std::max(1, settings.grid_steps);
@@ -822,7 +880,10 @@ MetalRough solve(const SpecGloss& legacy, const SolverSettings& settings) {
   for (int i = 0; i <= steps; ++i)
     samples[static_cast<size_t>(i)] = error_at(static_cast<float>(i) / static_cast<float>(steps), objective);
   const float m = blended_metalness(local_minima(samples, settings.refine_iterations, objective));
-  return {base_at(m, objective), m, roughness_of(legacy)};
+  const AtMetalness fit = at_metalness(m, objective);
+  const glm::vec3 base =
+      base_for(settings.error_model == ErrorModel::Appearance ? with_appearance_terms(fit, legacy) : fit);
+  return {base, m, roughness_of(legacy)};
 }
 
 void solve_batch(std::span<const SpecGloss> legacy, std::span<MetalRough> out, const SolverSettings& settings) {

@@ -104,28 +104,33 @@ float appearance_ring_cosine(int ring);  // mu_k
 // a_t(m) base + c_t(m) (a_t, c_t affine in m; c_t grey) with the legacy target T_t.
 //   - ErrorModel::NormalIncidence: two terms, the diffuse weight (a = 0.96 (1 - m), c = 0,
 //     T = c_A) and F0 (a = m, c = 0.04 (1 - m), T = specular).
-//   - ErrorModel::Appearance: two terms per ring of the appearance model above. The radiance
+//   - ErrorModel::Appearance: the metalness of the normal-incidence fit, and the base that, at
+//     that m, minimises half the normal-incidence terms and half the appearance terms: two per
+//     ring of the appearance model above, each weighing 1 / (2 kAppearanceRings). The radiance
 //     seen (a = (1 - m) w D + m A, c = 0.04 (1 - m) A + B, T = the legacy L): the brightness and
 //     colour people see, to which both lobes add. And the specular lobe alone (a = m A, the same
 //     c, T = specular A + B): an environment has detail (a sun, windows, a horizon) that only the
 //     specular lobe mirrors, so a red metal cannot stand in for a red plastic with a grey sheen
-//     although their radiance averages agree. Each term weighs 1 / kAppearanceRings: the fit
-//     weighs as much against the prior as the two normal-incidence terms do. Targets above 4 (a
-//     specular of 1e30) are scaled down to 4, hue kept.
+//     although their radiance averages agree. Targets above 4 (a specular of 1e30) are scaled
+//     down to 4, hue kept.
+//     Why not search m on the appearance terms: the appearance terms alone drew spheres under the
+//     sky they model closest, but real assets with a sharp sheen farther (Box 5.4 against 3.1
+//     ΔE2000 mean); half of each drew real assets closest, but its sum has flat valleys whose two
+//     shallow minima trade places, and m stepped by 0.07 in a fine specular sweep. The
+//     normal-incidence m is continuous, and for fixed m the base is the unique minimiser of a
+//     positive definite quadratic, so the answer is continuous too (bench/RESULTS.md, session 41).
 // J_t is CIELAB linearised at T_t (with a gentle CIE94-style chroma compression), so each term is
 // a squared ΔE and chroma counts: a grey F0 is not matched by a tinted metal. For fixed m the best
-// base is a closed-form 3×3 least squares (the normal equations are polynomials in m, built once
-// per input), kept non-negative by an active set and scaled into [0,1] with its hue kept, so the
-// search is 1-D over m: a grid, then golden-section refinement of each local minimum. m_prior
-// rises smoothly from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest metal F0 (Hoffman's
-// table; Unity's validator). lambda is strong where the diffuse is black: a black 0.04 dielectric
-// fits exactly both as m = 0 and as a dark metal (m = 1, base 0.04), and the prior picks the
-// dielectric without the jump of the reference formula; it fades to weak as the diffuse
-// brightens. Where two minima come close (diffuse and specular of different hues), they share
-// the answer by how close and how prominent they are, so m never jumps between them.
-// The result is continuous in the inputs, keeps chroma, and is exact for dielectrics at 0.04 and
-// for metals (black diffuse, mean F0 >= 0.45) under both models. roughness = 1 - g, since
-// alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
+// base is a closed-form 3×3 least squares (the normal-incidence fit's normal equations are
+// polynomials in m, built once per input), kept non-negative by an active set and scaled into [0,1] with its hue kept,
+// so the search is 1-D over m: a grid, then golden-section refinement of each local minimum. m_prior rises smoothly
+// from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest metal F0 (Hoffman's table; Unity's validator). lambda is
+// strong where the diffuse is black: a black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1,
+// base 0.04), and the prior picks the dielectric without the jump of the reference formula; it fades to weak as the
+// diffuse brightens. Where two minima come close (diffuse and specular of different hues), they share the answer by how
+// close and how prominent they are, so m never jumps between them. The result is continuous in the inputs, keeps
+// chroma, and is exact for dielectrics at 0.04 and for metals (black diffuse, mean F0 >= 0.45) under both models.
+// roughness = 1 - g, since alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
 // (gold's F0) are scaled in base, never in the fit.
 // Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
 // any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.

@@ -136,11 +136,12 @@ TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {
 // each sphere. A 0.04 specular converts exactly and previews without a difference under both
 // (0.2 ΔE2000 from the G-buffer's 8-bit specular). For
 // the others the appearance model keeps the look closer than the normal-incidence one on average
-// at every specular level (measured on 96 px spheres; the test draws 64 px ones: 0 -> 1.09 against 1.98, 0.02 -> 0.60 /
-// 0.99, 0.1 -> 0.99 / 1.87, 0.2 -> 1.70 / 3.81), but not within 1 ΔE2000 on every sphere: its worst are 3.1 at specular
-// 0 and 4.5 at 0.2 (dark glossy spheres). At 0 and 0.02 that is the floor a core F0 of at least 0.04 leaves; at 0.1
-// and 0.2 a metalness of 0.6-0.8 would reach about 0.6, which the solver's metalness prior trades for continuity
-// (bench/RESULTS.md, session 34).
+// at every specular level (measured on 96 px spheres; the test draws 64 px ones: 0 -> 1.33 against 1.98, 0.02 -> 0.71 /
+// 0.99, 0.1 -> 1.28 / 1.87, 0.2 -> 2.48 / 3.80), but not within 1 ΔE2000 on every sphere: its worst are 3.0 at specular
+// 0 and 6.5 at 0.2 (dark glossy and saturated red spheres). At 0 and 0.02 that is the floor a core F0 of at least 0.04
+// leaves. At 0.1 and 0.2 the model keeps the normal-incidence metalness and weighs the normal-incidence fit at half,
+// for continuity and for real assets: an appearance-only fit drew these spheres closer (0.2 -> 1.70, worst 4.5) but
+// real assets farther (bench/RESULTS.md, sessions 34 and 41).
 TEST(Render, GreyDielectricSpheresLookCloserUnderTheAppearanceModel) {
   const glm::vec3 diffuses[] = {glm::vec3(0.05f),     glm::vec3(0.2f),    glm::vec3(0.5f),    glm::vec3(0.8f),
                                 {0.8f, 0.05f, 0.05f}, {0.8f, 0.6f, 0.1f}, {0.1f, 0.25f, 0.7f}};
@@ -163,13 +164,30 @@ TEST(Render, GreyDielectricSpheresLookCloserUnderTheAppearanceModel) {
           EXPECT_LT(ni, 0.3) << diffuse.r << " " << glossiness;  // the G-buffer keeps specular in 8-bit sRGB: 0.0395
           EXPECT_LT(seen, 0.3) << diffuse.r << " " << glossiness;
         }
-        EXPECT_LT(seen, 5.0) << specular << " " << diffuse.r << "," << diffuse.g << " " << glossiness;
+        EXPECT_LT(seen, 7.0) << specular << " " << diffuse.r << "," << diffuse.g << " " << glossiness;
         normal_incidence += ni, appearance += seen;
       }
     if (specular != kDielectricF0) {
       EXPECT_LT(appearance, normal_incidence * 0.75) << specular;
-      EXPECT_LT(appearance / 21.0, specular == 0.2f ? 2.0 : 1.25) << specular;
+      EXPECT_LT(appearance / 21.0, specular == 0.2f ? 2.75 : 1.5) << specular;
     }
+  }
+}
+
+// Real assets whose legacy sheen is a grey far from 0.04 (Box and BoxTextured 0.2 over a red
+// diffuse or a logo, RiggedSimple 0.5): the appearance model draws them closer to the original
+// than the normal-incidence one (measured at 256²: Box 1.69 against 3.10 ΔE2000 mean,
+// BoxTextured 0.92 / 1.31, RiggedSimple 4.36 / 7.48; bench/RESULTS.md, session 41).
+TEST(Render, AssetsWithAGreySheenLookCloserUnderTheAppearanceModel) {
+  for (const char* relative : {"Box/specgloss/Box.gltf", "BoxTextured/specgloss/BoxTextured.gltf",
+                               "RiggedSimple/specgloss/RiggedSimple.gltf"}) {
+    const Asset asset = load_asset(assets_dir() / relative);
+    PreviewOptions options = small(128);
+    options.convert.solver = solver_preset(SolverEffort::Balanced, ErrorModel::NormalIncidence);
+    const double normal_incidence = render_preview(asset, options).metrics.delta_e_mean;
+    options.convert.solver = solver_preset(SolverEffort::Balanced, ErrorModel::Appearance);
+    const double appearance = render_preview(asset, options).metrics.delta_e_mean;
+    EXPECT_LT(appearance, 0.8 * normal_incidence) << relative;
   }
 }
 
