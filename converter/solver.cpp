@@ -200,8 +200,8 @@ int appearance_terms(const SpecGloss& legacy, Term* terms) {
 // The objective E(m, b) = sum_t |a_t(m) b + c_t(m) (1, 1, 1) - T_t|^2 in the metric Q_t of T_t,
 // expanded in b and m: bᵀ H(m) b - 2 g(m)ᵀ b + K(m), with
 //   H(m) = sum a² Q,   g(m) = sum a Q (T - c 1),   K(m) = sum (T - c 1)ᵀ Q (T - c 1),
-// each a polynomial of degree 2 in m (a and c are affine in m). Evaluating E this way costs the
-// same for two terms as for eight. Where the fit is close, E is a small difference of numbers
+// each a polynomial of degree 2 in m (a and c are affine in m), so evaluating E costs the same
+// whatever the number of terms. Where the fit is close, E is a small difference of numbers
 // near |T|²_Q (10^3 ΔE² for a mid grey): float would leave noise of 10^-4 on it, enough to turn a
 // golden-section step along a flat minimum, so the polynomials are summed and evaluated in
 // double from the float terms and metrics; base_for solves H(m) b = g(m) rounded to float.
@@ -237,7 +237,7 @@ void accumulate(Polynomials& p, const Term& term, const glm::mat3& q) {
   p.k[2] += c1 * c1 * one_q_one;
 }
 
-// What one solve minimises, fixed for all m: the polynomials and the prior.
+// What the metalness search minimises, fixed for all m: the polynomials and the prior.
 struct Objective {
   Polynomials exact;
   float prior_m, prior_weight;
@@ -253,7 +253,7 @@ GLTF_PBR_INLINE std::pair<float, float> metalness_prior(const SpecGloss& legacy)
 
 // The metalness fit of one legacy material: the normal-incidence terms and the prior.
 Objective objective_for(const SpecGloss& legacy) {
-  Term terms[kMaxTerms];
+  Term terms[2];
   const int count = normal_incidence_terms(legacy, terms);
   Objective o{};
   for (int t = 0; t < count; ++t) accumulate(o.exact, terms[t], terms[t].weight * lab_metric(terms[t].target));

@@ -98,10 +98,11 @@ Appearance core_appearance(const MetalRough& core);
 Appearance specular_extension_appearance(const SpecGloss& legacy);
 float appearance_ring_cosine(int ring);  // mu_k
 
-// Minimises, over base in [0,1]^3 and m in [0,1], a sum of squared CIELAB distances plus a prior:
+// Finds base in [0,1]^3 and m in [0,1] from sums of squared CIELAB distances, each term t
+// comparing a linear-RGB quantity that the core material gives as a_t(m) base + c_t(m) (a_t, c_t
+// affine in m; c_t grey) with the legacy target T_t. m, under both models, and the base under
+// normal incidence minimise the normal-incidence terms plus a prior:
 //   E = sum_t |J_t (a_t(m) base + c_t(m) - T_t)|^2 + lambda (m - m_prior)^2,
-// where every term t compares a linear-RGB quantity that the core material gives as
-// a_t(m) base + c_t(m) (a_t, c_t affine in m; c_t grey) with the legacy target T_t.
 //   - ErrorModel::NormalIncidence: two terms, the diffuse weight (a = 0.96 (1 - m), c = 0,
 //     T = c_A) and F0 (a = m, c = 0.04 (1 - m), T = specular).
 //   - ErrorModel::Appearance: the metalness of the normal-incidence fit, and the base that, at
@@ -122,15 +123,17 @@ float appearance_ring_cosine(int ring);  // mu_k
 // J_t is CIELAB linearised at T_t (with a gentle CIE94-style chroma compression), so each term is
 // a squared ΔE and chroma counts: a grey F0 is not matched by a tinted metal. For fixed m the best
 // base is a closed-form 3×3 least squares (the normal-incidence fit's normal equations are
-// polynomials in m, built once per input), kept non-negative by an active set and scaled into [0,1] with its hue kept,
-// so the search is 1-D over m: a grid, then golden-section refinement of each local minimum. m_prior rises smoothly
-// from 0 at the dielectric F0 0.04 to 1 at 0.45, the darkest metal F0 (Hoffman's table; Unity's validator). lambda is
-// strong where the diffuse is black: a black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1,
-// base 0.04), and the prior picks the dielectric without the jump of the reference formula; it fades to weak as the
-// diffuse brightens. Where two minima come close (diffuse and specular of different hues), they share the answer by how
-// close and how prominent they are, so m never jumps between them. The result is continuous in the inputs, keeps
-// chroma, and is exact for dielectrics at 0.04 and for metals (black diffuse, mean F0 >= 0.45) under both models.
-// roughness = 1 - g, since alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
+// polynomials in m, built once per input), kept non-negative by an active set and scaled into
+// [0,1] with its hue kept, so the search is 1-D over m: a grid, then golden-section refinement of
+// each local minimum. m_prior rises smoothly from 0 at the dielectric F0 0.04 to 1 at 0.45, the
+// darkest metal F0 (Hoffman's table; Unity's validator). lambda is strong where the diffuse is
+// black: a black 0.04 dielectric fits exactly both as m = 0 and as a dark metal (m = 1, base
+// 0.04), and the prior picks the dielectric without the jump of the reference formula; it fades
+// to weak as the diffuse brightens. Where two minima come close (diffuse and specular of different
+// hues), they share the answer by how close and how prominent they are, so m never jumps between
+// them. The result is continuous in the inputs, keeps chroma, and is exact for dielectrics at 0.04
+// and for metals (black diffuse, mean F0 >= 0.45) under both models. roughness = 1 - g, since
+// alpha_legacy = (1 - g)^2 and alpha_core = r^2. Finite for every finite input; inputs above 1
 // (gold's F0) are scaled in base, never in the fit.
 // Exact idempotence would conflict with continuity on the black-diffuse line (a dark metal fits
 // any grey F0 exactly), so a second pass can move the look slightly; tests bound that drift.

@@ -198,7 +198,7 @@ TEST(Solver, GreySpecularOverRedDiffuseFitsBetterInDeltaE2000ThanTheLosslessDiel
 // samples: mean 0.54, worst 24 ΔE2000), and dielectrics and plausible metals stay fixed.
 // to_spec_gloss is the exact inverse under both models wherever it need not clamp (its reading-A
 // reflectance is core's, and so is its appearance), so the drift is the solver's alone. Measured over 2000 samples, as
-// the model sees it: normal incidence mean 0.55, worst 21; appearance mean 0.13, worst 8.4.
+// the model sees it: normal incidence mean 0.54, worst 24; appearance mean 0.13, worst 8.4.
 TEST(Solver, SecondPassDriftIsBounded) {
   for (const ErrorModel model : kModels) {
     std::mt19937 rng(7);
@@ -218,7 +218,7 @@ TEST(Solver, SecondPassDriftIsBounded) {
       EXPECT_LT(std::max(e.diffuse.mean, e.f0.mean), 0.7);
       EXPECT_LT(e.worst(), 26.0);
     } else {
-      EXPECT_LT(e.appearance->mean, 0.4);
+      EXPECT_LT(e.appearance->mean, 0.25);
       EXPECT_LT(e.appearance->max, 10.0);
     }
   }
@@ -259,7 +259,7 @@ TEST(Solver, MetalRoughToSpecGlossAndBackStaysCloseForPartialMetalness) {
   // The prior trades fit for continuity: dark partial metals (implausible, DESIGN.md) are pulled
   // towards dielectrics, so single samples can miss by up to ~47 ΔE2000; on average the look stays
   // within a couple of ΔE2000 in the model's own error (measured over 2000 samples: normal
-  // incidence mean 1.3; appearance mean 0.25).
+  // incidence mean 1.3; appearance mean 0.22).
   for (const ErrorModel model : kModels) {
     double sum = 0;
     const int samples = 2000;
@@ -268,7 +268,7 @@ TEST(Solver, MetalRoughToSpecGlossAndBackStaysCloseForPartialMetalness) {
       const SpecGloss legacy = to_spec_gloss(original);
       sum += model_delta_e(model, legacy, solve(legacy, settings_of(model)));
     }
-    EXPECT_LT(sum / samples, model == ErrorModel::NormalIncidence ? 2.0 : 0.6) << error_model_name(model);
+    EXPECT_LT(sum / samples, model == ErrorModel::NormalIncidence ? 2.0 : 0.4) << error_model_name(model);
   }
 }
 
@@ -402,10 +402,10 @@ TEST(SolverBatch, AgreesWithTheScalarSolveOnEveryPreset) {
       }
       // The 3×3 systems are solved another way, so the errors differ in the last bits. Without
       // refinement that moves the answer by < 0.001 ΔE2000; with it, a golden-section step whose two
-      // errors tie within rounding may go the other way along a flat minimum (measured worst: normal
-      // incidence 0.17, appearance 0.25, both at means under 0.004).
+      // errors tie within rounding may go the other way along a flat minimum (measured worst 0.08
+      // under both models, which share the metalness search; means 1e-5).
       EXPECT_LT(worst, settings.refine_iterations == 0 ? 0.005 : 0.3) << solver_effort_name(preset);
-      EXPECT_LT(sum / static_cast<double>(materials.size()), 0.01) << solver_effort_name(preset);  // measured 0.003
+      EXPECT_LT(sum / static_cast<double>(materials.size()), 0.01) << solver_effort_name(preset);  // measured 1e-5
     }
 }
 

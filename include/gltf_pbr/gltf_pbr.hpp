@@ -48,8 +48,9 @@ enum class Target {
 enum class SolverEffort { Fast, Balanced, Exact, Reference };
 
 // What the solve matches (converter/solver.hpp): the reflectance at normal incidence (diffuse
-// weight and F0; the default, closer in the preview on most shared assets: bench/RESULTS.md), or
-// the look over view angles, both lobes together.
+// weight and F0; the default), or, with that fit's metalness, a base colour that matches it and
+// the look over view angles (both lobes together) half and half: closer in the preview on most
+// shared assets, farther on VC, which is why it is not the default (bench/RESULTS.md).
 enum class ErrorModel { NormalIncidence, Appearance };
 
 // The names the tool's options and the Python module use ("metalness", "specular"; "fast",
