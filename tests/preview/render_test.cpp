@@ -192,8 +192,9 @@ TEST(Render, AssetsWithAGreySheenLookCloserUnderTheAppearanceModel) {
 }
 
 // The appearance model's known loss: VC's glossy specular-0 surfaces gain a mirror image of the
-// sky from core's F0 0.04, and a darker base takes light off every pixel, also those that mirror
-// the ground (measured at 128²: 1.78 against 1.26 ΔE2000 mean). The loss must not grow.
+// built-in sky from core's F0 0.04, which is blue, and the model, taking the sky for grey, darkens
+// the base by grey (measured at 128²: 1.78 against 1.26 ΔE2000 mean; under a uniform grey
+// environment they tie, bench/RESULTS.md). The loss must not grow.
 TEST(Render, GlossySpecularZeroAssetLooksOnlyALittleFartherUnderTheAppearanceModel) {
   const Asset asset = load_asset(assets_dir() / "VC/specgloss/VC.gltf");
   PreviewOptions options = small(128);
