@@ -662,14 +662,14 @@ GLTF_PBR_INLINE LegacyLanes legacy_lanes(const SpecGloss* legacy) {
 
 // objective_for() of eight inputs at once: the terms of normal_incidence_terms(), their metrics
 // and the polynomials, in lanes (inlined into solve(), so its AVX2 clone builds them too).
-GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy) {
+GLTF_PBR_INLINE Objectives objectives_for(const SpecGloss* legacy, const LegacyLanes& reflectance) {
   const SlopeTable& table = cube_root_slope_table();
   Objectives o{};
   for (int l = 0; l < kLanes; ++l) {
     const auto [prior_m, prior_weight] = metalness_prior(legacy[l]);
     o.prior_m[l] = prior_m, o.prior_weight[l] = prior_weight;
   }
-  const auto [specular, c_a] = legacy_lanes(legacy);
+  const auto& [specular, c_a] = reflectance;
   accumulate(o, splat(kDielectricDiffuse), splat(-kDielectricDiffuse), splat(0.0f), splat(0.0f), c_a,
              lab_metric(c_a, 1.0f, table));
   accumulate(o, splat(0.0f), splat(1.0f), splat(kDielectricF0), splat(-kDielectricF0), specular,
@@ -693,11 +693,12 @@ GLTF_PBR_INLINE void accumulate_at(AtMetalness& at, Floats a0, Floats a1, Floats
 }
 
 // with_appearance_terms() of eight inputs at once: the terms of appearance_terms(), at m.
-GLTF_PBR_INLINE AtMetalness with_appearance_terms(AtMetalness at, const SpecGloss* legacy) {
+GLTF_PBR_INLINE AtMetalness with_appearance_terms(AtMetalness at, const SpecGloss* legacy,
+                                                  const LegacyLanes& reflectance) {
   const SlopeTable& table = cube_root_slope_table();
   for (Doubles& e : at.h) e *= static_cast<double>(kNormalIncidenceShare);
   for (Doubles& e : at.g) e *= static_cast<double>(kNormalIncidenceShare);
-  const auto [specular, c_a] = legacy_lanes(legacy);
+  const auto& [specular, c_a] = reflectance;
   RingSplitSums split[kLanes];
   for (int l = 0; l < kLanes; ++l) split[l] = ring_split_sums(roughness_of(legacy[l]));
   constexpr float kWeight = (1.0f - kNormalIncidenceShare) / kAppearanceRings;
@@ -744,7 +745,8 @@ GLTF_PBR_INLINE void refine(Floats lo, Floats hi, Floats& m, Floats& error, int 
 
 GLTF_PBR_LANE_CLONES
 void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& settings) {
-  const Objectives o = objectives_for(legacy);
+  const LegacyLanes reflectance = legacy_lanes(legacy);  // read by both steps
+  const Objectives o = objectives_for(legacy, reflectance);
   const int steps = std::max(1, settings.grid_steps);
   const size_t count = static_cast<size_t>(steps) + 1;
   // Each lane's sampled errors and minima, on the stack (a container of vectors would be code
@@ -778,7 +780,8 @@ void solve(const SpecGloss* legacy, MetalRough* out, const SolverSettings& setti
   Floats m = splat(0.0f);
   for (int l = 0; l < kLanes; ++l) m[l] = blended_metalness(std::span(minima[l], minima_count[l]));
   const AtMetalness fit = at_metalness(m, o);
-  const Vec base = base_for(settings.error_model == ErrorModel::Appearance ? with_appearance_terms(fit, legacy) : fit);
+  const Vec base =
+      base_for(settings.error_model == ErrorModel::Appearance ? with_appearance_terms(fit, legacy, reflectance) : fit);
   for (int l = 0; l < kLanes; ++l)
     out[l] = {glm::vec3(base.c[0][l], base.c[1][l], base.c[2][l]), m[l], roughness_of(legacy[l])};
 }
