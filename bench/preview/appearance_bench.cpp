@@ -1,6 +1,8 @@
 // Which error model previews closer to the legacy look (issue 12), figures only:
-//   gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE]
-// 1. Every shared spec-gloss asset drawn by the preview (built-in sky and sun, SIZE² pixels) as
+//   gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE] [sky|neutral]
+// Under the built-in sky and sun (the default), or under a neutral one: a uniform white
+// environment without a sun (the white furnace), in which every direction mirrors the same grey.
+// 1. Every shared spec-gloss asset drawn by the preview (SIZE² pixels) as
 //    its legacy materials and as three conversions: ours with the normal-incidence and with the
 //    appearance error model, and the lossless dielectric route (base = diffuse, metallic 0, the
 //    KHR_materials_specular and _ior extensions dropped: what a core-only viewer shows of
@@ -14,6 +16,8 @@
 //    it): an estimate of the floor a core material leaves.
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -51,6 +55,14 @@ Asset core_only_dielectric(const Asset& legacy) {
 int main(int argc, char** argv) {
   const fs::path assets = argc > 1 ? fs::path(argv[1]) : fs::path("/work/shared/assets");
   const int size = argc > 2 ? std::max(16, std::atoi(argv[2])) : 256;
+  const bool neutral = argc > 3 && std::strcmp(argv[3], "neutral") == 0;
+  if (argc > 3 && !neutral && std::strcmp(argv[3], "sky") != 0) {
+    std::fprintf(stderr, "usage: gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE] [sky|neutral]\n");
+    return 2;
+  }
+  std::shared_ptr<const Environment> uniform_white;
+  if (neutral) uniform_white = std::make_shared<const Environment>(uniform_environment(glm::vec3(1.0f)));
+  const Environment& environment = neutral ? *uniform_white : default_environment();
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(assets))
     if (entry.path().parent_path().filename() == "specgloss" && entry.path().extension() == ".gltf")
@@ -58,6 +70,11 @@ int main(int argc, char** argv) {
   std::sort(files.begin(), files.end());
   PreviewOptions options;
   options.width = options.height = size;
+  if (neutral) {  // render_preview takes a loaded environment under a name, never read as a file
+    options.environment = "uniform-white";
+    options.loaded_environment = uniform_white;
+  }
+  std::printf("Environment: %s\n\n", neutral ? "neutral (uniform white, no sun)" : "built-in sky and sun");
   std::printf("| asset | normal-incidence ΔE mean / p95 / FLIP | appearance ΔE mean / p95 / FLIP | "
               "core-only dielectric ΔE mean / p95 / FLIP | solve ms normal-incidence / appearance |\n"
               "|---|---|---|---|---|\n");
@@ -85,8 +102,7 @@ int main(int argc, char** argv) {
                                 {0.8f, 0.05f, 0.05f}, {0.8f, 0.6f, 0.1f}, {0.1f, 0.25f, 0.7f}};
   const auto sphere_delta_e = [&](const SpherePair& sphere) {
     Camera camera;
-    return light_and_compare(sphere_gbuffers(std::span(&sphere, 1), 1, 96, &camera), camera, default_environment(),
-                             options)
+    return light_and_compare(sphere_gbuffers(std::span(&sphere, 1), 1, 96, &camera), camera, environment, options)
         .metrics.delta_e_mean;
   };
   std::printf("\n| specular | normal-incidence sphere ΔE mean: mean / worst | appearance: mean / worst | "
