@@ -1,7 +1,8 @@
 // Which error model previews closer to the legacy look (issue 12), figures only:
-//   gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE] [sky|neutral]
-// Under the built-in sky and sun (the default), or under a neutral one: a uniform white
-// environment without a sun (the white furnace), in which every direction mirrors the same grey.
+//   gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE] [sky|neutral|ENVIRONMENT]
+// Lit by the built-in sky and sun (the default), by a neutral environment (a uniform white one
+// without a sun, the white furnace, in which every direction mirrors the same grey), or by an
+// equirectangular .hdr or .exr (bench/preview/appearance_environments.sh runs Blender's worlds).
 // 1. Every shared spec-gloss asset drawn by the preview (SIZE² pixels) as
 //    its legacy materials and as three conversions: ours with the normal-incidence and with the
 //    appearance error model, and the lossless dielectric route (base = diffuse, metallic 0, the
@@ -16,7 +17,6 @@
 //    it): an estimate of the floor a core material leaves.
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,15 +54,19 @@ Asset core_only_dielectric(const Asset& legacy) {
 
 int main(int argc, char** argv) {
   const fs::path assets = argc > 1 ? fs::path(argv[1]) : fs::path("/work/shared/assets");
-  const int size = argc > 2 ? std::max(16, std::atoi(argv[2])) : 256;
-  const bool neutral = argc > 3 && std::strcmp(argv[3], "neutral") == 0;
-  if (argc > 3 && !neutral && std::strcmp(argv[3], "sky") != 0) {
-    std::fprintf(stderr, "usage: gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE] [sky|neutral]\n");
+  const int size = argc > 2 ? std::atoi(argv[2]) : 256;
+  const std::string lighting = argc > 3 ? argv[3] : "sky";
+  if (size < 16 || size > 8192) {
+    std::fprintf(stderr, "usage: gltf-pbr-appearance-bench [ASSETS_DIR] [SIZE in 16-8192] [sky|neutral|ENVIRONMENT]\n");
     return 2;
   }
-  std::shared_ptr<const Environment> uniform_white;
-  if (neutral) uniform_white = std::make_shared<const Environment>(uniform_environment(glm::vec3(1.0f)));
-  const Environment& environment = neutral ? *uniform_white : default_environment();
+  // render_preview takes a loaded environment under its name, never reading the file again.
+  std::shared_ptr<const Environment> loaded;
+  if (lighting == "neutral")
+    loaded = std::make_shared<const Environment>(uniform_environment(glm::vec3(1.0f)));
+  else if (lighting != "sky")
+    loaded = std::make_shared<const Environment>(load_environment(lighting));
+  const Environment& environment = loaded ? *loaded : default_environment();
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(assets))
     if (entry.path().parent_path().filename() == "specgloss" && entry.path().extension() == ".gltf")
@@ -70,11 +74,13 @@ int main(int argc, char** argv) {
   std::sort(files.begin(), files.end());
   PreviewOptions options;
   options.width = options.height = size;
-  if (neutral) {  // render_preview takes a loaded environment under a name, never read as a file
-    options.environment = "uniform-white";
-    options.loaded_environment = uniform_white;
+  if (loaded) {
+    options.environment = lighting;
+    options.loaded_environment = loaded;
   }
-  std::printf("Environment: %s\n\n", neutral ? "neutral (uniform white, no sun)" : "built-in sky and sun");
+  std::printf("Environment: %s\n\n", lighting == "sky"       ? "the built-in sky and sun"
+                                     : lighting == "neutral" ? "neutral (uniform white, no sun)"
+                                                             : lighting.c_str());
   std::printf("| asset | normal-incidence ΔE mean / p95 / FLIP | appearance ΔE mean / p95 / FLIP | "
               "core-only dielectric ΔE mean / p95 / FLIP | solve ms normal-incidence / appearance |\n"
               "|---|---|---|---|---|\n");

@@ -3,13 +3,13 @@
 pairings of the shared images and meshes (the grey speculars may overlap the constructed spheres'
 0, 0.02, 0.1 and 0.2). Every distinct PNG and JPEG image in ../shared/assets as the diffuse texture
 of a spec-gloss material on one shared asset's mesh, under grey speculars and glossinesses given on
-the command line. Each is
-drawn by `gltf-pbr preview` under both error models (built-in sky and sun, or with --neutral a
-uniform white environment without a sun, in which every direction mirrors the same grey); prints the ΔE2000 and
-FLIP means over the cases, how many cases each model draws closer (and how many alike), and the
-mean per setting. The mesh must be textured (TEXCOORD_0 on every primitive).
+the command line. Each is drawn by `gltf-pbr preview` under both error models, lit by the built-in
+sky and sun, by `--env neutral` (a uniform white environment without a sun, in which every
+direction mirrors the same grey) or by `--env FILE` (an equirectangular .hdr or .exr); prints the
+ΔE2000 and FLIP means over the cases, how many cases each model draws closer (and how many alike),
+and the mean per setting. The mesh must be textured (TEXCOORD_0 on every primitive).
   bench/preview/appearance_heldout.py GLTF_PBR [SHARED_DIR] [--mesh Avocado] [--specular 0,0.1,0.3]
-                                      [--glossiness 0.3,1.0] [--size 128] [--neutral]"""
+                                      [--glossiness 0.3,1.0] [--size 128] [--env neutral|FILE]"""
 import argparse, glob, json, os, shutil, statistics, subprocess, sys, tempfile
 
 parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -19,7 +19,7 @@ parser.add_argument('--mesh', default='Avocado')
 parser.add_argument('--specular', default='0,0.1,0.3')
 parser.add_argument('--glossiness', default='0.3,1.0')
 parser.add_argument('--size', default='128')
-parser.add_argument('--neutral', action='store_true', help='a uniform white environment, no sun')
+parser.add_argument('--env', help="'neutral' or an .hdr/.exr file; default: the built-in sky and sun")
 args = parser.parse_args()
 mesh_dir = os.path.join(args.shared, 'assets', args.mesh, 'specgloss')
 with open(os.path.join(mesh_dir, args.mesh + '.gltf')) as f:
@@ -35,14 +35,17 @@ glossinesses = [float(x) for x in args.glossiness.split(',')]
 models = ('normal-incidence', 'appearance')
 
 work = tempfile.TemporaryDirectory(prefix='gltf-pbr-appearance-')
-lighting = []
-if args.neutral:
-    # A flat Radiance picture (Ward 1991) of radiance 1 everywhere: RGBE (128, 128, 128, 129). Four
-    # pixels wide, below the width of 8 at which scanlines may be run-length encoded.
+lighting, lit_by = [], args.env or 'the built-in sky and sun'
+if args.env == 'neutral':
+    # A flat Radiance picture (Ward 1991), the same everywhere: RGBE (128, 128, 128, 129), which
+    # decodes as (m + 0.5) 2^(e - 136) = 1.0039 (no RGBE value is exactly 1). Four pixels wide,
+    # below the width of 8 at which scanlines may be run-length encoded.
     neutral = os.path.join(work.name, 'neutral.hdr')
     with open(neutral, 'wb') as f:
         f.write(b'#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n' + bytes([128, 128, 128, 129]) * 8)
-    lighting = ['--env', neutral, '--no-sun']
+    lighting, lit_by = ['--env', neutral, '--no-sun'], 'a uniform white environment'
+elif args.env:
+    lighting = ['--env', os.path.abspath(args.env)]
 images = sorted(set(glob.glob(f'{args.shared}/assets/*/*/*.png') + glob.glob(f'{args.shared}/assets/*/*/*.jpg')))
 seen, cases = set(), []
 for image in images:
@@ -80,7 +83,7 @@ work.cleanup()
 
 settings = [(s, g) for s in speculars for g in glossinesses]
 print(f'{len(cases)} materials ({len(seen)} images on {args.mesh}\'s mesh, {args.size}² previews, '
-      f'{"a uniform white environment" if args.neutral else "the built-in sky and sun"})')
+      f'{lit_by})')
 ties = sum(1 for _, f in cases if f[models[0]][0] == f[models[1]][0])
 print(f'{ties} drawn alike by both (the same conversion)')
 print('| error model | ΔE2000 mean | FLIP mean | drawn closer (ΔE2000 mean) in | ΔE2000 mean by (specular, glossiness) |')
