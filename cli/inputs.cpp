@@ -116,8 +116,8 @@ void add_conversion_options(CLI::App& command, ConversionArgs& args) {
   command
       .add_option("--error-model", args.error_model,
                   "normal-incidence: match diffuse weight and F0 at normal incidence; appearance: match the look "
-                  "over view angles as well, with the normal-incidence metalness (closer on most assets, farther on "
-                  "VC: see README)")
+                  "over view angles as well, with the normal-incidence metalness (closer on rounded shapes; on flat "
+                  "glossy ones closer or farther by the lighting: see README)")
       ->check(CLI::IsMember({"appearance", "normal-incidence"}))
       ->capture_default_str();
   command

@@ -49,8 +49,10 @@ enum class SolverEffort { Fast, Balanced, Exact, Reference };
 
 // What the solve matches (converter/solver.hpp): the reflectance at normal incidence (diffuse
 // weight and F0; the default), or, with that fit's metalness, a base colour that matches it and
-// the look over view angles (both lobes together) half and half: closer in the preview on most
-// shared assets, farther on VC, which is why it is not the default (bench/RESULTS.md).
+// the look over view angles (both lobes together) half and half. The second draws rounded shapes
+// closer in the preview under every environment measured, but flat glossy ones closer or farther
+// by the environment, and VC farther under the built-in sky: so it is not the default
+// (bench/RESULTS.md, sessions 41 and 42).
 enum class ErrorModel { NormalIncidence, Appearance };
 
 // The names the tool's options and the Python module use ("metalness", "specular"; "fast",
