@@ -17,6 +17,7 @@
 //    it): an estimate of the floor a core material leaves.
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,8 +65,14 @@ int main(int argc, char** argv) {
   std::shared_ptr<const Environment> loaded;
   if (lighting == "neutral")
     loaded = std::make_shared<const Environment>(uniform_environment(glm::vec3(1.0f)));
-  else if (lighting != "sky")
-    loaded = std::make_shared<const Environment>(load_environment(lighting));
+  else if (lighting != "sky") {
+    try {
+      loaded = std::make_shared<const Environment>(load_environment(lighting));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gltf-pbr-appearance-bench: %s\n", e.what());
+      return 1;
+    }
+  }
   const Environment& environment = loaded ? *loaded : default_environment();
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(assets))

@@ -5,15 +5,17 @@
 # agreement on the ordered (code, pointer or offset, severity) list, by source, and the classes of
 # difference, most frequent first. Nothing is written outside WORK.
 # NEW_SHARE (default 0) of the inputs come from generate.py's SHAPES, documents built around one
-# feature each (sparse accessors, cameras, images, skins, lights, ...).
-#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14] [NEW_SHARE=0]
+# feature each (sparse accessors, cameras, images, skins, lights, ...); SHAPES_SET (default 1)
+# picks generate.py's set of shapes (2: morph targets, samplers, primitives, material combinations,
+# URIs, bounds, buffer views, animation samplers; 3: both).
+#   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14] [NEW_SHARE=0] [SHAPES_SET=1]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 bench_binary="$(realpath "$1")" node_modules="$2" work="${3:-/tmp/structure-diff}"
-count="${4:-10000}" seed="${5:-14}" new_share="${6:-0}"
+count="${4:-10000}" seed="${5:-14}" new_share="${6:-0}" shapes_set="${7:-1}"
 shared="$(cd "$here/../../../shared" && pwd)"
 rm -rf "$work" && mkdir -p "$work"
-python3 "$here/generate.py" "$work" "$shared" --count "$count" --seed "$seed" --new-share "$new_share" >/dev/null
+python3 "$here/generate.py" "$work" "$shared" --count "$count" --seed "$seed" --new-share "$new_share" --shapes-set "$shapes_set" >/dev/null
 cd "$work"
 M="$node_modules" node "$here/reference_reports.mjs" --list list.txt > ref.jsonl
 "$bench_binary" --runs 1 --json --list list.txt | grep '^{' > ours.jsonl

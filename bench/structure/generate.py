@@ -23,6 +23,11 @@
 # duplicate keys, bad UTF-8, BOM, lone surrogates, huge numbers). They are named
 # gen/<shape>_NNNNN.gltf|glb so that disagreements group by shape. At S = 0 (the default) a seed
 # makes the same inputs as before the shapes existed.
+# --shapes-set 2 draws the shapes from SHAPES2 instead (3: from both): morph targets and weights
+# counts, samplers and texture references, primitive modes, index values and attribute names,
+# material value combinations, external files, extras and unsupported extensions, accessor bounds
+# on every component type, byteStride rules, animation samplers and channels as objects. The
+# default (1) makes, seed for seed, the same inputs as before SHAPES2 existed.
 import argparse, base64, copy, glob, json, math, os, random, shutil, struct, zlib
 
 parser = argparse.ArgumentParser()
@@ -32,6 +37,8 @@ parser.add_argument('--count', type=int, default=10000)
 parser.add_argument('--seed', type=int, default=14)
 parser.add_argument('--new-share', type=float, default=0.0,
                     help='share of inputs made from SHAPES (0: the inputs of the original kinds, seed for seed as before)')
+parser.add_argument('--shapes-set', type=int, default=1, choices=[1, 2, 3],
+                    help='which shapes --new-share draws from: 1 SHAPES (the default, seed for seed as before), 2 SHAPES2, 3 both')
 args = parser.parse_args()
 rng = random.Random(args.seed)
 
@@ -905,15 +912,351 @@ SHAPES = {f.__name__[6:]: f for f in [shape_sparse, shape_material_ext, shape_te
                                        shape_accessors, shape_lights_variants, shape_extension_lists, shape_json_text]}
 
 
+# ---------------------------------------------------------------------------------------------
+# Shapes of the second set (--shapes-set 2): features the first set reaches only by chance.
+# A shape may name companion files beside its document: container ('gltf', {suffix: bytes}),
+# written as gen/<shape>_NNNNN<suffix>, and '%BASE%' in the document's text becomes that name.
+# ---------------------------------------------------------------------------------------------
+def fresh(b):
+    """Empties a Builder's binary, views and accessors (the primitive keeps its dict)."""
+    b.blob = bytearray(); b.doc['bufferViews'] = []; b.doc['accessors'] = []
+    b.prim()['attributes'] = {}; b.prim().pop('indices', None)
+
+
+def shape_morph():
+    """Morph targets: target attributes (POSITION, NORMAL, TANGENT, TEXCOORD/COLOR, names the base
+    lacks or that are invalid), their formats, counts and bounds; mesh.weights and node.weights
+    lengths against the target count; primitives with unequal target counts; empty targets."""
+    b = Builder(texture=rng.random() < 0.3)
+    p = b.prim()
+    if rng.random() < 0.3: p['attributes']['TANGENT'] = b.acc('f', [1, 0, 0, 1] * 3, 5126, 'VEC4', 3, target=34962)
+    def target():
+        t = {}
+        for sem in rng.sample(['POSITION', 'POSITION', 'NORMAL', 'TANGENT', 'TEXCOORD_0', 'COLOR_0', '_CUSTOM', 'JOINTS_0', 'position'], pick(1, 1, 2, 3)):
+            kind = {'TANGENT': pick('VEC3', 'VEC3', 'VEC4'), 'TEXCOORD_0': 'VEC2', 'COLOR_0': pick('VEC3', 'VEC4'), 'JOINTS_0': 'VEC4'}.get(sem, pick('VEC3', 'VEC3', 'VEC3', 'VEC4', 'VEC2'))
+            ct = pick(5126, 5126, 5126, 5120, 5122, 5121)
+            n = pick(3, 3, 3, 3, 2, 4)
+            vals = [pick(0, 0, 0.1, -0.5, 1) for _ in range(WIDTH[kind] * n)]
+            if ct != 5126: vals = [int(v * (127 if ct == 5120 else 255 if ct == 5121 else 32767)) for v in vals]
+            t[sem] = b.acc(FMT[ct], vals, ct, kind, n, target=pick(34962, 34962, None), minmax=sem != 'POSITION' or rng.random() < 0.8,
+                           normalized=ct != 5126 and rng.random() < 0.7)
+        return t
+    nt = pick(1, 1, 2, 3, 0)
+    p['targets'] = [target() if rng.random() < 0.9 else {} for _ in range(nt)]
+    w = [0.5] * nt
+    mw = pick('same', 'same', 'none', 'more', 'fewer', 'empty')
+    if mw != 'none': b.doc['meshes'][0]['weights'] = {'same': w, 'more': w + [0], 'fewer': w[1:], 'empty': []}[mw]
+    if rng.random() < 0.3: b.doc['nodes'][0]['weights'] = pick(w, w + [1], w[1:], [])
+    if rng.random() < 0.2:
+        second = copy.deepcopy(p)
+        second['targets'] = second['targets'][:pick(0, 1, 2)] if rng.random() < 0.7 else second['targets']
+        if not second['targets']: del second['targets']
+        b.doc['meshes'][0]['primitives'].append(second)
+    if rng.random() < 0.15:
+        b.doc['nodes'].append({'weights': pick([0], w)}); b.doc['scenes'][0]['nodes'].append(1)
+    return b.finish()
+
+
+def shape_samplers():
+    """Samplers and textures: filter and wrap values (valid, neighbours, strings, floats), a texture
+    without a sampler or source, indices out of range, unused samplers, textures and images."""
+    b = Builder()
+    s = {}
+    for k, vals in (('magFilter', [9728, 9729, 9984, 9987, 9986, 0, 9729.5, '9729']), ('minFilter', [9728, 9729, 9984, 9985, 9986, 9987, 9988, 10497]),
+                    ('wrapS', [10497, 33071, 33648, 9729, 0, 33648.0]), ('wrapT', [10497, 33071, 33648, 33649, -1, None])):
+        if rng.random() < 0.5: s[k] = rng.choice(vals)
+    s = {k: v for k, v in s.items() if v is not None}
+    if rng.random() < 0.1: s['name'] = pick('s', 1)
+    b.doc['samplers'] = [s]
+    tex = b.doc['textures'][0]
+    v = pick('plain', 'plain', 'no_sampler', 'no_source', 'sampler_oob', 'source_oob', 'unused_sampler', 'unused_texture', 'unused_image', 'shared')
+    if v == 'no_sampler': del tex['sampler']; b.doc.pop('samplers') if rng.random() < 0.7 else None
+    if v == 'no_source': del tex['source']
+    if v == 'sampler_oob': tex['sampler'] = pick(1, -1, 'x')
+    if v == 'source_oob': tex['source'] = pick(1, -1, 1.5)
+    if v == 'unused_sampler': b.doc['samplers'].append(pick({}, {'magFilter': 9728}))
+    if v == 'unused_texture': b.doc['textures'].append({'source': 0, 'sampler': pick(0, 1)})
+    if v == 'unused_image': b.doc['images'].append({'uri': b.doc['images'][0]['uri']})
+    if v == 'shared':
+        b.doc['materials'][0]['emissiveTexture'] = {'index': 0}; b.doc['materials'][0]['emissiveFactor'] = [1, 1, 1]
+    return b.finish()
+
+
+def shape_primitives():
+    """Primitive modes against vertex and index counts, index values (out of range, primitive
+    restart, degenerate triangles) in each index format, attribute names (sets that skip a number,
+    lower case, custom, JOINTS without WEIGHTS) and primitives without POSITION or indices."""
+    b = Builder(uv=False, normals=False, texture=False)
+    fresh(b)
+    p = b.prim()
+    nv = pick(1, 2, 3, 4, 6)
+    vals = [float(rng.randrange(3)) for _ in range(nv * 3)]
+    p['attributes']['POSITION'] = b.acc('f', vals, 5126, 'VEC3', nv, target=34962, minmax=True)
+    mode = pick(None, 0, 1, 2, 3, 4, 4, 5, 6, 7, -1)
+    if mode is not None: p['mode'] = mode
+    if rng.random() < 0.7:
+        ct = pick(5121, 5123, 5123, 5125, 5122)
+        n = pick(0, 1, 2, 3, 3, 4, 5, 6, 7)
+        idx = [rng.randrange(nv) for _ in range(n)]
+        if idx and rng.random() < 0.3: idx[rng.randrange(n)] = pick(nv, nv + 5, {5121: 255, 5123: 65535, 5125: 2 ** 32 - 1, 5122: 32767}[ct])
+        if len(idx) >= 3 and rng.random() < 0.2: idx[1] = idx[0]
+        p['indices'] = b.acc(FMT[ct], idx, ct, 'SCALAR', max(n, 1) if idx else pick(0, 1), target=pick(34963, 34963, None))
+        if not idx: b.doc['bufferViews'].append({'buffer': 0, 'byteLength': 4}); b.doc['accessors'][-1]['bufferView'] = len(b.doc['bufferViews']) - 1
+    extra = pick(None, None, 'TEXCOORD_1', 'COLOR_1', '_FOO', 'foo', 'TEXCOORD_01', 'JOINTS_0', 'TEXCOORD_0', 'COLOR_0', 'WEIGHTS_0', 'texcoord_0')
+    if extra:
+        kind = {'JOINTS_0': 'VEC4', 'WEIGHTS_0': 'VEC4', 'COLOR_0': 'VEC4', 'COLOR_1': 'VEC4'}.get(extra, 'VEC2')
+        ct = 5121 if extra == 'JOINTS_0' else 5126
+        p['attributes'][extra] = b.acc(FMT[ct], [0] * (WIDTH[kind] * nv), ct, kind, nv, target=34962)
+    if rng.random() < 0.1: del p['attributes']['POSITION']
+    if rng.random() < 0.15:
+        b.doc['meshes'][0]['primitives'].append({'attributes': dict(p['attributes']), 'mode': pick(0, 1, 4)})
+    return b.finish()
+
+
+def shape_material_combos():
+    """Core material values and the combinations the catalogue names: alphaCutoff against
+    alphaMode, emissive strength with a zero or absent emissiveFactor, volume without transmission
+    or on a double-sided material, dispersion without volume, iridescence thickness ranges,
+    clearcoat or anisotropy texture sets against the normal texture's, unlit or specular-glossiness
+    beside other extensions, normal maps and tangents (present, absent, unused)."""
+    b = Builder()
+    p = b.prim()
+    m = b.doc['materials'][0]
+    ext = m.setdefault('extensions', {})
+    v = pick('alpha', 'emissive', 'volume', 'dispersion', 'iridescence', 'texcoords', 'multiple', 'tangent', 'factors')
+    if v == 'alpha':
+        m['alphaMode'] = pick('OPAQUE', 'MASK', 'BLEND', 'mask', None)
+        if m['alphaMode'] is None: del m['alphaMode']
+        if rng.random() < 0.7: m['alphaCutoff'] = pick(0.5, 0, 1, -0.1, 2)
+    if v == 'emissive':
+        ext['KHR_materials_emissive_strength'] = {'emissiveStrength': pick(0, 1, 2, -1)} if rng.random() < 0.9 else {}
+        f = pick(None, [0, 0, 0], [1, 1, 1], [0, 0, 0.5])
+        if f is not None: m['emissiveFactor'] = f
+        if rng.random() < 0.3: m['emissiveTexture'] = {'index': 0}
+    if v == 'volume':
+        ext['KHR_materials_volume'] = {'thicknessFactor': pick(0, 0.5, 1), 'attenuationDistance': pick(1, 0, -1, None)}
+        if ext['KHR_materials_volume']['attenuationDistance'] is None: del ext['KHR_materials_volume']['attenuationDistance']
+        if rng.random() < 0.5: ext['KHR_materials_transmission'] = {'transmissionFactor': pick(0, 1)}
+        if rng.random() < 0.4: m['doubleSided'] = pick(True, False)
+    if v == 'dispersion':
+        ext['KHR_materials_dispersion'] = {'dispersion': pick(0, 0.1, -1, 20)}
+        if rng.random() < 0.5: ext['KHR_materials_volume'] = {'thicknessFactor': pick(0, 1)}
+        if rng.random() < 0.5: ext['KHR_materials_transmission'] = {}
+    if v == 'iridescence':
+        ir = {'iridescenceFactor': pick(0, 1)}
+        for k in ('iridescenceThicknessMinimum', 'iridescenceThicknessMaximum'):
+            if rng.random() < 0.6: ir[k] = pick(0, 100, 400, -1)
+        if rng.random() < 0.5: ir['iridescenceThicknessTexture'] = {'index': 0}
+        if rng.random() < 0.2: ir['iridescenceIor'] = pick(1, 0.5, 1.3)
+        ext['KHR_materials_iridescence'] = ir
+    if v == 'texcoords':
+        p['attributes']['TEXCOORD_1'] = b.acc('f', [0, 0, 1, 0, 0, 1], 5126, 'VEC2', 3, target=34962)
+        m['normalTexture'] = {'index': 0, 'texCoord': pick(0, 1)}
+        if rng.random() < 0.5: ext['KHR_materials_clearcoat'] = {'clearcoatNormalTexture': {'index': 0, 'texCoord': pick(0, 1)}}
+        else: ext['KHR_materials_anisotropy'] = {'anisotropyTexture': {'index': 0, 'texCoord': pick(0, 1)}}
+        if rng.random() < 0.5: p['attributes']['TANGENT'] = b.acc('f', [1, 0, 0, 1] * 3, 5126, 'VEC4', 3, target=34962)
+    if v == 'multiple':
+        first = pick('KHR_materials_unlit', 'KHR_materials_pbrSpecularGlossiness')
+        ext[first] = {}
+        for name in rng.sample(['KHR_materials_clearcoat', 'KHR_materials_sheen', 'KHR_materials_ior', 'KHR_materials_emissive_strength',
+                                'KHR_materials_unlit', 'KHR_materials_specular', 'KHR_materials_transmission'], pick(1, 2)):
+            ext[name] = {}
+    if v == 'tangent':
+        if rng.random() < 0.6: m['normalTexture'] = {'index': 0}
+        if rng.random() < 0.5: p['attributes']['TANGENT'] = b.acc('f', [1, 0, 0, pick(1, -1, 0)] * 3, 5126, 'VEC4', 3, target=34962)
+        if rng.random() < 0.3: del p['attributes']['NORMAL']
+        if rng.random() < 0.3: ext['KHR_materials_anisotropy'] = {'anisotropyStrength': pick(0, 0.5)}
+    if v == 'factors':
+        pbr = m['pbrMetallicRoughness']
+        k = pick('baseColorFactor', 'metallicFactor', 'roughnessFactor', 'emissiveFactor', 'normalScale', 'occlusionStrength')
+        val = {'baseColorFactor': pick([1, 1, 1, 1], [2, 0, 0, 1], [-0.1, 0, 0, 1], [1, 1, 1], [1, 1, 1, 1, 1]),
+               'emissiveFactor': pick([1.5, 0, 0], [-1, 0, 0], [1, 1])}.get(k, pick(0, 1, 1.5, -0.5))
+        if k in ('baseColorFactor', 'metallicFactor', 'roughnessFactor'): pbr[k] = val
+        elif k == 'emissiveFactor': m[k] = val
+        elif k == 'normalScale': m['normalTexture'] = {'index': 0, 'scale': val}
+        else: m['occlusionTexture'] = {'index': 0, 'strength': val}
+    if not ext: del m['extensions']
+    for name in ext:
+        if rng.random() < 0.9: b.use(name)
+    return b.finish()
+
+
+def shape_uris_extras():
+    """External resources beside the document (present, missing, shorter or longer than declared,
+    names with spaces, percent escapes, queries, fragments, backslashes, absolute and remote URIs),
+    extras and unknown members on every kind of object, names of the wrong type, asset members,
+    and unsupported extensions (EXT_mesh_gpu_instancing, KHR_xmp_json_ld) that name other objects."""
+    b = Builder()
+    doc, blob, _ = b.finish()
+    files = {}
+    v = pick('buffer', 'buffer', 'image', 'extras', 'extras', 'asset', 'unsupported')
+    if v == 'buffer':
+        how = pick('ok', 'short', 'long', 'missing', 'space', 'percent', 'query', 'fragment', 'backslash', 'remote', 'absolute', 'upper')
+        name = {'space': '%BASE% data.bin', 'upper': '%BASE%.BIN'}.get(how, '%BASE%.bin')
+        uri = {'percent': '%BASE%%20data.bin', 'query': '%BASE%.bin?x=1', 'fragment': '%BASE%.bin#frag', 'backslash': '.\\%BASE%.bin',
+               'remote': 'http://example.com/%BASE%.bin', 'absolute': '/%BASE%.bin', 'missing': '%BASE%_missing.bin'}.get(how, name)
+        if how == 'percent': name = '%BASE% data.bin'
+        data = blob[:-4] if how == 'short' else blob + b'\0' * 8 if how == 'long' else blob
+        files[name[len('%BASE%'):]] = data
+        doc['buffers'][0]['uri'] = uri
+    if v == 'image':
+        how = pick('ok', 'missing', 'jpeg_named_png', 'mime', 'space', 'junk')
+        data = png(1, 1, (1, 2, 3, 255)) if how != 'jpeg_named_png' else b'\xff\xd8\xff\xe0\0\x10JFIF\0' + b'\0' * 8
+        if how == 'junk': data = b'not an image'
+        name = '%BASE% a.png' if how == 'space' else '%BASE%.png'
+        files[name[len('%BASE%'):]] = data
+        img = {'uri': {'missing': '%BASE%_missing.png', 'space': pick('%BASE% a.png', '%BASE%%20a.png')}.get(how, name)}
+        if how == 'mime' or rng.random() < 0.2: img['mimeType'] = pick('image/png', 'image/jpeg', 'image/gif')
+        doc['images'] = [img]
+    if v == 'extras':
+        holders = [doc, doc['asset'], doc['nodes'][0], doc['meshes'][0], doc['meshes'][0]['primitives'][0], doc['accessors'][0],
+                   doc['bufferViews'][0], doc['buffers'][0], doc['materials'][0], doc['materials'][0]['pbrMetallicRoughness'],
+                   doc['materials'][0]['pbrMetallicRoughness']['baseColorTexture'], doc['textures'][0], doc['images'][0],
+                   doc['samplers'][0], doc['scenes'][0], doc['meshes'][0]['primitives'][0]['attributes']]
+        for holder in rng.sample(holders, pick(1, 1, 2)):
+            k = pick('extras', 'extras', 'foo', 'name', 'extensions')
+            holder[k] = {'extras': pick({}, {'a': 1}, 1, 'x', [], None, True), 'foo': pick(1, {}), 'name': pick('n', 1, None, ['n']),
+                         'extensions': pick({}, [], 1, {'foo': {}})}[k]
+    if v == 'asset':
+        a = doc['asset']
+        k = pick('generator', 'copyright', 'minVersion', 'version', 'foo', 'extensions')
+        a[k] = {'generator': pick('g', 1, None), 'copyright': pick('c', 1, ['c']), 'minVersion': pick('2.0', '2.0.0', '1.9', '', 2.0),
+                'version': pick('2.0', '2.00', '2.0 ', ' 2.0', '2.x', 'v2.0', '2.0.1', 2.0, '20', '2.', '.0'), 'foo': 1,
+                'extensions': pick({}, {'EXT_foo': {}})}[k]
+        if k == 'version' and rng.random() < 0.3: a['minVersion'] = pick('2.0', '2.1')
+    if v == 'unsupported':
+        name = pick('EXT_mesh_gpu_instancing', 'KHR_xmp_json_ld')
+        if name == 'EXT_mesh_gpu_instancing':
+            doc['bufferViews'].append({'buffer': 0, 'byteOffset': 0, 'byteLength': 24})
+            doc['accessors'].append({'bufferView': len(doc['bufferViews']) - 1, 'componentType': 5126, 'count': 2, 'type': 'VEC3'})
+            doc['nodes'][0]['extensions'] = {name: {'attributes': {'TRANSLATION': len(doc['accessors']) - pick(1, 1, 0)}}}
+        else:
+            doc['extensions'] = {name: {'packets': pick([{}], [{'@context': {}}], [], [1])}}
+            pick(doc['asset'], doc['nodes'][0], doc['materials'][0])['extensions'] = {name: {'packet': pick(0, 0, 1, -1)}}
+        if rng.random() < 0.9: doc['extensionsUsed'] = [name]
+        if rng.random() < 0.2: doc['extensionsRequired'] = [name]
+    return doc, blob, ('gltf', files)
+
+
+def shape_accessor_bounds():
+    """Accessor min and max on every component type and element type, normalized or not: exact
+    bounds, bounds written in the normalized range, rounded floats (0.1), -0, one unit off, min
+    above max, on an attribute of its own (a custom semantic, so no format rule applies) or unused."""
+    b = Builder(texture=False)
+    ct = pick(5120, 5121, 5122, 5123, 5125, 5126, 5126)
+    kind = pick('SCALAR', 'VEC2', 'VEC3', 'VEC4')
+    w = WIDTH[kind]
+    norm = ct not in (5125, 5126) and rng.random() < 0.5
+    top = {5120: 127, 5121: 255, 5122: 32767, 5123: 65535, 5125: 2 ** 32 - 1}.get(ct)
+    if ct == 5126: vals = [pick(0.1, -0.0, 0.0, 1.5, -2.25, 1e30, 3.4028234663852886e38, 1e-40) for _ in range(3 * w)]
+    else: vals = [pick(0, 1, top, -top - 1 if ct in (5120, 5122) else 0, top // 2) for _ in range(3 * w)]
+    a = b.acc(FMT[ct], vals, ct, kind, 3, target=34962, normalized=norm)
+    acc = b.doc['accessors'][a]
+    packed = struct.unpack('<' + FMT[ct] * len(vals), pack(FMT[ct], vals))
+    lo = [min(packed[i::w]) for i in range(w)]; hi = [max(packed[i::w]) for i in range(w)]
+    form = pick('exact', 'exact', 'written', 'normalized', 'off', 'swapped', 'float_form', 'one_only')
+    if form == 'written': lo = [min(vals[i::w]) for i in range(w)]; hi = [max(vals[i::w]) for i in range(w)]
+    if form == 'normalized' and top: lo = [x / top for x in lo]; hi = [x / top for x in hi]
+    if form == 'off': i = rng.randrange(w); (lo if rng.random() < 0.5 else hi)[i] += pick(1, -1, 0.5, 1e-7)
+    if form == 'swapped': lo, hi = hi, lo
+    if form == 'float_form': lo = [Num('%r' % float(x)) for x in lo]; hi = [Num('%.1f' % x) for x in hi]
+    acc['min'] = lo; acc['max'] = hi
+    if form == 'one_only': del acc[pick('min', 'max')]
+    if rng.random() < 0.75: b.prim()['attributes'][pick('_DATA', '_DATA', 'TEXCOORD_0', 'COLOR_0')] = a
+    return b.finish()
+
+
+def shape_buffer_views():
+    """byteStride rules: two accessors in one view (interleaved with a stride, or without one),
+    strides below 4, above 252, not a multiple of 4 or beyond the view, views that fit their last
+    element exactly or miss it by one byte, a vertex view with an index target, unused views and
+    buffers, empty views."""
+    b = Builder(uv=False, normals=False, texture=False)
+    fresh(b)
+    p = b.prim()
+    n = 3
+    pos = [0, 0, 0, 1, 0, 0, 0, 1, 0]
+    nrm = [0, 0, 1] * 3
+    v = pick('interleaved', 'interleaved', 'shared_no_stride', 'stride', 'fit', 'target', 'unused', 'empty')
+    if v in ('interleaved', 'shared_no_stride'):
+        data = b''.join(struct.pack('<3f', *pos[3 * i:3 * i + 3]) + struct.pack('<3f', *nrm[3 * i:3 * i + 3]) for i in range(n))
+        stride = None if v == 'shared_no_stride' else pick(24, 24, 20, 28, 32, 12)
+        view = b.view(data + b'\0' * pick(0, 0, 8), target=34962, stride=stride)
+        p['attributes']['POSITION'] = len(b.doc['accessors'])
+        b.doc['accessors'].append({'bufferView': view, 'componentType': 5126, 'count': n, 'type': 'VEC3', 'min': [0, 0, 0], 'max': [1, 1, 0]})
+        p['attributes']['NORMAL'] = len(b.doc['accessors'])
+        b.doc['accessors'].append({'bufferView': view, 'byteOffset': pick(12, 12, 16, 24), 'componentType': 5126, 'count': n, 'type': 'VEC3'})
+    else:
+        stride = pick(None, 12, 16, 4, 2, 6, 13, 252, 256, 40)
+        p['attributes']['POSITION'] = b.acc('f', pos, 5126, 'VEC3', n, target=pick(34962, 34962, 34963, None), minmax=True)
+        view = b.doc['bufferViews'][-1]
+        if v == 'stride' and stride: view['byteStride'] = stride
+        if v == 'fit':
+            view['byteStride'] = pick(16, 20, 24)
+            view['byteLength'] = view['byteStride'] * (n - 1) + 12 + pick(0, -1, -4, 4)
+            b.blob.extend(b'\0' * 64)
+        if v == 'unused': b.doc['bufferViews'].append({'buffer': 0, 'byteLength': pick(4, 12), 'byteStride': pick(None, 4)}); b.doc['bufferViews'][-1] = {k: x for k, x in b.doc['bufferViews'][-1].items() if x is not None}
+        if v == 'empty': b.doc['bufferViews'].append({'buffer': 0, 'byteLength': pick(0, 1)})
+        if v == 'target': view['target'] = pick(34963, 34962, 1, 0)
+    p['indices'] = b.acc('H', [0, 1, 2], 5123, 'SCALAR', 3, target=34963)
+    doc, blob, c = b.finish()
+    if v == 'unused' and rng.random() < 0.5: doc['buffers'].append({'byteLength': pick(0, 4), 'uri': data_uri(b'\0' * 4)})
+    return doc, blob, c
+
+
+def shape_anim_samplers():
+    """Animation samplers and channels as objects: several samplers, unused ones, two channels on
+    one sampler, sampler indices out of range, empty channel or sampler lists, input and output
+    accessors shared or of other formats (normalized, integer), CUBICSPLINE with two or one key."""
+    b = Builder(texture=False)
+    b.doc['nodes'].append({}); b.doc['scenes'][0]['nodes'].append(1)
+    keys = pick(1, 2, 2, 3)
+    ict = pick(5126, 5126, 5126, 5121, 5123)
+    times = [float(i) for i in range(keys)] if ict == 5126 else list(range(keys))
+    inp = b.acc(FMT[ict], times, ict, 'SCALAR', keys, minmax=True, normalized=ict != 5126 and rng.random() < 0.7)
+    samplers, channels = [], []
+    for i, path in enumerate(rng.sample(['translation', 'rotation', 'scale'], pick(1, 2, 3))):
+        interp = pick(None, 'LINEAR', 'STEP', 'CUBICSPLINE')
+        k = 'VEC4' if path == 'rotation' else 'VEC3'
+        oct_ = pick(5126, 5126, 5126, 5122, 5120) if path == 'rotation' else 5126
+        cnt = keys * (3 if interp == 'CUBICSPLINE' else 1)
+        vals = ([0, 0, 0, 1] if k == 'VEC4' else [1, 1, 1]) * cnt
+        if oct_ != 5126: vals = [int(x * (127 if oct_ == 5120 else 32767)) for x in vals]
+        out = b.acc(FMT[oct_], vals, oct_, k, cnt, normalized=oct_ != 5126 and rng.random() < 0.8)
+        s = {'input': inp, 'output': out}
+        if interp: s['interpolation'] = interp
+        samplers.append(s)
+        channels.append({'sampler': i, 'target': {'node': pick(0, 1), 'path': path}})
+    v = pick('plain', 'unused_sampler', 'shared_sampler', 'sampler_oob', 'no_channels', 'no_samplers', 'two_animations', 'output_as_input')
+    if v == 'unused_sampler': samplers.append(copy.deepcopy(samplers[0]))
+    if v == 'shared_sampler': channels.append({'sampler': 0, 'target': {'node': 1 - channels[0]['target']['node'], 'path': channels[0]['target']['path']}})
+    if v == 'sampler_oob': channels[-1]['sampler'] = pick(len(samplers), -1)
+    if v == 'no_channels': channels = []
+    if v == 'no_samplers': samplers = []
+    if v == 'output_as_input': samplers[0]['output'] = inp
+    b.doc['animations'] = [{'samplers': samplers, 'channels': channels}]
+    if v == 'two_animations': b.doc['animations'].append(copy.deepcopy(b.doc['animations'][0]))
+    return b.finish()
+
+
+SHAPES2 = {f.__name__[6:]: f for f in [shape_morph, shape_samplers, shape_primitives, shape_material_combos, shape_uris_extras,
+                                        shape_accessor_bounds, shape_buffer_views, shape_anim_samplers]}
+
+
 def write_shape(n, work):
+    table = {1: SHAPES, 2: SHAPES2, 3: dict(SHAPES, **SHAPES2)}[args.shapes_set]
     while True:
-        name = rng.choice(sorted(SHAPES))
-        try: doc, blob, container = SHAPES[name](); break
+        name = rng.choice(sorted(table))
+        try: doc, blob, container = table[name](); break
         except Exception: continue  # a shape's random choices that do not fit together: draw again
     if doc is not None and rng.random() < 0.15:
         try: mutate(doc, extensions)
         except Exception: pass
     base = os.path.join(work, 'gen', '%s_%05d' % (name, n))
+    if isinstance(container, tuple):  # a document with companion files beside it
+        container, files = container
+        for suffix, data in files.items(): open(base + suffix, 'wb').write(data)
+        open(base + '.gltf', 'w').write(dumps(doc).replace('%BASE%', os.path.basename(base))); return base + '.gltf'
     if container == 'raw':
         open(base + '.gltf', 'wb').write(blob); return base + '.gltf'
     if container == 'glb':

@@ -1576,5 +1576,199 @@ TEST(StructureChecks, BadBase64IsNamedWithTheReasonAndItsPlace) {
   for (const char* fine : {"QQ", "QUI", "QUJD", "QQ==", "QUI="}) EXPECT_EQ(message_for(fine), "no INVALID_URI") << fine;
 }
 
+// A triangle (POSITION, accessor 0) and a second VEC3 float accessor of zeros (accessor 1, `second`'s
+// members after its view's), each in a view of its own, with `mesh` as meshes[0] on node 0 of the
+// default scene.
+Report triangle_document(const std::string& mesh,
+                         const std::string& second = R"("count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0])") {
+  const std::string buffer = float_buffer({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  return validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":72,"uri":")" + buffer +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},)"
+      R"({"buffer":0,"byteOffset":36,"byteLength":36,"target":34962}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+      R"({"bufferView":1,"componentType":5126,)" +
+      second + R"(}],"meshes":[)" + mesh + R"(],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})");
+}
+
+TEST(MorphTargets, JointsAndWeightsInATargetAreInvalidAttributesWithoutAFormatToCheck) {
+  // Spec 3.7.2.2 names the attributes a target may displace; JOINTS_n and WEIGHTS_n are not among
+  // them, so they have no format table there.
+  const Codes codes = codes_of(triangle_document(
+      R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1,"JOINTS_0":1}]}],"weights":[0]})"));
+  EXPECT_EQ(std::count(codes.begin(), codes.end(),
+                       std::pair<std::string, std::string>{"MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT",
+                                                           "/meshes/0/primitives/0/targets/0/JOINTS_0"}),
+            0);
+  EXPECT_NE(std::find(codes.begin(), codes.end(),
+                      std::pair<std::string, std::string>{"MESH_PRIMITIVE_INVALID_ATTRIBUTE",
+                                                          "/meshes/0/primitives/0/targets/0/JOINTS_0"}),
+            codes.end());
+}
+
+TEST(MorphTargets, ATargetsListThatCannotBeReadWholeIsNoTargets) {
+  // An empty target: the list counts as none against the weights, and its accessors are unused.
+  EXPECT_EQ(codes_of(triangle_document(
+                R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{},{"POSITION":1}]}],"weights":[0,0]})")),
+            (Codes{{"EMPTY_ENTITY", "/meshes/0/primitives/0/targets/0"},
+                   {"MESH_INVALID_WEIGHTS_COUNT", "/meshes/0/weights"},
+                   {"UNUSED_OBJECT", "/accessors/1"}}));
+  // Against another primitive's readable list, named there; a primitive without a readable list
+  // is named itself.
+  EXPECT_EQ(codes_of(triangle_document(R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1},{}]},)"
+                                       R"({"attributes":{"POSITION":0},"targets":[{"POSITION":1}]}]})")),
+            (Codes{{"EMPTY_ENTITY", "/meshes/0/primitives/0/targets/1"},
+                   {"MESH_PRIMITIVES_UNEQUAL_TARGETS_COUNT", "/meshes/0/primitives/1/targets"}}));
+  EXPECT_EQ(codes_of(triangle_document(R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1}]},)"
+                                       R"({"attributes":{"POSITION":0},"targets":[5]}],"weights":[0]})")),
+            (Codes{{"ARRAY_TYPE_MISMATCH", "/meshes/0/primitives/1/targets"},
+                   {"MESH_PRIMITIVES_UNEQUAL_TARGETS_COUNT", "/meshes/0/primitives/1"}}));
+}
+
+TEST(MorphTargets, MeshWeightsAreCountedAgainstTheFirstPrimitivesTargets) {
+  EXPECT_EQ(codes_of(triangle_document(R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1},)"
+                                       R"({"POSITION":1}]},{"attributes":{"POSITION":0},"targets":[{"POSITION":1}]}],)"
+                                       R"("weights":[0]})")),
+            (Codes{{"MESH_PRIMITIVES_UNEQUAL_TARGETS_COUNT", "/meshes/0/primitives/1/targets"},
+                   {"MESH_INVALID_WEIGHTS_COUNT", "/meshes/0/weights"}}));
+}
+
+TEST(MorphTargets, ATargetPositionsCountIsJudgedBeforeItsBounds) {
+  const Report report =
+      triangle_document(R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1}]}],"weights":[0]})",
+                        R"("count":2,"type":"VEC3")");
+  EXPECT_EQ(codes_of(report),
+            (Codes{{"MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", "/meshes/0/primitives/0/targets/0/POSITION"},
+                   {"MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", "/meshes/0/primitives/0/targets/0/POSITION"}}));
+}
+
+TEST(MorphTargets, MeshWeightsOfAMeshWhosePrimitivesCannotBeReadAreUnused) {
+  const Codes codes = codes_of(triangle_document(R"({"primitives":[5,{"attributes":{"POSITION":0}}],"weights":[0]})"));
+  EXPECT_EQ(codes.back(), (std::pair<std::string, std::string>{"UNUSED_MESH_WEIGHTS", "/meshes/0/weights"}));
+}
+
+TEST(PrimitiveMode, AModeThatCannotBeReadJudgesNoCountButTheIndicesAreReadAsTriangles) {
+  // Indices 0, 0, 1, 2 (UNSIGNED_SHORT) after the triangle: four indices, the first triangle degenerate.
+  const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<std::uint8_t> bytes(36 + 8);
+  std::memcpy(bytes.data(), positions.data(), 36);
+  const std::uint16_t indices[4] = {0, 0, 1, 2};
+  std::memcpy(bytes.data() + 36, indices, 8);
+  for (const std::string mode : {"7", "-1", R"("x")", "4.5"}) {
+    const Report report = validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":44,"uri":")" + data_uri(bytes) +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},)"
+        R"({"buffer":0,"byteOffset":36,"byteLength":8,"target":34963}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+        R"({"bufferView":1,"componentType":5123,"count":4,"type":"SCALAR"}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":)" +
+        mode + R"(}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})");
+    const Codes codes = codes_of(report);
+    ASSERT_EQ(codes.size(), 2u) << mode;
+    EXPECT_EQ(codes[0].second, "/meshes/0/primitives/0/mode") << mode;
+    EXPECT_EQ(codes[1], (std::pair<std::string, std::string>{"ACCESSOR_INDEX_TRIANGLE_DEGENERATE",
+                                                             "/meshes/0/primitives/0/indices"}))
+        << mode;
+    EXPECT_EQ(report.info["totalTriangleCount"], 0) << mode;  // no mode, no triangles counted
+  }
+}
+
+TEST(StructureChecks, ABufferViewStartingAtOrPastItsBuffersEndDoesNotFitWhateverItsLength) {
+  const auto codes = [](const std::string& view) {
+    return codes_of(validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":")" +
+                                  float_buffer(std::vector<float>(9, 0)) + R"("}],"bufferViews":[)" + view + "]}"));
+  };
+  const Codes outside = {{"BUFFER_VIEW_TOO_LONG", "/bufferViews/0/byteOffset"}, {"UNUSED_OBJECT", "/bufferViews/0"}};
+  EXPECT_EQ(codes(R"({"buffer":0,"byteOffset":36,"byteLength":0})"),
+            (Codes{{"VALUE_NOT_IN_RANGE", "/bufferViews/0/byteLength"}, outside[0], outside[1]}));
+  EXPECT_EQ(codes(R"({"buffer":0,"byteOffset":40})"),
+            (Codes{{"UNDEFINED_PROPERTY", "/bufferViews/0"}, outside[0], outside[1]}));
+  EXPECT_EQ(codes(R"({"buffer":0,"byteOffset":30,"byteLength":0})"),
+            (Codes{{"VALUE_NOT_IN_RANGE", "/bufferViews/0/byteLength"}, {"UNUSED_OBJECT", "/bufferViews/0"}}));
+}
+
+TEST(StructureChecks, AnAccessorWhoseComponentTypeOrCountCannotBeReadIsNotLinked) {
+  const auto codes = [](const std::string& members) {
+    return codes_of(validate_text(
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":")" + float_buffer(std::vector<float>(9, 0)) +
+        R"("}],"bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":9,)" + members + "}]}"));
+  };
+  // Neither its buffer view's reference nor its use is judged: the view is left unused.
+  EXPECT_EQ(codes(R"("componentType":5126,"count":-1,"type":"SCALAR")"),
+            (Codes{{"VALUE_NOT_IN_RANGE", "/accessors/0/count"},
+                   {"UNUSED_OBJECT", "/accessors/0"},
+                   {"UNUSED_OBJECT", "/bufferViews/0"}}));
+  EXPECT_EQ(codes(R"("componentType":"x","count":2,"type":"SCALAR")"),
+            (Codes{{"TYPE_MISMATCH", "/accessors/0/componentType"},
+                   {"UNUSED_OBJECT", "/accessors/0"},
+                   {"UNUSED_OBJECT", "/bufferViews/0"}}));
+  // A type that cannot be read still links it.
+  EXPECT_EQ(codes(R"("componentType":5126,"count":2,"type":"VEC9")"),
+            (Codes{{"VALUE_NOT_IN_LIST", "/accessors/0/type"},
+                   {"UNRESOLVED_REFERENCE", "/accessors/0/bufferView"},
+                   {"UNUSED_OBJECT", "/accessors/0"},
+                   {"UNUSED_OBJECT", "/bufferViews/0"}}));
+}
+
+TEST(StructureChecks, AUriWithAnAbsolutePathAQueryOrAFragmentIsNotRelative) {
+  // Spec 3.9: a relative reference is a path-noscheme, without scheme, authority or parameters.
+  const auto warned = [](const std::string& uri) {
+    const Report report =
+        validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + uri + R"("}]})");
+    const Issue* issue = find(report, "NON_RELATIVE_URI");
+    return issue && issue->pointer == "/buffers/0/uri" && issue->severity == Severity::Warning;
+  };
+  for (const char* uri : {"b.bin?x=1", "b.bin#f", "/b.bin", "//host/b.bin", "#"}) EXPECT_TRUE(warned(uri)) << uri;
+  for (const char* uri : {"b.bin", "a/b:c.bin", "b%3F.bin", "../b.bin"}) EXPECT_FALSE(warned(uri)) << uri;
+}
+
+// A material whose extensions object is `extensions`, with `used` declared.
+Report material_document(const std::string& extensions, const std::string& used) {
+  return validate_text(R"({"asset":{"version":"2.0"},"extensionsUsed":)" + used + R"(,"materials":[{"extensions":)" +
+                       extensions + "}]}");
+}
+
+TEST(MaterialExtensions, AnEmissiveStrengthOfOneIsNoStrengthWastedOnABlackFactor) {
+  const auto warned = [](const std::string& strength) {
+    return find(material_document(R"({"KHR_materials_emissive_strength":{"emissiveStrength":)" + strength + "}}",
+                                  R"(["KHR_materials_emissive_strength"])"),
+                "KHR_MATERIALS_EMISSIVE_STRENGTH_ZERO_FACTOR") != nullptr;
+  };
+  EXPECT_FALSE(warned("1"));
+  EXPECT_TRUE(warned("2"));
+  EXPECT_TRUE(warned("0"));
+}
+
+TEST(MaterialExtensions, AnIridescenceBoundThatCannotBeReadTakesPartInNoRule) {
+  const auto codes = [](const std::string& members) {
+    return codes_of(material_document(R"({"KHR_materials_iridescence":{"iridescenceFactor":1,)" + members + "}}",
+                                      R"(["KHR_materials_iridescence"])"));
+  };
+  const std::string p = "/materials/0/extensions/KHR_materials_iridescence/";
+  EXPECT_EQ(codes(R"("iridescenceThicknessMinimum":-1)"),
+            (Codes{{"VALUE_NOT_IN_RANGE", p + "iridescenceThicknessMinimum"}, {"UNUSED_OBJECT", "/materials/0"}}));
+  EXPECT_EQ(codes(R"("iridescenceThicknessMinimum":200,"iridescenceThicknessMaximum":-1)"),
+            (Codes{{"VALUE_NOT_IN_RANGE", p + "iridescenceThicknessMaximum"},
+                   {"KHR_MATERIALS_IRIDESCENCE_THICKNESS_RANGE_WITHOUT_TEXTURE", p + "iridescenceThicknessMinimum"},
+                   {"UNUSED_OBJECT", "/materials/0"}}));
+}
+
+TEST(MaterialExtensions, VolumeBesideAnExtensionThisStepDoesNotReadMayTransmit) {
+  const auto warned = [](const std::string& sibling, const std::string& used) {
+    return find(material_document(R"({)" + sibling + R"(,"KHR_materials_volume":{"thicknessFactor":1}})", used),
+                "KHR_MATERIALS_VOLUME_NO_TRANSMISSION") != nullptr;
+  };
+  EXPECT_TRUE(warned(R"("KHR_materials_clearcoat":{})", R"(["KHR_materials_volume","KHR_materials_clearcoat"])"));
+  EXPECT_FALSE(warned(R"("KHR_materials_clearcoat":{})", R"(["KHR_materials_volume"])"));
+  EXPECT_FALSE(warned(R"("EXT_unknown":{})", R"(["KHR_materials_volume","EXT_unknown"])"));
+  EXPECT_FALSE(
+      warned(R"("KHR_materials_transmission":{})", R"(["KHR_materials_volume","KHR_materials_transmission"])"));
+}
+
+TEST(StructureChecks, TheDefaultSceneNamingASceneThatIsNotAnObjectIsUnresolved) {
+  const Report report = validate_text(R"({"asset":{"version":"2.0"},"scenes":["x",{}],"scene":0})");
+  EXPECT_EQ(codes_of(report), (Codes{{"TYPE_MISMATCH", "/scenes/0"}, {"UNRESOLVED_REFERENCE", "/scene"}}));
+}
+
 }  // namespace
 }  // namespace gltf_pbr

@@ -84,9 +84,10 @@ class ExtensionReader {
       if (!has_sibling(owner_object, "KHR_materials_volume")) at_link("KHR_MATERIALS_DISPERSION_NO_VOLUME", p);
     } else if (name == "KHR_materials_emissive_strength") {
       read_.check_members(o, p, {"emissiveStrength", "extensions", "extras"});
-      const bool strength = read_.number(o, p, "emissiveStrength", false, kNonNegative).has_value();
+      // A strength of 1, the default, changes nothing, so it is no strength wasted on a black factor.
+      const auto strength = read_.number(o, p, "emissiveStrength", false, kNonNegative);
       tail(o, p);
-      bool zero = strength;
+      bool zero = strength && *strength != 1.0;
       auto factor = owner_object.find("emissiveFactor");
       if (factor != owner_object.end() && factor->is_array())
         for (const auto& value : *factor)
@@ -112,11 +113,15 @@ class ExtensionReader {
       auto minimum = read_.number(o, p, "iridescenceThicknessMinimum", false, kNonNegative);
       auto maximum = read_.number(o, p, "iridescenceThicknessMaximum", false, kNonNegative);
       texture(o, p, "iridescenceThicknessTexture");
+      // A bound that cannot be read takes part in no rule (the reference's reading); an absent one
+      // is its default.
+      const bool range_known = (minimum || !o.contains("iridescenceThicknessMinimum")) &&
+                               (maximum || !o.contains("iridescenceThicknessMaximum"));
       const double min_value = minimum.value_or(100.0), max_value = maximum.value_or(400.0);
       if (o.contains("iridescenceThicknessTexture")) {
-        if (min_value == max_value)
+        if (range_known && min_value == max_value)
           issues_.at("KHR_MATERIALS_IRIDESCENCE_THICKNESS_TEXTURE_UNUSED", p + "/iridescenceThicknessTexture");
-      } else if (o.contains("iridescenceThicknessMinimum")) {
+      } else if (minimum) {
         issues_.at("KHR_MATERIALS_IRIDESCENCE_THICKNESS_RANGE_WITHOUT_TEXTURE", p + "/iridescenceThicknessMinimum");
       }
       tail(o, p);  // the reference reads extensions and extras after the rules between properties
@@ -169,10 +174,14 @@ class ExtensionReader {
       // KHR_materials_volume: it only applies to surfaces that transmit light, and "is not
       // compatible with double-sided materials" in its thin-walled sense.
       // Any transmission extension counts, known or not (KHR_materials_transmission,
-      // KHR_materials_diffuse_transmission, vendor ones).
+      // KHR_materials_diffuse_transmission, vendor ones), and so does any extension this step
+      // does not read (undeclared or unsupported), which might let light through (the
+      // reference's rule, checked on constructed files).
       bool transmits = false;
       for (const auto& [sibling, value] : owner_object["extensions"].items())
-        if (sibling.find("transmission") != std::string::npos) transmits = true;
+        if (sibling.find("transmission") != std::string::npos || !read_.context().declared(sibling) ||
+            !find_place(sibling))
+          transmits = true;
       if (!transmits) at_link("KHR_MATERIALS_VOLUME_NO_TRANSMISSION", p);
       auto double_sided = owner_object.find("doubleSided");
       if (thickness > 0 && double_sided != owner_object.end() && double_sided->is_boolean() &&

@@ -355,9 +355,13 @@ class Linker {
     BufferViewModel& view = doc_.buffer_views[i];
     const std::string p = at("bufferViews", i);
     BufferModel* buffer = resolve(doc_.buffers, view.buffer, p + "/buffer");
-    if (buffer && buffer->byte_length > 0 && view.byte_length > 0 && view.byte_offset >= 0 &&
-        static_cast<long double>(view.byte_offset) + static_cast<long double>(view.byte_length) >
-            static_cast<long double>(buffer->byte_length))
+    // A view that starts at or past the buffer's end does not fit whatever its length, even one
+    // that cannot be read (the reference's rule); one that starts inside must end inside.
+    if (buffer && buffer->byte_length > 0 && view.byte_offset >= 0 &&
+        (view.byte_offset >= buffer->byte_length ||
+         (view.byte_length > 0 &&
+          static_cast<long double>(view.byte_offset) + static_cast<long double>(view.byte_length) >
+              static_cast<long double>(buffer->byte_length))))
       issues_.at("BUFFER_VIEW_TOO_LONG",
                  view.byte_offset >= buffer->byte_length ? p + "/byteOffset" : p + "/byteLength",
                  {arg(view.buffer), arg(buffer->byte_length)});
@@ -462,7 +466,8 @@ class Linker {
 
   // Spec 3.7.2.1 (attributes) and 3.7.2.2 (morph targets), widened by KHR_mesh_quantization's tables.
   // A target holds displacements: TANGENT is a VEC3 without the handedness, and texture coordinates
-  // and colours may also be signed. Returns whether the semantic has a table.
+  // and colours may also be signed; joints and weights have no table there (3.7.2.2 lists none).
+  // Returns whether the semantic has a table.
   bool attribute_format(AccessorModel& accessor, const std::string& name, const std::string& pointer,
                         bool morph_target = false) {
     const bool quantized = context_.declared("KHR_mesh_quantization");
@@ -499,6 +504,8 @@ class Linker {
         else
           normalized_types(type, {5121, 5123});
       }
+    } else if (morph_target) {
+      return false;
     } else if (name.starts_with("JOINTS_")) {
       allowed = {{"VEC4", 5121, false}, {"VEC4", 5123, false}};
     } else if (name.starts_with("WEIGHTS_")) {
@@ -590,7 +597,9 @@ class Linker {
           indices->vertex_limit_set = true;
           // A primitive without attributes has no vertices: every index is out of range.
           indices->vertex_limit = primitive.attributes.empty() ? 0 : vertex_count;
-          indices->primitive_mode = primitive.mode;
+          // The index data of a primitive whose mode cannot be read is still read as triangles,
+          // the default mode (the reference reports their degenerate triangles).
+          indices->primitive_mode = primitive.mode < 0 ? 4 : primitive.mode;
         }
         incompatible_mode(primitive, indices->count, p);
       } else if (primitive.indices < 0 && vertex_count > 0) {
@@ -636,13 +645,14 @@ class Linker {
               });
           if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           if (!accessor) continue;
-          if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
-            issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
-          // Against the base accessor of the same semantic, an unknown count (-1) included.
+          // Against the base accessor of the same semantic, an unknown count (-1) included; then
+          // a target POSITION's bounds (the reference's order, unlike a base POSITION's).
           for (const auto& [base_name, base_index] : primitive.attributes)
             if (base_name == semantic)
               if (const AccessorModel* base = accessor_object(doc_, base_index); base && base->count != accessor->count)
                 issues_.at("MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT", tp);
+          if (name == "POSITION" && (!accessor->has_min || !accessor->has_max))
+            issues_.at("MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS", tp);
           attribute_format(*accessor, name, tp, /*morph_target=*/true);
           if (const BufferViewModel* view = view_of(*accessor)) {
             vertex_alignment(*accessor, *view, tp);
@@ -713,7 +723,7 @@ class Linker {
 
   void scene(std::size_t s) {
     const std::string p = at("scenes", s) + "/nodes/";
-    const auto& nodes = doc_.scenes[s];
+    const auto& nodes = doc_.scenes[s].nodes;
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       NodeModel* node = resolve(doc_.nodes, nodes[k], p + std::to_string(k));
       if (node && node->parent >= 0) issues_.at("SCENE_NON_ROOT_NODE", p + std::to_string(k), {arg(nodes[k])});
@@ -852,9 +862,9 @@ class Linker {
   std::vector<char> skinned_nodes_apart_from_their_joints() {
     std::vector<char> flagged(doc_.nodes.size(), 0);
     std::vector<char> in_scene(doc_.nodes.size());
-    for (const auto& roots : doc_.scenes) {
+    for (const SceneModel& scene : doc_.scenes) {
       std::fill(in_scene.begin(), in_scene.end(), 0);
-      std::vector<std::int64_t> stack(roots.begin(), roots.end());
+      std::vector<std::int64_t> stack(scene.nodes.begin(), scene.nodes.end());
       while (!stack.empty()) {
         const std::int64_t n = stack.back();
         stack.pop_back();
@@ -953,10 +963,11 @@ void report_unused(Context& context) {
   each(doc.lights, "extensions/KHR_lights_punctual/lights");
   each(doc.variants, "extensions/KHR_materials_variants/variants");
   // Spec 3.7.2.2: a node's weights override its mesh's; when every node has its own, the mesh's
-  // are never seen. Reported after every unused object, as the reference does.
+  // are never seen, nor are they when the mesh's primitives cannot be read (it draws nothing; the
+  // reference's rule). Reported after every unused object, as the reference does.
   for (std::size_t i = 0; i < doc.meshes.size(); ++i) {
     const bool some_node_reads_mesh_weights = std::any_of(doc.nodes.begin(), doc.nodes.end(), [&](const NodeModel& n) {
-      return n.object && n.mesh == static_cast<std::int64_t>(i) && n.weights < 0;
+      return n.object && n.mesh == static_cast<std::int64_t>(i) && n.weights < 0 && doc.meshes[i].primitives_known;
     });
     if (doc.meshes[i].object && doc.meshes[i].used && doc.meshes[i].weights >= 0 && !some_node_reads_mesh_weights)
       issues.at("UNUSED_MESH_WEIGHTS", "/meshes/" + std::to_string(i) + "/weights");

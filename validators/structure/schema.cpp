@@ -84,11 +84,11 @@ class Walker {
     each(root, "nodes", doc_.nodes, [&](const Json& o, const std::string& p, NodeModel& m) { node(o, p, m); });
     each(root, "samplers", doc_.samplers,
          [&](const Json& o, const std::string& p, SamplerModel& m) { sampler(o, p, m); });
-    std::vector<SimpleModel> scene_objects;
-    each(root, "scenes", scene_objects, [&](const Json& o, const std::string& p, SimpleModel&) { scene(o, p); });
+    each(root, "scenes", doc_.scenes, [&](const Json& o, const std::string& p, SceneModel& m) { scene(o, p, m); });
     // The default scene resolves as soon as the scenes are read (the reference reports it here).
     doc_.scene = read_.index(root, "", "scene");
-    if (doc_.scene >= 0 && static_cast<std::size_t>(doc_.scene) >= doc_.scenes.size())
+    if (doc_.scene >= 0 && (static_cast<std::size_t>(doc_.scene) >= doc_.scenes.size() ||
+                            !doc_.scenes[static_cast<std::size_t>(doc_.scene)].object))
       context_.issues.at("UNRESOLVED_REFERENCE", "/scene", {arg(doc_.scene)});
     each(root, "skins", doc_.skins, [&](const Json& o, const std::string& p, SkinModel& m) { skin(o, p, m); });
     each(root, "textures", doc_.textures,
@@ -320,8 +320,14 @@ class Walker {
       else
         m.offset_unusable = true;  // where its data starts is unknown: none of it is read
     }
-    if (auto type = read_.integer(o, p, "componentType", true, {}, kComponentTypes)) m.component_type = int(*type);
-    if (auto count = read_.integer(o, p, "count", true, {1})) m.count = *count;
+    const auto component_type = read_.integer(o, p, "componentType", true, {}, kComponentTypes);
+    if (component_type) m.component_type = int(*component_type);
+    const auto count = read_.integer(o, p, "count", true, {1});
+    if (count) m.count = *count;
+    // Without its component type or count an accessor has no extent: one that cannot be read is
+    // not linked, as one that is missing (the reference's rule: its buffer view is left unused,
+    // its references and offsets unjudged; checked on constructed files).
+    if (!component_type || !count) m.valid = false;
     if (auto type = read_.string(o, p, "type", true, kAccessorTypes)) m.type = *type;
     if (auto normalized = read_.boolean(o, p, "normalized")) {
       m.normalized = *normalized;
@@ -547,6 +553,11 @@ class Walker {
       last_uri_non_relative_ = true;
       return false;
     }
+    // Spec 3.9 (URIs): a relative path is a path-noscheme, "without scheme, authority, or parameters".
+    // An absolute path, an authority (//host), a query or a fragment is named, and the resource
+    // is still read as any other (the path policy decides whether it may be opened).
+    if (uri.starts_with('/') || uri.find_first_of("?#") != std::string::npos)
+      context_.issues.at("NON_RELATIVE_URI", pointer, {arg(uri)});
     return true;
   }
 
@@ -860,11 +871,12 @@ class Walker {
     read_.check_members(o, p, {"attributes", "indices", "material", "mode", "targets", "extensions", "extras"});
     m.pointer = p;
     // A range, not a list: the reference reports a mode outside 0-6 as VALUE_NOT_IN_RANGE (an
-    // error) and judges nothing by it (no MESH_PRIMITIVE_INCOMPATIBLE_MODE; checked against the
-    // npm validator), so such a primitive's mode is unknown (-1).
+    // error). A mode that cannot be read, out of range or not an integer, is unknown (-1): no
+    // count is judged by it (no MESH_PRIMITIVE_INCOMPATIBLE_MODE; checked against the npm
+    // validator).
     if (auto mode = read_.integer(o, p, "mode", false, {0, 6}))
       m.mode = int(*mode);
-    else if (present(o, "mode") && is_integer(o["mode"]))
+    else if (present(o, "mode"))
       m.mode = -1;
     if (const Json* attributes = read_.object(o, p, "attributes", true)) {
       if (attributes->empty()) {
@@ -873,22 +885,26 @@ class Walker {
         m.attributes = attribute_map(*attributes, p + "/attributes", false, &m.skinned);
       }
     }
+    // A targets list that cannot be read whole (not an array, empty, or holding a target that is
+    // not an object or is empty) is no targets: counted as none against the other primitives and
+    // the weights, its accessors linked by nothing (the reference's reading, checked against the
+    // npm validator on constructed files). object_array drops a list with a non-object whole.
     if (auto targets = read_.object_array(o, p, "targets", false, false)) {
-      m.targets = static_cast<std::int64_t>(targets->size());
-      for (const Json* target : *targets)
-        if (!target || target->empty()) m.targets = -2;  // malformed: not compared with other primitives
-      m.target_attributes.resize(targets->size());
+      bool readable = true;
+      std::vector<std::vector<std::pair<std::string, std::int64_t>>> target_attributes(targets->size());
       for (std::size_t t = 0; t < targets->size(); ++t) {
-        if (!(*targets)[t]) continue;
         const std::string tp = p + "/targets/" + std::to_string(t);
         if ((*targets)[t]->empty()) {
           context_.issues.at("EMPTY_ENTITY", tp);
-          continue;
+          readable = false;
+        } else {
+          target_attributes[t] = attribute_map(*(*targets)[t], tp, true);
         }
-        m.target_attributes[t] = attribute_map(*(*targets)[t], tp, true);
       }
-    } else if (present(o, "targets") && !o["targets"].is_null()) {
-      m.targets = -2;  // present but invalid: not compared with the other primitives
+      if (readable) {
+        m.targets = static_cast<std::int64_t>(targets->size());
+        m.target_attributes = std::move(target_attributes);
+      }
     }
     m.indices = read_.index(o, p, "indices");
     m.material = read_.index(o, p, "material");
@@ -916,7 +932,6 @@ class Walker {
           primitive(*(*primitives)[i], p + "/primitives/" + std::to_string(i), m.primitives[i]);
         }
         const PrimitiveModel& read = m.primitives[i];
-        if (read.targets == -2) continue;
         const std::int64_t count = std::max<std::int64_t>(read.targets, 0);
         if (expected == -3)
           expected = count;
@@ -926,11 +941,15 @@ class Walker {
       }
     }
     if (weights) m.weights = static_cast<std::int64_t>(weights->size());
-    if (weights && primitives) {  // without readable primitives the number of targets is unknown
-      std::int64_t targets = -1;
+    // Against the first primitive's targets, which the others were compared with (the reference's
+    // rule); without readable primitives the number of targets is unknown.
+    if (weights && primitives) {
+      std::int64_t targets = 0;
       for (const auto& primitive : m.primitives)
-        if (primitive.object && primitive.targets >= 0) targets = primitive.targets;
-      if (targets < 0) targets = 0;
+        if (primitive.object) {
+          targets = std::max<std::int64_t>(primitive.targets, 0);
+          break;
+        }
       if (targets != m.weights)
         context_.issues.at("MESH_INVALID_WEIGHTS_COUNT", p + "/weights", {arg(m.weights), arg(targets)});
     }
@@ -1013,11 +1032,9 @@ class Walker {
     read_.extras(o, p);
   }
 
-  void scene(const Json& o, const std::string& p) {
+  void scene(const Json& o, const std::string& p, SceneModel& m) {
     read_.check_members(o, p, {"nodes", "name", "extensions", "extras"});
-    std::vector<std::int64_t> nodes;
-    if (auto list = read_.indices(o, p, "nodes")) nodes = *list;
-    doc_.scenes.push_back(nodes);
+    if (auto list = read_.indices(o, p, "nodes")) m.nodes = *list;
     read_.string(o, p, "name");
     extensions(o, p, Owner::Scene);
     read_.extras(o, p);

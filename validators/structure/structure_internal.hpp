@@ -170,7 +170,7 @@ struct PrimitiveModel {
   std::vector<std::pair<std::string, std::int64_t>> attributes;  // JSON order
   std::int64_t indices = -1;
   std::int64_t material = -1;
-  int mode = 4;  // -1: an integer outside 0-6, judged by nothing
+  int mode = 4;               // -1: present but not an integer in 0-6, judged by nothing
   std::int64_t targets = -1;  // -1: no targets property
   // As many JOINTS_n as WEIGHTS_n sets, at least one, each semantic's sets numbered from 0 without
   // a gap (spec 3.7.3.1): what a skin can bind.
@@ -255,6 +255,10 @@ struct TextureModel : EntityModel {
 
 struct SimpleModel : EntityModel {};
 
+struct SceneModel : EntityModel {
+  std::vector<std::int64_t> nodes;  // the roots
+};
+
 struct SamplerModel : EntityModel {
   std::int64_t min_filter = -1;  // -1: undefined (the client chooses)
 };
@@ -270,7 +274,7 @@ struct Document {
   std::vector<MeshModel> meshes;
   std::vector<NodeModel> nodes;
   std::vector<SamplerModel> samplers;
-  std::vector<std::vector<std::int64_t>> scenes;
+  std::vector<SceneModel> scenes;
   std::int64_t scene = -1;
   std::vector<SkinModel> skins;
   std::vector<TextureModel> textures;
