@@ -14,13 +14,16 @@ namespace {
 struct CompareArgs {
   std::string legacy, converted, viewer = "core";
   size_t error_samples = size_t{1} << 16;
+  bool allow_outside_uris = false;
 };
 
 nlohmann::json stats(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}}; }
 
 // An input that cannot be read or compared fails the run (exit 1: InputErrors::FailTheInput).
 int run(const CompareArgs& args) {
-  const Asset legacy = load_asset(args.legacy), converted = load_asset(args.converted);
+  LoadOptions load;
+  load.allow_outside_uris = args.allow_outside_uris;
+  const Asset legacy = load_asset(args.legacy, load), converted = load_asset(args.converted, load);
   const auto materials = compare_conversion(legacy, converted, args.viewer == "full" ? Viewer::Full : Viewer::CoreOnly,
                                             args.error_samples);
   nlohmann::json out = {{"legacy", args.legacy}, {"converted", args.converted}, {"viewer", args.viewer}};
@@ -50,7 +53,8 @@ CONVERTED against the spec-gloss materials of LEGACY, material by material (same
 texels convert bakes: both materials' textures on their larger size, resampled to it where they differ.
 Works on any converter's output, ours or another tool's; on convert's own it gives convert's figures.
 A material left as spec-gloss is measured as a viewer shows it: by its core fallback, since neither
-viewer reads the archived extension (convert's report says null for it: it converted nothing).)";
+viewer reads the archived extension (convert's report says null for it: it converted nothing).
+Exit codes: 0 compared, 1 an input could not be read or compared, 2 bad usage, 3 the output cannot be written.)";
 
 void declare_options(CLI::App& cmd, CompareArgs& args) {
   cmd.add_option("legacy", args.legacy, "the spec-gloss original")->required();
@@ -62,6 +66,7 @@ void declare_options(CLI::App& cmd, CompareArgs& args) {
   cmd.add_option("--error-samples", args.error_samples,
                  "texels sampled per material for the error statistics, as convert samples them (0: all)")
       ->capture_default_str();
+  cmd.add_flag("--allow-outside-uris", args.allow_outside_uris, "read buffer/image URIs outside the assets' folders");
   add_image_limit_option(cmd);
 }
 

@@ -209,6 +209,12 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     };
     for (auto [it, end] = existing.equal_range(file); it != end; ++it)
       if (!it->second->names) refuse(*it->second, it->second->path);
+    // The same file under another name (a hard link): an output appended to in place (--results)
+    // would write into the file the run reads.
+    for (const auto& [path, output] : existing) {
+      std::error_code ec;
+      if (!output->names && fs::equivalent(read, output->path, ec)) refuse(*output, output->path);
+    }
     // A folder of named outputs: the name the run reads, and the file it leads to (a symbolic link
     // in the folder would be renamed over; its target's name may be one too).
     const fs::path as_named =
@@ -228,10 +234,16 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
   for (const auto& [list, what] :
        {std::pair{reads.inputs_from, "the --inputs-from list"}, std::pair{reads.config, "the --config file"}})
     if (!list.empty() && list != "-") refuse_if_written(list, what);
+  // An output file with another name (a hard link) may be any file the inputs name, wherever it is.
+  const bool linked_output = std::any_of(existing.begin(), existing.end(), [](const auto& entry) {
+    std::error_code ec;
+    return !entry.second->names && fs::is_regular_file(entry.second->path, ec) &&
+           fs::hard_link_count(entry.second->path, ec) > 1;
+  });
   for (const InputFile& input : files) {
     refuse_if_written(input.file, "an input");
     const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
-    if (!reads.allow_outside_uris && !holds_an_output(folder)) continue;
+    if (!reads.allow_outside_uris && !linked_output && !holds_an_output(folder)) continue;
     // Mapped, not read: a GLB's binary chunk is never touched for its JSON's URIs.
     const std::optional<MappedFile> mapped = MappedFile::open(input.file, MappedFile::ReadAhead::OnTouch);
     if (!mapped) continue;  // the run reports the unreadable input itself

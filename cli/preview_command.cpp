@@ -141,8 +141,16 @@ int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
             if (!args.quiet) line = done.line;
           } catch (const std::exception& e) {
             ++failed;
+            // An earlier run's previews of this input no longer show it: the gallery page below
+            // must not list them as if they did.
+            bool removed = false;
+            for (const char* name : preview::kPreviewFiles) {
+              std::error_code ignored;
+              removed = fs::remove(outputs[i] / name, ignored) || removed;
+            }
             const std::string name = found.files[i].file.string(), what = e.what();
-            line = printable(what.rfind(name, 0) == 0 ? what : name + ": " + what) + "\n";  // errors even when quiet
+            line = printable(what.rfind(name, 0) == 0 ? what : name + ": " + what) +
+                   (removed ? " (its earlier previews removed)" : "") + "\n";  // errors even when quiet
           }
           progress.done(line);
         },
@@ -230,7 +238,8 @@ in-process conversion to albedo + metalness (after), and write before.png, after
 (ΔE2000 heat map), sheet.png and report.json (ΔE2000 mean/p95, RMS-dB, G-buffer sizes, times).
 Given a folder, it draws every .gltf and .glb under it, -j at a time, each into DIR/<its path without
 the extension>, and the gallery page over them all.
-Exit codes: 0 done, 1 an input could not be drawn (in a folder: its previews not written either), 2 bad usage,
+Exit codes: 0 done, 1 an input could not be drawn (in a folder: its previews not written, and an earlier run's
+removed, so the gallery does not show them), 2 bad usage,
 3 the previews of a single input cannot be written.)";
 
 void declare_options(CLI::App& cmd, PreviewArgs& args) {

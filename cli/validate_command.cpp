@@ -146,6 +146,12 @@ int run(const ValidateArgs& args) {
   // Heat maps go under each input's relative folder (validate_one below), named as they are written:
   // a folder's planned names are its inputs' heat maps.
   if (!args.heatmaps.empty()) {
+    // Two inputs whose heat maps would take the same names (a/t.gltf and b/t.gltf given as files).
+    std::vector<fs::path> heat_map_names;
+    for (const InputFile& file : files)
+      heat_map_names.push_back(fs::path(args.heatmaps) / file.relative.parent_path() /
+                               (file.file.stem().string() + "-material*.png"));
+    refuse_shared_outputs(files, heat_map_names);
     std::map<fs::path, std::set<std::string>> stems_by_folder;
     for (const InputFile& file : files)
       stems_by_folder[fs::path(args.heatmaps) / file.relative.parent_path()].insert(file.file.stem().string());

@@ -129,7 +129,7 @@ nlohmann::ordered_json sarif_log(const std::vector<Report>& reports, const RuleS
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   for (const Report& report : reports) {
     for (const Issue& issue : report.messages) {
-      nlohmann::ordered_json physical{{"artifactLocation", {{"uri", report.uri}}}};
+      nlohmann::ordered_json physical{{"artifactLocation", {{"uri", url_path(report.uri)}}}};
       if (issue.offset) physical["region"] = {{"byteOffset", *issue.offset}};
       nlohmann::ordered_json result{{"ruleId", issue.code},
                                     {"ruleIndex", rule_index[issue.code]},

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <stdexcept>
 
@@ -91,6 +92,10 @@ Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& na
     }
   } catch (const std::runtime_error& error) {
     throw std::runtime_error("cannot decode image " + name_for_errors + ": " + error.what());
+  } catch (const std::bad_alloc&) {  // a library's own buffers, sized by a header past our checks
+    throw std::runtime_error("cannot decode image " + name_for_errors + ": it needs more memory than there is");
+  } catch (const std::length_error&) {
+    throw std::runtime_error("cannot decode image " + name_for_errors + ": it needs more memory than there is");
   }
   ++work_counters().images_decoded;
   return pixels;

@@ -26,7 +26,19 @@ std::string name_for_signature(std::span<const std::uint8_t> bytes) {
   if (starts({'R', 'I', 'F', 'F'})) return "memory.webp";
   if (starts({'B', 'M'})) return "memory.bmp";
   if (starts({'G', 'I', 'F'})) return "memory.gif";
-  return "memory.png";
+  if (starts({0x76, 0x2F, 0x31, 0x01})) return "memory.exr";
+  if (starts({'I', 'I', 0x2A, 0}) || starts({'M', 'M', 0, 0x2A})) return "memory.tif";
+  throw std::runtime_error("not an image format this tool reads (PNG, JPEG, WebP, BMP, GIF, OpenEXR, TIFF)");
+}
+
+// A GIF's logical screen (GIF89a section 18): OpenImageIO's reader allocates a canvas of that size
+// as it opens the file, before its spec can be checked against the limit.
+void refuse_gif_screen_above(std::span<const std::uint8_t> bytes, std::uint64_t max_pixels) {
+  if (bytes.size() < 10 || bytes[0] != 'G' || bytes[1] != 'I' || bytes[2] != 'F') return;
+  const std::uint64_t width = bytes[6] | bytes[7] << 8, height = bytes[8] | bytes[9] << 8;
+  if (width * height > max_pixels)
+    throw std::runtime_error("GIF screen is " + std::to_string(width) + "x" + std::to_string(height) +
+                             " pixels, above the limit of " + std::to_string(max_pixels) + " (--max-image-pixels)");
 }
 }  // namespace
 
@@ -43,6 +55,7 @@ std::mutex oiio_calls;
 
 Pixels decode_with_oiio(std::span<const std::uint8_t> encoded, std::uint64_t max_pixels) {
   const std::lock_guard lock(oiio_calls);
+  refuse_gif_screen_above(encoded, max_pixels);
   OIIO::Filesystem::IOMemReader reader(encoded.data(), encoded.size());
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep alpha straight, as glTF stores it

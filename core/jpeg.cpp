@@ -19,9 +19,10 @@ using Handle = std::unique_ptr<void, decltype(&tjDestroy)>;
 }
 
 // libjpeg's warnings (jerror.h) that mean texels were not decoded from the stream but made up:
-// JWRN_JPEG_EOF, JWRN_HIT_MARKER, JWRN_HUFF_BAD_CODE, JWRN_ARITH_BAD_CODE, JWRN_MUST_RESYNC.
+// JWRN_JPEG_EOF, JWRN_HIT_MARKER, JWRN_HUFF_BAD_CODE, JWRN_ARITH_BAD_CODE, JWRN_MUST_RESYNC ("found
+// marker 0x.. instead of RSTn": a scan that ends before the frame its header claims).
 bool lost_data(const std::string& warning) {
-  for (const char* sign : {"remature end", "bad Huffman code", "bad arithmetic code", "resync"})
+  for (const char* sign : {"remature end", "bad Huffman code", "bad arithmetic code", "instead of RST"})
     if (warning.find(sign) != std::string::npos) return true;
   return false;
 }

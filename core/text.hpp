@@ -16,4 +16,9 @@ std::string printable(std::string_view text);
 // starts no valid sequence replaced by U+FFFD, as JSON output requires (RFC 8259 section 8.1).
 std::string valid_utf8(std::string text);
 
+// A path as a URL path (RFC 3986 section 2): unreserved bytes and '/' as they are, every other byte
+// %XX, so a file named in any bytes (not UTF-8, or with '#', '?', '%', spaces) is still addressed
+// by it: the gallery's links, SARIF's artifact locations.
+std::string url_path(std::string_view path);
+
 }  // namespace gltf_pbr

@@ -28,10 +28,21 @@ EquirectMap read_radiance_hdr(const std::vector<std::uint8_t>& bytes, const std:
       throw fail("unsupported " + line + " (only 32-bit_rle_rgbe)");
   int width = 0, height = 0;
   char y_axis[3] = {}, x_axis[3] = {};
-  if (std::sscanf(read_line().c_str(), "%2s %d %2s %d", y_axis, &height, x_axis, &width) != 4 ||
-      std::strcmp(y_axis, "-Y") != 0 || std::strcmp(x_axis, "+X") != 0 || width <= 0 || height <= 0 || width > 65536 ||
-      height > 65536)
-    throw fail("unsupported resolution line (only -Y H +X W)");
+  const std::string resolution = read_line();
+  if (std::sscanf(resolution.c_str(), "%2s %d %2s %d", y_axis, &height, x_axis, &width) != 4 ||
+      std::strcmp(y_axis, "-Y") != 0 || std::strcmp(x_axis, "+X") != 0 || width <= 0 || height <= 0)
+    throw fail("unsupported resolution line '" + resolution + "' (only -Y H +X W)");
+  // Nothing is allocated for a size the limit refuses or the bytes cannot hold: each scanline takes
+  // at least 4 bytes a pixel flat, or its 4-byte mark and a two-byte run per 127 pixels of each
+  // channel run-length encoded.
+  const auto pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+  if (pixels > max_image_pixels())
+    throw fail("the image is " + std::to_string(width) + "x" + std::to_string(height) + " pixels, above the limit of " +
+               std::to_string(max_image_pixels()) + " (--max-image-pixels)");
+  const std::uint64_t least_per_line = width >= 8 && width < 32768
+                                           ? 4 + 4 * 2 * ((static_cast<std::uint64_t>(width) + 126) / 127)
+                                           : 4 * static_cast<std::uint64_t>(width);
+  if (least_per_line * static_cast<std::uint64_t>(height) > bytes.size() - pos) throw fail("truncated pixel data");
   EquirectMap map{width, height, std::vector<glm::vec3>(static_cast<size_t>(width) * static_cast<size_t>(height))};
   std::vector<std::uint8_t> scanline(static_cast<size_t>(width) * 4);
   for (int y = 0; y < height; ++y) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/files.hpp"
+#include "core/text.hpp"
 
 namespace gltf_pbr {
 // preview/gallery.html, embedded by the build (cmake/embed.cmake).
@@ -44,24 +45,6 @@ std::string capped(std::string text) {
   while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
   text.resize(end);
   return text + "\u2026";
-}
-
-// A relative path as a URL path: unreserved bytes and '/' as they are, every other byte %XX, so a
-// folder named in any bytes (not UTF-8, or with '#', '?', '%') still addresses its images.
-std::string url_path(const std::string& path) {
-  static constexpr char kHex[] = "0123456789ABCDEF";
-  std::string out;
-  for (const char c : path) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (std::isalnum(byte) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
-      out += c;
-    } else {
-      out += '%';
-      out += kHex[byte >> 4];
-      out += kHex[byte & 15];
-    }
-  }
-  return out;
 }
 
 // The outcomes the page knows, worst first: left legacy, needed the specular extension, metalness.

@@ -41,13 +41,23 @@ std::vector<glm::dmat4> node_world_matrices(const tinygltf::Model& model) {
     for (int child : model.nodes[i].children)
       if (child >= 0 && static_cast<std::size_t>(child) < count && parent[static_cast<std::size_t>(child)] < 0)
         parent[static_cast<std::size_t>(child)] = static_cast<int>(i);
+  // Down from each node without a parent, with a stack of its own: a chain of any depth, each node
+  // once. A node on a loop (invalid glTF, which no root reaches) keeps its local transform.
   std::vector<glm::dmat4> world(count);
+  std::vector<std::size_t> stack;
   for (std::size_t i = 0; i < count; ++i) {
-    glm::dmat4 m = local_transform(model.nodes[i]);
-    int up = parent[i];
-    for (int depth = 0; up >= 0 && depth < 256; ++depth, up = parent[static_cast<std::size_t>(up)])
-      m = local_transform(model.nodes[static_cast<std::size_t>(up)]) * m;
-    world[i] = m;
+    world[i] = local_transform(model.nodes[i]);
+    if (parent[i] < 0) stack.push_back(i);
+  }
+  while (!stack.empty()) {
+    const std::size_t node = stack.back();
+    stack.pop_back();
+    for (int child : model.nodes[node].children)
+      if (child >= 0 && static_cast<std::size_t>(child) < count &&
+          parent[static_cast<std::size_t>(child)] == int(node)) {
+        world[static_cast<std::size_t>(child)] = world[node] * world[static_cast<std::size_t>(child)];
+        stack.push_back(static_cast<std::size_t>(child));
+      }
   }
   return world;
 }

@@ -197,30 +197,42 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
   ++scene.stats.meshes_drawn;
 }
 
-void visit_node(const Asset& asset, int node_index, const glm::dmat4& parent, const std::vector<glm::dmat4>& node_world,
-                Scene& scene, int depth) {
+// Draws the scene's nodes in depth-first pre-order, with a stack of its own so that a chain of any
+// depth is drawn; each node once (a node under two parents or on a loop is invalid glTF, spec 3.5.3:
+// the hierarchy is a set of disjoint strict trees).
+void visit_nodes(const Asset& asset, const std::vector<int>& roots, const std::vector<glm::dmat4>& node_world,
+                 Scene& scene) {
   const auto& nodes = asset.model.nodes;
-  if (node_index < 0 || node_index >= static_cast<int>(nodes.size()) || depth > 256) return;
-  const tinygltf::Node& node = nodes[static_cast<size_t>(node_index)];
-  const glm::dmat4 world = parent * local_transform(node);
-  // Skins and morph targets are drawn at rest: no animation, the pose the nodes and weights store.
-  if (node.mesh >= 0 && node.mesh < static_cast<int>(asset.model.meshes.size())) {
-    const Deformation deformation = node_deformation(asset, node_index, node_world);
-    for (size_t p = 0; p < asset.model.meshes[static_cast<size_t>(node.mesh)].primitives.size(); ++p)
-      add_primitive(asset, node.mesh, static_cast<int>(p), world, deformation, scene);
-  }
-  if (node.camera >= 0 && node.camera < static_cast<int>(asset.model.cameras.size())) {
-    const tinygltf::Camera& camera = asset.model.cameras[static_cast<size_t>(node.camera)];
-    if (camera.type == "perspective") {
-      SceneCamera c;
-      c.camera_to_world = world;
-      c.yfov = static_cast<float>(camera.perspective.yfov);
-      c.znear = static_cast<float>(camera.perspective.znear);
-      if (camera.perspective.zfar > 0) c.zfar = static_cast<float>(camera.perspective.zfar);
-      scene.cameras.push_back(c);
+  std::vector<bool> drawn(nodes.size(), false);
+  std::vector<std::pair<int, glm::dmat4>> stack;  // a node and its parent's world transform
+  for (auto root = roots.rbegin(); root != roots.rend(); ++root) stack.emplace_back(*root, glm::dmat4(1.0));
+  while (!stack.empty()) {
+    const auto [node_index, parent] = stack.back();
+    stack.pop_back();
+    if (node_index < 0 || node_index >= static_cast<int>(nodes.size()) || drawn[static_cast<size_t>(node_index)])
+      continue;
+    drawn[static_cast<size_t>(node_index)] = true;
+    const tinygltf::Node& node = nodes[static_cast<size_t>(node_index)];
+    const glm::dmat4 world = parent * local_transform(node);
+    // Skins and morph targets are drawn at rest: no animation, the pose the nodes and weights store.
+    if (node.mesh >= 0 && node.mesh < static_cast<int>(asset.model.meshes.size())) {
+      const Deformation deformation = node_deformation(asset, node_index, node_world);
+      for (size_t p = 0; p < asset.model.meshes[static_cast<size_t>(node.mesh)].primitives.size(); ++p)
+        add_primitive(asset, node.mesh, static_cast<int>(p), world, deformation, scene);
     }
+    if (node.camera >= 0 && node.camera < static_cast<int>(asset.model.cameras.size())) {
+      const tinygltf::Camera& camera = asset.model.cameras[static_cast<size_t>(node.camera)];
+      if (camera.type == "perspective") {
+        SceneCamera c;
+        c.camera_to_world = world;
+        c.yfov = static_cast<float>(camera.perspective.yfov);
+        c.znear = static_cast<float>(camera.perspective.znear);
+        if (camera.perspective.zfar > 0) c.zfar = static_cast<float>(camera.perspective.zfar);
+        scene.cameras.push_back(c);
+      }
+    }
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.emplace_back(*child, world);
   }
-  for (int child : node.children) visit_node(asset, child, world, node_world, scene, depth + 1);
 }
 
 }  // namespace
@@ -255,7 +267,7 @@ Scene build_scene(const Asset& original, const Asset& converted, const DecodedIm
       if (!is_child[i]) roots.push_back(static_cast<int>(i));
   }
   const std::vector<glm::dmat4> node_world = node_world_matrices(model);
-  for (int root : roots) visit_node(original, root, glm::dmat4(1.0), node_world, scene, 0);
+  visit_nodes(original, roots, node_world, scene);
   scene.stats.triangles = static_cast<long long>(scene.triangles.size());
   scene.stats.vertices = static_cast<long long>(scene.vertices.size());
   return scene;

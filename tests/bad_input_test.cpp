@@ -321,6 +321,18 @@ TEST(BadInput, ParentDirectoryUriIsRefusedNamingTheOption) {
   expect_cli_refuses(duck, "--allow-outside-uris", scratch);
 }
 
+TEST(BadInput, CompareRefusesAnOutsideUriAndReadsItWithTheOptionItNames) {
+  // Box's buffer one folder up: refused, naming the option, which compare then takes.
+  ScratchDir scratch;
+  const fs::path box = box_with_buffer_uri(scratch / "box", "../Box0.bin");
+  fs::copy_file(model_folder("Box") / "Box0.bin", scratch / "Box0.bin");
+  const CliResult refused = run_cli("compare " + quoted(box) + " " + quoted(box), scratch);
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_NE(refused.err.find("--allow-outside-uris"), std::string::npos) << refused.err;
+  const CliResult allowed = run_cli("compare --allow-outside-uris " + quoted(box) + " " + quoted(box), scratch);
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.err;
+}
+
 TEST(BadInput, AbsolutePathUriIsRefusedNamingTheOption) {
   ScratchDir scratch;
   const fs::path box = box_with_buffer_uri(scratch / "box", "/etc/passwd");

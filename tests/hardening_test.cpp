@@ -93,6 +93,21 @@ TEST(CorruptImages, ATruncatedJpegOrPngIsAnErrorNotGreyTexels) {
   EXPECT_THROW((void)decode_image(cut_png, "cut png"), std::runtime_error);
 }
 
+TEST(CorruptImages, AJpegWhoseFrameClaimsMoreThanItsScanHoldsIsAnError) {
+  // The frame header's size doubled: the scan runs out of restart intervals, libjpeg warns "found
+  // marker 0xd9 instead of RST" and would fill three quarters of the image with grey.
+  Bytes jpeg = *read_file(test::model_folder("CesiumMan") / "CesiumMan.jpg");
+  std::size_t frame = 2;
+  while (frame + 9 < jpeg.size() && !(jpeg[frame] == 0xFF && (jpeg[frame + 1] == 0xC0 || jpeg[frame + 1] == 0xC2)))
+    frame += 2 + static_cast<std::size_t>(jpeg[frame + 2] << 8 | jpeg[frame + 3]);  // marker segments up to the frame
+  ASSERT_LT(frame + 9, jpeg.size());
+  const int height = jpeg[frame + 5] << 8 | jpeg[frame + 6], width = jpeg[frame + 7] << 8 | jpeg[frame + 8];
+  jpeg[frame + 5] = static_cast<std::uint8_t>((2 * height) >> 8),
+               jpeg[frame + 6] = static_cast<std::uint8_t>(2 * height);
+  jpeg[frame + 7] = static_cast<std::uint8_t>((2 * width) >> 8), jpeg[frame + 8] = static_cast<std::uint8_t>(2 * width);
+  EXPECT_THROW((void)decode_image(jpeg, "lying frame"), std::runtime_error);
+}
+
 TEST(CorruptImages, AHarmlessJpegWarningStillDecodes) {
   // Bytes between the entropy-coded data and EOI: libjpeg warns "extraneous bytes before marker"
   // and decodes every texel; only warnings that mean lost data are errors.
@@ -1125,6 +1140,26 @@ TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWrit
   EXPECT_EQ(read_file(scratch / "in" / "CesiumLogoFlat.png"), image);
 }
 
+TEST(LostOutputs, AResultsFileThatIsAHardLinkToAFileTheRunReadsIsRefused) {
+  // --results is appended to in place: under another name, the same file would be written into.
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("BoxTextured", scratch / "in");
+  const auto document = read_file(gltf), image = read_file(scratch / "in" / "CesiumLogoFlat.png");
+  fs::create_hard_link(gltf, scratch / "results.jsonl");
+  fs::create_hard_link(scratch / "in" / "CesiumLogoFlat.png", scratch / "texture.jsonl");
+  const auto validate =
+      run_cli("validate " + quoted(gltf) + " --results " + quoted(scratch / "results.jsonl"), scratch);
+  EXPECT_EQ(validate.exit_code, 2) << validate.err;
+  EXPECT_NE(validate.err.find("refusing to write"), std::string::npos) << validate.err;
+  const auto convert = run_cli("convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --results " +
+                                   quoted(scratch / "texture.jsonl"),
+                               scratch);
+  EXPECT_EQ(convert.exit_code, 2) << convert.err;
+  EXPECT_FALSE(fs::exists(scratch / "out"));
+  EXPECT_EQ(read_file(gltf), document);
+  EXPECT_EQ(read_file(scratch / "in" / "CesiumLogoFlat.png"), image);
+}
+
 TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBeforeAnythingIsWritten) {
   // The texture is named as a preview's image and lies where the previews go: the input's folder
   // (preview -o), its own name's folder (convert --preview), and the input is named as a report
@@ -1170,6 +1205,23 @@ TEST(LostOutputs, APreviewOrAReportFolderNamingAFileTheInputReadsIsRefusedBefore
   EXPECT_EQ(run_cli("validate --format json " + quoted(summary) + " -o " + quoted(scratch / "v"), scratch).exit_code,
             1);
   EXPECT_TRUE(fs::exists(scratch / "v" / "summary.json"));
+}
+
+TEST(LostOutputs, TwoInputsWhoseHeatMapsWouldShareNamesAreRefused) {
+  // a/BoxTextured.gltf and b/BoxTextured.gltf given as files: both heat maps would be
+  // BoxTextured-material0-texture0.png in one folder.
+  ScratchDir scratch;
+  const fs::path a = copy_model("BoxTextured", scratch / "lib" / "a"),
+                 b = copy_model("BoxTextured", scratch / "lib" / "b");
+  const auto r =
+      run_cli("validate -q " + quoted(a) + " " + quoted(b) + " --heatmaps " + quoted(scratch / "maps"), scratch);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("would both be written"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch / "maps"));
+  // Given as their folder, each keeps its own subfolder of heat maps.
+  EXPECT_EQ(
+      run_cli("validate -q " + quoted(scratch / "lib") + " --heatmaps " + quoted(scratch / "maps"), scratch).exit_code,
+      1);
 }
 
 TEST(LostOutputs, AHeatMapFolderHoldingAFileTheInputReadsUnderAHeatMapsNameIsRefused) {

@@ -72,6 +72,23 @@ TEST(ValidateCli, SarifHasOneResultPerMessageWithRuleIdsAndLocations) {
   }
 }
 
+TEST(ValidateCli, SarifArtifactLocationsArePercentEncodedUris) {
+  // A file name with '#', '?', '%' and a space: read raw as a URI, it would name another file.
+  test::ScratchDir scratch;
+  fs::create_directories(scratch / "in");
+  test::write_text(scratch / "in" / "a b#c?d%41.gltf", R"({"asset": {"version": "2.0"}, "materials": [)");
+  const auto sarif_run = run_cli("validate -q -f sarif " + quoted(scratch / "in" / "a b#c?d%41.gltf"), scratch);
+  EXPECT_EQ(sarif_run.exit_code, 1) << sarif_run.err;
+  const auto sarif = nlohmann::json::parse(sarif_run.out);
+  const auto& results = sarif["runs"][0]["results"];
+  ASSERT_FALSE(results.empty());
+  for (const auto& result : results) {
+    const std::string uri = result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"];
+    EXPECT_TRUE(uri.ends_with("/in/a%20b%23c%3Fd%2541.gltf")) << uri;
+    EXPECT_EQ(uri.find_first_of(" #?"), std::string::npos) << uri;
+  }
+}
+
 TEST(ValidateCli, FailOnSetsTheThresholdAndIgnoredCodesDoNotCount) {
   test::ScratchDir scratch;
   const fs::path input = malformed(scratch);

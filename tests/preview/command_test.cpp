@@ -153,6 +153,17 @@ TEST(PreviewCommand, AFolderIsDrawnFileByFileIntoOneGalleryAndAFailingFileIsName
   said = stderr_of("--cache " + cache.string(), &exit_code);
   EXPECT_EQ(exit_code, 1) << said;
   EXPECT_NE(said.find("0 drawn, 2 from the cache, 1 failed"), std::string::npos) << said;
+
+  // Duck broken after it was drawn: its earlier previews go, so the page no longer lists it.
+  { std::ofstream(in / "duck" / "Duck.gltf") << "{ not json"; }
+  said = stderr_of("", &exit_code);
+  EXPECT_EQ(exit_code, 1) << said;
+  EXPECT_NE(said.find("its earlier previews removed"), std::string::npos) << said;
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    EXPECT_NE(entry.path().parent_path().filename(), "Duck") << entry.path();
+  const auto rewritten = read_file(out / "index.html");
+  ASSERT_TRUE(rewritten);
+  EXPECT_EQ(std::string(rewritten->begin(), rewritten->end()).find("Duck.gltf"), std::string::npos);
   fs::remove_all(scratch);
 }
 

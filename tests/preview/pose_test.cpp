@@ -97,6 +97,30 @@ TEST(Pose, JointsAtTheirBindPoseDrawTheMeshAsStored) {
   EXPECT_EQ(scene.vertices[2].position, glm::vec3(0, 1, 0));
 }
 
+TEST(Pose, AMeshUnderAChainOfAnyDepthIsDrawnWhereItsNodesPutIt) {
+  // Node 0 is the top of a 1000-node chain, each node one unit up; the mesh hangs on the last. A
+  // skinned copy is bound to the last node as its joint, whose world transform is the whole chain.
+  constexpr int kDepth = 1000;
+  TriangleAsset triangle;
+  std::vector<tinygltf::Node> chain;
+  for (int i = 1; i < kDepth; ++i) chain.push_back(translated(0, 1, 0));
+  for (int i = 0; i + 1 < kDepth - 1; ++i) chain[static_cast<size_t>(i)].children = {i + 2};
+  tinygltf::Node top = translated(0, 1, 0);
+  top.children = {1};
+  // build() puts the mesh on node 0, the top: move it to the bottom of the chain.
+  Scene scene = triangle.build(top, {}, chain);
+  ASSERT_EQ(scene.vertices.size(), 3u);
+  EXPECT_EQ(scene.vertices[1].position, glm::vec3(1, 1, 0));
+  triangle.asset.model.nodes[0].mesh = -1;
+  triangle.asset.model.nodes[kDepth - 1].mesh = 0;
+  scene = build_scene(triangle.asset, triangle.asset);
+  ASSERT_EQ(scene.vertices.size(), 3u);
+  EXPECT_EQ(scene.vertices[1].position, glm::vec3(1, kDepth, 0));
+  // A node that is its own ancestor (invalid glTF) is drawn once, and the build ends.
+  triangle.asset.model.nodes[kDepth - 1].children = {0};
+  EXPECT_EQ(build_scene(triangle.asset, triangle.asset).vertices.size(), 3u);
+}
+
 TEST(Pose, JointIndexOutsideTheSkinIsBadInputNamingTheAttribute) {
   TriangleAsset triangle;
   triangle.bind_all_vertices_to(7);

@@ -170,6 +170,27 @@ TEST(Environment, RadianceHdrFileLightsTheFurnace) {
   EXPECT_NEAR(c.x, 1.0f, 0.01f);
 }
 
+TEST(Environment, AnHdrHeaderClaimingMoreThanTheLimitOrItsBytesIsRefusedBeforeAllocating) {
+  const auto read = [](const std::string& resolution, std::size_t pixel_bytes) {
+    std::string header = "#?RADIANCE\n\n" + resolution + "\n";
+    std::vector<std::uint8_t> bytes(header.begin(), header.end());
+    bytes.resize(bytes.size() + pixel_bytes, 128);
+    try {
+      (void)read_radiance_hdr(bytes, "claim.hdr");
+      return std::string("read");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+  };
+  // 30000 x 30000 in 100 bytes: above the default limit of 16384^2.
+  EXPECT_NE(read("-Y 30000 +X 30000", 100).find("above the limit"), std::string::npos);
+  // 4000 x 4000 fits the limit, but its 4000 scanlines need at least 4 + 8 * 32 bytes each.
+  EXPECT_NE(read("-Y 4000 +X 4000", 1000).find("truncated pixel data"), std::string::npos);
+  EXPECT_NE(read("-Y 100000 +X 100000", 0).find("above the limit"), std::string::npos);
+  EXPECT_NE(read("+Y 8 +X 8", 256).find("'+Y 8 +X 8'"), std::string::npos);  // the line it could not use
+  EXPECT_EQ(read("-Y 2 +X 2", 16), "read");
+}
+
 TEST(Environment, RunLengthEncodedHdrDecodes) {
   // One scanline of width 8, new-style RLE: each channel a run of 8 (count 128 + 8).
   std::string header = "#?RADIANCE\n\n-Y 1 +X 8\n";
