@@ -200,6 +200,14 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
   }
   if (existing.empty()) return;
+  // Files with another name: a file with one link is the file the run reads only under the same
+  // resolved path, which `existing` already compares.
+  std::vector<const PlannedOutput*> linked_outputs;
+  for (const auto& [path, output] : existing) {
+    std::error_code ec;
+    if (!output->names && fs::is_regular_file(output->path, ec) && fs::hard_link_count(output->path, ec) > 1)
+      linked_outputs.push_back(output);
+  }
   // `what` says how the run reads the file: "an input", "named by <input>", "the input list".
   const auto refuse_if_written = [&](const fs::path& read, const std::string& what) {
     const fs::path file = resolved(read);
@@ -209,11 +217,12 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     };
     for (auto [it, end] = existing.equal_range(file); it != end; ++it)
       if (!it->second->names) refuse(*it->second, it->second->path);
-    // The same file under another name (a hard link): an output appended to in place (--results)
-    // would write into the file the run reads.
-    for (const auto& [path, output] : existing) {
+    // The same file under another name (a hard link): refused like the same path, though only an
+    // output written in place (--results, appended to) would harm it; the others are renamed over
+    // the link. Only outputs with more than one link can be one (linked_outputs).
+    for (const PlannedOutput* output : linked_outputs) {
       std::error_code ec;
-      if (!output->names && fs::equivalent(read, output->path, ec)) refuse(*output, output->path);
+      if (fs::equivalent(read, output->path, ec)) refuse(*output, output->path);
     }
     // A folder of named outputs: the name the run reads, and the file it leads to (a symbolic link
     // in the folder would be renamed over; its target's name may be one too).
@@ -235,15 +244,10 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
        {std::pair{reads.inputs_from, "the --inputs-from list"}, std::pair{reads.config, "the --config file"}})
     if (!list.empty() && list != "-") refuse_if_written(list, what);
   // An output file with another name (a hard link) may be any file the inputs name, wherever it is.
-  const bool linked_output = std::any_of(existing.begin(), existing.end(), [](const auto& entry) {
-    std::error_code ec;
-    return !entry.second->names && fs::is_regular_file(entry.second->path, ec) &&
-           fs::hard_link_count(entry.second->path, ec) > 1;
-  });
   for (const InputFile& input : files) {
     refuse_if_written(input.file, "an input");
     const fs::path folder = input.file.parent_path().empty() ? fs::path(".") : input.file.parent_path();
-    if (!reads.allow_outside_uris && !linked_output && !holds_an_output(folder)) continue;
+    if (!reads.allow_outside_uris && linked_outputs.empty() && !holds_an_output(folder)) continue;
     // Mapped, not read: a GLB's binary chunk is never touched for its JSON's URIs.
     const std::optional<MappedFile> mapped = MappedFile::open(input.file, MappedFile::ReadAhead::OnTouch);
     if (!mapped) continue;  // the run reports the unreadable input itself

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "cli/inputs.hpp"
 #include "cli/pipeline.hpp"
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "core/image.hpp"
 #include "core/parallel.hpp"
 #include "core/text.hpp"
@@ -111,6 +113,20 @@ std::vector<PlannedOutput> preview_outputs(const std::vector<fs::path>& folders)
   return written;
 }
 
+// Removes the preview files of an earlier run from `folder`, only where they are a preview's: the
+// folder itself (not a link to one) holding a report.json that write_preview wrote. Whether any was.
+bool remove_earlier_previews(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(folder, ec))) return false;
+  const std::optional<Bytes> text = read_file(folder / "report.json");
+  if (!text) return false;
+  const auto report = nlohmann::json::parse(text->begin(), text->end(), nullptr, false);
+  if (!report.is_object() || !report.contains("gbuffer") || !report.contains("input")) return false;
+  bool removed = false;
+  for (const char* name : preview::kPreviewFiles) removed = fs::remove(folder / name, ec) || removed;
+  return removed;
+}
+
 // `preview DIR -o OUT`: every .gltf and .glb under DIR, each into OUT/<its path without the
 // extension> (as convert --preview names them), -j files at once on the one pool; a file that
 // cannot be drawn is reported and the rest go on; one gallery page at the end.
@@ -143,11 +159,7 @@ int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
             ++failed;
             // An earlier run's previews of this input no longer show it: the gallery page below
             // must not list them as if they did.
-            bool removed = false;
-            for (const char* name : preview::kPreviewFiles) {
-              std::error_code ignored;
-              removed = fs::remove(outputs[i] / name, ignored) || removed;
-            }
+            const bool removed = remove_earlier_previews(outputs[i]);
             const std::string name = found.files[i].file.string(), what = e.what();
             line = printable(what.rfind(name, 0) == 0 ? what : name + ": " + what) +
                    (removed ? " (its earlier previews removed)" : "") + "\n";  // errors even when quiet

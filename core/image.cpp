@@ -92,10 +92,9 @@ Pixels decode_image(std::span<const std::uint8_t> encoded, const std::string& na
     }
   } catch (const std::runtime_error& error) {
     throw std::runtime_error("cannot decode image " + name_for_errors + ": " + error.what());
-  } catch (const std::bad_alloc&) {  // a library's own buffers, sized by a header past our checks
-    throw std::runtime_error("cannot decode image " + name_for_errors + ": it needs more memory than there is");
-  } catch (const std::length_error&) {
-    throw std::runtime_error("cannot decode image " + name_for_errors + ": it needs more memory than there is");
+  } catch (const std::exception& error) {  // bad_alloc, length_error: a library's own buffers past our checks
+    throw std::runtime_error("cannot decode image " + name_for_errors + ": it needs more memory than there is (" +
+                             error.what() + ")");
   }
   ++work_counters().images_decoded;
   return pixels;

@@ -1,5 +1,6 @@
 // The OpenImageIO side of core/image.hpp, for what the lean PNG/JPEG codecs do not serve (WebP,
-// BMP, GIF, HDR/EXR environments, CMYK JPEG, filtered resizing), built as a module that
+// BMP, GIF, EXR and TIFF environments, CMYK JPEG, filtered resizing; Radiance .hdr is read by
+// preview/environment_file.cpp), built as a module that
 // core/image.cpp loads on first use: Debian's libOpenImageIO pulls in ~260 shared libraries whose
 // binding takes 0.2-0.3 s and 128 MiB, a cost that PNG/JPEG and factor-only work must not pay.
 #include <OpenImageIO/filesystem.h>
@@ -27,7 +28,10 @@ std::string name_for_signature(std::span<const std::uint8_t> bytes) {
   if (starts({'B', 'M'})) return "memory.bmp";
   if (starts({'G', 'I', 'F'})) return "memory.gif";
   if (starts({0x76, 0x2F, 0x31, 0x01})) return "memory.exr";
-  if (starts({'I', 'I', 0x2A, 0}) || starts({'M', 'M', 0, 0x2A})) return "memory.tif";
+  // TIFF and BigTIFF, either byte order.
+  if (starts({'I', 'I', 0x2A, 0}) || starts({'M', 'M', 0, 0x2A}) || starts({'I', 'I', 0x2B, 0}) ||
+      starts({'M', 'M', 0, 0x2B}))
+    return "memory.tif";
   throw std::runtime_error("not an image format this tool reads (PNG, JPEG, WebP, BMP, GIF, OpenEXR, TIFF)");
 }
 

@@ -2,7 +2,6 @@
 #include "preview/gallery.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>

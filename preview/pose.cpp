@@ -42,22 +42,25 @@ std::vector<glm::dmat4> node_world_matrices(const tinygltf::Model& model) {
       if (child >= 0 && static_cast<std::size_t>(child) < count && parent[static_cast<std::size_t>(child)] < 0)
         parent[static_cast<std::size_t>(child)] = static_cast<int>(i);
   // Down from each node without a parent, with a stack of its own: a chain of any depth, each node
-  // once. A node on a loop (invalid glTF, which no root reaches) keeps its local transform.
+  // placed once (a child listed twice is still one node). A node on a loop (invalid glTF, which no
+  // root reaches) keeps its local transform.
   std::vector<glm::dmat4> world(count);
+  std::vector<bool> placed(count, false);
   std::vector<std::size_t> stack;
   for (std::size_t i = 0; i < count; ++i) {
     world[i] = local_transform(model.nodes[i]);
-    if (parent[i] < 0) stack.push_back(i);
+    if (parent[i] < 0) stack.push_back(i), placed[i] = true;
   }
   while (!stack.empty()) {
     const std::size_t node = stack.back();
     stack.pop_back();
-    for (int child : model.nodes[node].children)
-      if (child >= 0 && static_cast<std::size_t>(child) < count &&
-          parent[static_cast<std::size_t>(child)] == int(node)) {
-        world[static_cast<std::size_t>(child)] = world[node] * world[static_cast<std::size_t>(child)];
-        stack.push_back(static_cast<std::size_t>(child));
-      }
+    for (int child : model.nodes[node].children) {
+      const auto c = static_cast<std::size_t>(child);
+      if (child < 0 || c >= count || parent[c] != static_cast<int>(node) || placed[c]) continue;
+      placed[c] = true;
+      world[c] = world[node] * world[c];
+      stack.push_back(c);
+    }
   }
   return world;
 }

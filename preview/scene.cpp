@@ -198,8 +198,8 @@ void add_primitive(const Asset& asset, int mesh_index, int primitive_index, cons
 }
 
 // Draws the scene's nodes in depth-first pre-order, with a stack of its own so that a chain of any
-// depth is drawn; each node once (a node under two parents or on a loop is invalid glTF, spec 3.5.3:
-// the hierarchy is a set of disjoint strict trees).
+// depth is drawn; each node once (a node under two parents or on a loop is invalid glTF: the spec's
+// "Nodes and Hierarchy" makes the hierarchy a set of disjoint strict trees).
 void visit_nodes(const Asset& asset, const std::vector<int>& roots, const std::vector<glm::dmat4>& node_world,
                  Scene& scene) {
   const auto& nodes = asset.model.nodes;

@@ -98,8 +98,7 @@ TEST(Pose, JointsAtTheirBindPoseDrawTheMeshAsStored) {
 }
 
 TEST(Pose, AMeshUnderAChainOfAnyDepthIsDrawnWhereItsNodesPutIt) {
-  // Node 0 is the top of a 1000-node chain, each node one unit up; the mesh hangs on the last. A
-  // skinned copy is bound to the last node as its joint, whose world transform is the whole chain.
+  // Node 0 is the top of a 1000-node chain, each node one unit up; the mesh hangs on the last.
   constexpr int kDepth = 1000;
   TriangleAsset triangle;
   std::vector<tinygltf::Node> chain;
@@ -119,6 +118,22 @@ TEST(Pose, AMeshUnderAChainOfAnyDepthIsDrawnWhereItsNodesPutIt) {
   // A node that is its own ancestor (invalid glTF) is drawn once, and the build ends.
   triangle.asset.model.nodes[kDepth - 1].children = {0};
   EXPECT_EQ(build_scene(triangle.asset, triangle.asset).vertices.size(), 3u);
+}
+
+TEST(Pose, AJointAtTheEndOfADeepChainWithChildrenListedTwiceTakesTheWholeChainOnce) {
+  // The skin's joint 1 (node 2) ends a 100-node chain under node 1, each node one unit up and
+  // listing its child twice (invalid glTF): its world transform is the chain's, 100 units up, and
+  // the walk places each node once (listed twice per level, 2^100 visits otherwise).
+  constexpr int kDepth = 100;
+  TriangleAsset triangle;
+  triangle.bind_all_vertices_to(1);
+  std::vector<tinygltf::Node> more(static_cast<size_t>(kDepth), translated(0, 1, 0));
+  more[0].children = {3, 3};  // node 1, the chain's top; then nodes 3 .. kDepth, and node 2 at the end
+  for (int i = 2; i < kDepth; ++i) more[static_cast<size_t>(i)].children = {i + 2, i + 2};
+  more[static_cast<size_t>(kDepth - 1)].children = {2, 2};  // node kDepth, above the joint
+  const Scene scene = triangle.build(tinygltf::Node{}, {}, more);
+  ASSERT_EQ(scene.stats.skinned_primitives, 1);
+  EXPECT_EQ(scene.vertices[1].position, glm::vec3(1, kDepth, 0));
 }
 
 TEST(Pose, JointIndexOutsideTheSkinIsBadInputNamingTheAttribute) {

@@ -1604,6 +1604,10 @@ TEST(MorphTargets, JointsAndWeightsInATargetAreInvalidAttributesWithoutAFormatTo
                       std::pair<std::string, std::string>{"MESH_PRIMITIVE_INVALID_ATTRIBUTE",
                                                           "/meshes/0/primitives/0/targets/0/JOINTS_0"}),
             codes.end());
+  const Codes weights = codes_of(triangle_document(
+      R"({"primitives":[{"attributes":{"POSITION":0},"targets":[{"POSITION":1,"WEIGHTS_0":1}]}],"weights":[0]})"));
+  for (const auto& [code, pointer] : weights)
+    EXPECT_NE(code, "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT") << pointer;
 }
 
 TEST(MorphTargets, ATargetsListThatCannotBeReadWholeIsNoTargets) {
@@ -1711,7 +1715,7 @@ TEST(StructureChecks, AnAccessorWhoseComponentTypeOrCountCannotBeReadIsNotLinked
 }
 
 TEST(StructureChecks, AUriWithAnAbsolutePathAQueryOrAFragmentIsNotRelative) {
-  // Spec 3.9: a relative reference is a path-noscheme, without scheme, authority or parameters.
+  // The spec's "URIs" section: a relative reference is a path-noscheme, without scheme, authority or parameters.
   const auto warned = [](const std::string& uri) {
     const Report report =
         validate_text(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":")" + uri + R"("}]})");
@@ -1751,6 +1755,16 @@ TEST(MaterialExtensions, AnIridescenceBoundThatCannotBeReadTakesPartInNoRule) {
             (Codes{{"VALUE_NOT_IN_RANGE", p + "iridescenceThicknessMaximum"},
                    {"KHR_MATERIALS_IRIDESCENCE_THICKNESS_RANGE_WITHOUT_TEXTURE", p + "iridescenceThicknessMinimum"},
                    {"UNUSED_OBJECT", "/materials/0"}}));
+  // With a thickness texture: a minimum equal to the maximum leaves it unused, a maximum that
+  // cannot be read (the minimum its default's value) does not.
+  const auto texture_unused = [&](const std::string& bounds) {
+    const Codes found = codes(bounds + R"(,"iridescenceThicknessTexture":{"index":0})");
+    return std::find(found.begin(), found.end(),
+                     std::pair<std::string, std::string>{"KHR_MATERIALS_IRIDESCENCE_THICKNESS_TEXTURE_UNUSED",
+                                                         p + "iridescenceThicknessTexture"}) != found.end();
+  };
+  EXPECT_TRUE(texture_unused(R"("iridescenceThicknessMinimum":400,"iridescenceThicknessMaximum":400)"));
+  EXPECT_FALSE(texture_unused(R"("iridescenceThicknessMinimum":400,"iridescenceThicknessMaximum":-1)"));
 }
 
 TEST(MaterialExtensions, VolumeBesideAnExtensionThisStepDoesNotReadMayTransmit) {
@@ -1768,6 +1782,9 @@ TEST(MaterialExtensions, VolumeBesideAnExtensionThisStepDoesNotReadMayTransmit) 
 TEST(StructureChecks, TheDefaultSceneNamingASceneThatIsNotAnObjectIsUnresolved) {
   const Report report = validate_text(R"({"asset":{"version":"2.0"},"scenes":["x",{}],"scene":0})");
   EXPECT_EQ(codes_of(report), (Codes{{"TYPE_MISMATCH", "/scenes/0"}, {"UNRESOLVED_REFERENCE", "/scene"}}));
+  // The scene after it keeps its own index.
+  EXPECT_EQ(codes_of(validate_text(R"({"asset":{"version":"2.0"},"scenes":["x",{"nodes":[5]}],"scene":1})")),
+            (Codes{{"TYPE_MISMATCH", "/scenes/0"}, {"UNRESOLVED_REFERENCE", "/scenes/1/nodes/0"}}));
 }
 
 }  // namespace

@@ -175,12 +175,12 @@ class ExtensionReader {
       // compatible with double-sided materials" in its thin-walled sense.
       // Any transmission extension counts, known or not (KHR_materials_transmission,
       // KHR_materials_diffuse_transmission, vendor ones), and so does any extension this step
-      // does not read (undeclared or unsupported), which might let light through (the
-      // reference's rule, checked on constructed files).
+      // does not read (undeclared or unsupported): what it holds is unknown, so it cannot be said
+      // to let no light through (the reference's rule, checked on constructed files).
       bool transmits = false;
       for (const auto& [sibling, value] : owner_object["extensions"].items())
         if (sibling.find("transmission") != std::string::npos || !read_.context().declared(sibling) ||
-            !find_place(sibling))
+            !extension_supported(sibling))
           transmits = true;
       if (!transmits) at_link("KHR_MATERIALS_VOLUME_NO_TRANSMISSION", p);
       auto double_sided = owner_object.find("doubleSided");

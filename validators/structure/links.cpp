@@ -768,7 +768,7 @@ class Linker {
     for (const auto& [pointer, index] : texture.extension_sources) resolve(doc_.images, index, pointer);
   }
 
-  // Spec 3.5.3: nodes form disjoint strict trees. Iterative Tarjan: a node is in a loop when its
+  // Spec, "Nodes and Hierarchy": nodes form disjoint strict trees. Iterative Tarjan: a node is in a loop when its
   // strongly connected component has more than one node, or it is its own child.
   void find_loops() {
     const std::size_t count = doc_.nodes.size();

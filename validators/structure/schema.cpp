@@ -479,7 +479,7 @@ class Walker {
   }
 
  public:
-  // RFC 3986 URIs and RFC 2397 data URIs (spec 3.9 "URIs"). Returns whether the URI is usable;
+  // RFC 3986 URIs and RFC 2397 data URIs (the spec's "URIs" section). Returns whether the URI is usable;
   // decodes data URIs into `data`.
   bool check_uri(const std::string& uri, const std::string& pointer, bool is_buffer, bool& is_data,
                  std::vector<std::uint8_t>& data, std::string* data_mime = nullptr) {
@@ -553,7 +553,7 @@ class Walker {
       last_uri_non_relative_ = true;
       return false;
     }
-    // Spec 3.9 (URIs): a relative path is a path-noscheme, "without scheme, authority, or parameters".
+    // The spec's "URIs" section: a relative path is a path-noscheme, "without scheme, authority, or parameters".
     // An absolute path, an authority (//host), a query or a fragment is named, and the resource
     // is still read as any other (the path policy decides whether it may be opened).
     if (uri.starts_with('/') || uri.find_first_of("?#") != std::string::npos)

@@ -170,8 +170,8 @@ struct PrimitiveModel {
   std::vector<std::pair<std::string, std::int64_t>> attributes;  // JSON order
   std::int64_t indices = -1;
   std::int64_t material = -1;
-  int mode = 4;               // -1: present but not an integer in 0-6, judged by nothing
-  std::int64_t targets = -1;  // -1: no targets property
+  int mode = 4;               // -1: present but not an integer in 0-6: no count judged, indices read as triangles
+  std::int64_t targets = -1;  // -1: no targets property, or one that cannot be read whole
   // As many JOINTS_n as WEIGHTS_n sets, at least one, each semantic's sets numbered from 0 without
   // a gap (spec 3.7.3.1): what a skin can bind.
   bool skinned = false;
