@@ -67,10 +67,21 @@ GlbParts split_glb(const std::string& file, std::span<const std::uint8_t> bytes)
   const std::optional<GlbChunk> json = chunks.next();  // the 20 bytes hold its header
   if (json->type != kGlbChunkJson) fail(16, "first GLB chunk is not JSON");
   if (json->end() > length) fail(12, "truncated GLB: JSON chunk runs past the end of the file");
+  if (json->data.empty()) fail(12, "the GLB's JSON chunk is empty");
   GlbParts parts{std::string(json->data.begin(), json->data.end()), {}};
   if (json->end() + kGlbChunkHeaderSize <= length) {
     const std::optional<GlbChunk> bin = chunks.next();  // its header lies inside `length`, so in the bytes
-    if (bin->end() > length) fail(bin->offset, "truncated GLB: BIN chunk runs past the end of the file");
+    if (bin->end() > length) {
+      // Chunks start on 4-byte boundaries (spec 4.4.3): after a JSON chunk of another length the
+      // next header is read from the wrong bytes, which is the fault to name.
+      if (json->data.size() % 4 != 0)
+        fail(12, "the GLB's JSON chunk is " + std::to_string(json->data.size()) +
+                     " bytes, not a multiple of 4, so no chunk can follow it");
+      char type[16];
+      std::snprintf(type, sizeof type, "0x%08x", bin->type);
+      fail(bin->offset, std::string("truncated GLB: the ") + (bin->type == kGlbChunkBin ? "BIN chunk" : "chunk") +
+                            " after the JSON (type " + type + ") runs past the end of the file");
+    }
     if (bin->type == kGlbChunkBin) parts.bin = bin->data;
   }
   return parts;

@@ -1,12 +1,15 @@
 // The preview pipeline: convert in memory, rasterize once, resolve both G-buffers, light, compare.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
+#include <sstream>
 
 #include "converter/solver.hpp"
 #include "core/color.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/json_pointer.hpp"
 #include "core/texel_buffer.hpp"
 #include "preview/flip.hpp"
 #include "preview/preview.hpp"
@@ -113,11 +116,24 @@ PreviewResult render_pair(const Asset& asset, const Asset& converted, const Prev
   Camera camera;
   std::string camera_source = "framed on scene bounds";
   if (options.gltf_camera >= 0) {
-    if (options.gltf_camera >= static_cast<int>(scene.cameras.size()))
+    if (options.gltf_camera >= static_cast<int>(scene.cameras.size())) {
+      const bool orthographic = std::any_of(asset.model.cameras.begin(), asset.model.cameras.end(),
+                                            [](const tinygltf::Camera& c) { return c.type == "orthographic"; });
       throw InputError(asset.path.string(), "/cameras",
                        "camera " + std::to_string(options.gltf_camera) + " requested, the scene has " +
-                           std::to_string(scene.cameras.size()) + " perspective camera(s)");
-    camera = camera_from_gltf(scene.cameras[static_cast<size_t>(options.gltf_camera)], aspect);
+                           std::to_string(scene.cameras.size()) + " perspective camera(s)" +
+                           (orthographic ? " (orthographic cameras are not drawn through)" : ""));
+    }
+    const SceneCamera& chosen = scene.cameras[static_cast<size_t>(options.gltf_camera)];
+    // The camera schema: yfov and znear above 0; and yfov below π, past which no perspective
+    // projection exists. A view through anything else shows nothing, no fault of the scene's.
+    constexpr float kPi = 3.14159265358979323846f;
+    const auto short_number = [](float value) { return (std::ostringstream() << value).str(); };
+    if (!(chosen.yfov > 0.0f && chosen.yfov < kPi) || !(chosen.znear > 0.0f))
+      throw InputError(asset.path.string(), pointer("cameras", chosen.index) + "/perspective",
+                       "cannot draw through this camera: yfov " + short_number(chosen.yfov) + " and znear " +
+                           short_number(chosen.znear) + " (yfov must be in (0, pi), znear above 0)");
+    camera = camera_from_gltf(chosen, aspect);
     camera_source = "glTF camera " + std::to_string(options.gltf_camera);
   } else {
     camera = frame_camera(scene.bounds, options.yaw_degrees, options.pitch_degrees, options.fov_y_degrees, aspect);

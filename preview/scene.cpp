@@ -224,6 +224,7 @@ void visit_nodes(const Asset& asset, const std::vector<int>& roots, const std::v
       const tinygltf::Camera& camera = asset.model.cameras[static_cast<size_t>(node.camera)];
       if (camera.type == "perspective") {
         SceneCamera c;
+        c.index = node.camera;
         c.camera_to_world = world;
         c.yfov = static_cast<float>(camera.perspective.yfov);
         c.znear = static_cast<float>(camera.perspective.znear);

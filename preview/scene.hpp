@@ -131,6 +131,7 @@ struct Bounds {
 };
 
 struct SceneCamera {  // a glTF perspective camera under its node transform
+  int index = -1;     // into the document's cameras
   glm::dmat4 camera_to_world{1.0};
   float yfov = 0.8f, znear = 0.01f;
   std::optional<float> zfar;

@@ -182,6 +182,28 @@ TEST(BadInput, GlbWhoseBinChunkRunsPastTheEndNamesTheChunkOffset) {
   EXPECT_NE(e.reason.find("BIN chunk"), std::string::npos) << e.reason;
 }
 
+TEST(BadInput, AGlbWithAnEmptyJsonChunkIsNamedForItNotForTheBytesAfterIt) {
+  // The JSON chunk's length set to 0: the JSON text is then read as a chunk header of its own.
+  ScratchDir scratch;
+  Bytes glb = glb_bytes(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64}]})", Bytes(64, 7));
+  std::memset(glb.data() + 12, 0, 4);
+  const fs::path file = scratch / "empty-json.glb";
+  write_bytes(file, glb);
+  const InputError e = load_error(file);
+  EXPECT_EQ(e.offset, 12u);
+  EXPECT_NE(e.reason.find("JSON chunk is empty"), std::string::npos) << e.reason;
+  // One byte short of its padded length: the BIN chunk's header is read a byte early.
+  Bytes unaligned = glb_bytes(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64}]})", Bytes(64, 7));
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, unaligned.data() + 12, 4);
+  --json_length;
+  std::memcpy(unaligned.data() + 12, &json_length, 4);
+  write_bytes(file, unaligned);
+  const InputError misaligned = load_error(file);
+  EXPECT_EQ(misaligned.offset, 12u);
+  EXPECT_NE(misaligned.reason.find("not a multiple of 4"), std::string::npos) << misaligned.reason;
+}
+
 TEST(BadInput, MalformedJsonNamesTheByteOfTheError) {
   ScratchDir scratch;
   const std::string text = R"({"asset": {"version": "2.0"}, "materials": [ } ]})";

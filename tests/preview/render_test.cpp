@@ -13,6 +13,7 @@
 #include "converter/solver.hpp"
 #include "core/asset.hpp"
 #include "core/color.hpp"
+#include "core/error.hpp"
 #include "preview/gbuffer.hpp"
 #include "preview/preview.hpp"
 
@@ -130,6 +131,31 @@ TEST(Render, MetalThatConvertsExactlyLooksTheSameBeforeAndAfter) {
   EXPECT_LT(r.metrics.delta_e_mean, 0.3);
   EXPECT_LT(r.metrics.delta_e_p95, 0.8);
   EXPECT_LT(r.metrics.rms_db, -40.0);
+}
+
+TEST(Render, AGltfCameraWithNoFieldOfViewIsBadInputNamingIt) {
+  Asset asset = sphere_asset(glm::vec4(0.5f, 0.5f, 0.5f, 1), glm::vec3(0.04f), 0.5f);
+  tinygltf::Camera camera;
+  camera.type = "perspective";
+  camera.perspective.yfov = 0.0;
+  camera.perspective.znear = 0.1;
+  asset.model.cameras.push_back(camera);
+  tinygltf::Node viewer;
+  viewer.camera = 0;
+  viewer.translation = {0.0, 0.0, 10.0};
+  asset.model.nodes.push_back(viewer);
+  asset.model.scenes[0].nodes.push_back(1);
+  PreviewOptions options = small(32);
+  options.gltf_camera = 0;
+  try {
+    (void)render_preview(asset, options);
+    FAIL() << "drew through a camera of yfov 0";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer, "/cameras/0/perspective");
+    EXPECT_NE(e.reason.find("yfov"), std::string::npos) << e.reason;
+  }
+  asset.model.cameras[0].perspective.yfov = 0.8;  // the same view through a real field of view draws
+  EXPECT_GT(render_preview(asset, options).metrics.pixels_compared, 0);
 }
 
 // Grey dielectric spheres (specular other than 0.04 over diffuse colours, three glossinesses),
