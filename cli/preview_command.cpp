@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -14,7 +13,6 @@
 #include "cli/inputs.hpp"
 #include "cli/pipeline.hpp"
 #include "core/error.hpp"
-#include "core/files.hpp"
 #include "core/image.hpp"
 #include "core/parallel.hpp"
 #include "core/text.hpp"
@@ -113,15 +111,11 @@ std::vector<PlannedOutput> preview_outputs(const std::vector<fs::path>& folders)
   return written;
 }
 
-// Removes the preview files of an earlier run from `folder`, only where they are a preview's: the
-// folder itself (not a link to one) holding a report.json that write_preview wrote. Whether any was.
+// Removes the preview files of an earlier run from `folder`, only where the gallery page would list
+// them (preview::lists_a_preview). Whether any was.
 bool remove_earlier_previews(const fs::path& folder) {
+  if (!preview::lists_a_preview(folder)) return false;
   std::error_code ec;
-  if (!fs::is_directory(fs::symlink_status(folder, ec))) return false;
-  const std::optional<Bytes> text = read_file(folder / "report.json");
-  if (!text) return false;
-  const auto report = nlohmann::json::parse(text->begin(), text->end(), nullptr, false);
-  if (!report.is_object() || !report.contains("gbuffer") || !report.contains("input")) return false;
   bool removed = false;
   for (const char* name : preview::kPreviewFiles) removed = fs::remove(folder / name, ec) || removed;
   return removed;

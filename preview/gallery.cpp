@@ -116,16 +116,23 @@ bool is_plain_file(const fs::path& file) {
   return fs::is_regular_file(fs::symlink_status(file, ec));
 }
 
-// The page's entry for the preview in `folder` (`path` relative to the root), or null when its
-// report is not a preview's.
-nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
+// The report.json in `folder` when it is a preview's: a plain file of at most kLargestReport bytes
+// holding an object with a difference block, as write_preview leaves it; else null.
+nlohmann::json preview_report(const fs::path& folder) {
   std::error_code ec;
   const fs::path file = folder / "report.json";
   if (!is_plain_file(file) || fs::file_size(file, ec) > kLargestReport || ec) return nullptr;
   const std::optional<Bytes> bytes = read_file(file);
   if (!bytes) return nullptr;
-  const nlohmann::json report = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
-  if (!report.is_object() || !report.contains("difference")) return nullptr;
+  nlohmann::json report = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
+  return report.is_object() && report.contains("difference") ? report : nullptr;
+}
+
+// The page's entry for the preview in `folder` (`path` relative to the root), or null when its
+// report is not a preview's.
+nlohmann::json entry_of(const fs::path& folder, const std::string& path) {
+  const nlohmann::json report = preview_report(folder);
+  if (report.is_null()) return nullptr;
   const std::string input = string_at(report, "input");
   std::vector<nlohmann::json> all;
   const nlohmann::json::json_pointer listed("/conversion/materials");
@@ -206,6 +213,12 @@ std::string script_safe(const std::string& json) {
 }
 
 }  // namespace
+
+bool lists_a_preview(const fs::path& folder) {
+  std::error_code ec;
+  return fs::is_directory(fs::symlink_status(folder, ec)) && holds_a_preview(folder) &&
+         !preview_report(folder).is_null();
+}
 
 GalleryPage write_gallery(const fs::path& root) {
   GalleryPage page;

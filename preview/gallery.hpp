@@ -27,4 +27,8 @@ struct GalleryPage {
 // the page cannot be written.
 GalleryPage write_gallery(const std::filesystem::path& root);
 
+// Whether write_gallery would list the preview in `folder` (itself, not a link to one): its images
+// and its report.json, read as the page reads them.
+bool lists_a_preview(const std::filesystem::path& folder);
+
 }  // namespace gltf_pbr::preview
