@@ -198,6 +198,10 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
   for (const PlannedOutput& output : outputs) {
     std::error_code ec;
     if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
+    // Found now, not after the run's work: a file output where a folder stands cannot be written.
+    if (!output.path.empty() && !output.names && fs::is_directory(output.path, ec))
+      throw CLI::ValidationError(output.option,
+                                 "refusing to write " + printable(output.path.string()) + ": it is a folder");
   }
   if (existing.empty()) return;
   // Files with another name: a file with one link is the file the run reads only under the same

@@ -30,13 +30,23 @@ void check_failed(const char* expr, const std::string& operands, const char* whe
 }
 
 std::optional<Bytes> read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return std::nullopt;
-  const std::streamsize size = in.tellg();
-  if (size < 0) return std::nullopt;
-  Bytes bytes(static_cast<size_t>(size));
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) return std::nullopt;
+  // A folder opens as a stream too, with a size no buffer can hold: only a regular file is read.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  struct stat status {};
+  std::optional<Bytes> bytes;
+  if (::fstat(fd, &status) == 0 && S_ISREG(status.st_mode)) {
+    bytes.emplace(static_cast<size_t>(status.st_size));
+    for (std::size_t at = 0; bytes && at < bytes->size();) {
+      const ssize_t n = ::read(fd, bytes->data() + at, bytes->size() - at);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        bytes.reset();  // an error, or a file cut short while read
+      else
+        at += static_cast<std::size_t>(n);
+    }
+  }
+  ::close(fd);
   return bytes;
 }
 
@@ -223,8 +233,31 @@ AtomicWriteSet::~AtomicWriteSet() {
   }
 }
 
-void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uint8_t> bytes) {
+void AtomicWriteSet::stage(const fs::path& named, std::span<const std::uint8_t> bytes) {
   std::error_code ec;
+  const fs::file_status target = fs::status(named, ec);  // through links
+  // /dev/stdout and /proc/self/fd/1 lead to whatever the shell opened, a file redirected to included.
+  const fs::path absolute = fs::absolute(named, ec).lexically_normal();
+  const auto top = absolute.has_root_directory() && std::distance(absolute.begin(), absolute.end()) > 2
+                       ? *std::next(absolute.begin())
+                       : fs::path();
+  const bool system_name = top == "dev" || top == "proc";
+  if (fs::exists(target) && !fs::is_directory(target) && (system_name || !fs::is_regular_file(target))) {
+    written_into_.emplace_back(named, std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
+    return;
+  }
+  fs::path destination = named;
+  if (fs::is_symlink(fs::symlink_status(named, ec))) {
+    const fs::path file = fs::canonical(named, ec);
+    const fs::path folder = fs::canonical(named.parent_path().empty() ? fs::path(".") : named.parent_path(), ec);
+    if (file.empty() || ec)
+      throw OutputError("cannot write " + named.string() + ": it is a link to " + fs::read_symlink(named, ec).string() +
+                        ", which does not exist");
+    if (file.parent_path() != folder)
+      throw OutputError("cannot write " + named.string() + ": it is a link to " + file.string() +
+                        ", in another folder; name that file itself");
+    destination = file;
+  }
   if (!destination.parent_path().empty() && !fs::create_directories(destination.parent_path(), ec) && ec)
     throw OutputError("cannot create the folder " + destination.parent_path().string() + ": " + ec.message());
   auto fail = [&](int error) { throw OutputError("cannot write " + destination.string() + ": " + errno_text(error)); };
@@ -313,6 +346,19 @@ std::vector<fs::path> AtomicWriteSet::commit() {
     written.push_back(staged_[k].second);
   }
   staged_.clear();
+  for (const auto& [destination, bytes] : written_into_) {
+    const int fd = ::open(destination.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    int error = fd < 0 ? errno : 0;
+    for (std::size_t at = 0; at < bytes.size() && error == 0;) {
+      const ssize_t n = ::write(fd, bytes.data() + at, bytes.size() - at);
+      if (n < 0 && errno != EINTR) error = errno;
+      if (n > 0) at += static_cast<std::size_t>(n);
+    }
+    if (fd >= 0 && ::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) throw OutputError("cannot write " + destination.string() + ": " + errno_text(error));
+    written.push_back(destination);
+  }
+  written_into_.clear();
   return written;
 }
 

@@ -49,7 +49,10 @@ class MappedFile {
 // A set of files written to temporary names and renamed into place only by commit(),
 // so a failure never leaves partial output. Destroying it without commit() removes the temporaries,
 // and so does SIGINT or SIGTERM arriving while they exist. A file that replaces an existing one
-// keeps that file's mode and, where permitted, its owner and group.
+// keeps that file's mode and, where permitted, its owner and group. A symbolic link is kept and the
+// file it leads to replaced, when that file is in the link's own folder (files written beside it,
+// a .gltf's images, land there too); a link elsewhere is refused. A device, pipe or socket
+// (/dev/stdout, /dev/null, a FIFO) cannot be replaced: it is written into, after the renames.
 class AtomicWriteSet {
  public:
   AtomicWriteSet() = default;
@@ -66,6 +69,7 @@ class AtomicWriteSet {
 
  private:
   std::vector<std::pair<fs::path, fs::path>> staged_;  // (temporary, destination)
+  std::vector<std::pair<fs::path, std::vector<std::uint8_t>>> written_into_;  // special files, their bytes
 };
 
 // A private folder under the system's temporary directory (TMPDIR), named `prefix` and six random

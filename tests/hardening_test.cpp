@@ -1122,6 +1122,31 @@ TEST(LostOutputs, AnImageInItsOwnBufferLeavesNoEmptyBufferWhenItIsBakedAway) {
   EXPECT_EQ(errors_in(scratch / "out" / "Duck.gltf"), 0u);
 }
 
+TEST(LostOutputs, AReportWhereAFolderStandsIsRefusedBeforeTheRunsWork) {
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "in");
+  fs::create_directories(scratch / "report.json");
+  const auto r = run_cli(
+      "convert -q " + quoted(gltf) + " -o " + quoted(scratch / "out") + " --report " + quoted(scratch / "report.json"),
+      scratch);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("it is a folder"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(scratch / "out")) << "found before any file was converted";
+}
+
+TEST(LostOutputs, AReportToAPipeReachesItsReader) {
+  // `--report /dev/stdout | jq` as root used to rename a file over what /dev/stdout leads to.
+  ScratchDir scratch;
+  const fs::path gltf = copy_model("Box", scratch / "in");
+  const std::string command = "(" + quoted(GLTF_PBR_CLI) + " convert -q " + quoted(gltf) + " -o " +
+                              quoted(scratch / "out") + " --report /dev/stdout; echo $? > " +
+                              quoted(scratch / "code.txt") + ") | cat > " + quoted(scratch / "piped.json");
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(test::read_text(scratch / "code.txt"), "0\n");
+  const nlohmann::json report = nlohmann::json::parse(test::read_text(scratch / "piped.json"));
+  EXPECT_EQ(report.at("files").size(), 1u);
+}
+
 TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWritten) {
   ScratchDir scratch;
   const fs::path gltf = copy_model("BoxTextured", scratch / "in");

@@ -1,8 +1,11 @@
 // Saving: container round trips keep every byte that matters, and a failed save leaves nothing.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <thread>
 
 #include "core/asset.hpp"
 #include "core/error.hpp"
@@ -135,6 +138,55 @@ TEST(AtomicWrites, AFailedCommitPutsBackEveryFileItHadAlreadyRenamed) {
   EXPECT_EQ(test::read_text(scratch / "replaced.png"), replacement);
   EXPECT_EQ(test::read_text(scratch / "created.bin"), created);
   EXPECT_EQ(test::files_under(scratch.path()).size(), 2u);
+}
+
+TEST(AtomicWrites, ALinkInItsOwnFolderIsKeptAndItsFileReplaced) {
+  ScratchDir scratch;
+  test::write_text(scratch / "report-2026.json", "the earlier report");
+  fs::create_symlink("report-2026.json", scratch / "report.json");
+  const std::string text = "a new report";
+  AtomicWriteSet files;
+  files.stage(scratch / "report.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  files.commit();
+  EXPECT_TRUE(fs::is_symlink(scratch / "report.json"));
+  EXPECT_EQ(test::read_text(scratch / "report-2026.json"), text);
+}
+
+TEST(AtomicWrites, ALinkIntoAnotherFolderOrToNothingIsRefused) {
+  // Files written beside the one named (a .gltf's images) would land beside the link, away from
+  // the file the link leads to.
+  ScratchDir scratch;
+  fs::create_directories(scratch / "elsewhere");
+  test::write_text(scratch / "elsewhere" / "model.gltf", "{}");
+  fs::create_symlink("elsewhere/model.gltf", scratch / "model.gltf");
+  fs::create_symlink("missing.json", scratch / "dangling.json");
+  const std::uint8_t byte = 0;
+  AtomicWriteSet files;
+  EXPECT_THROW(files.stage(scratch / "model.gltf", std::span(&byte, 1)), OutputError);
+  EXPECT_THROW(files.stage(scratch / "dangling.json", std::span(&byte, 1)), OutputError);
+  EXPECT_EQ(test::read_text(scratch / "elsewhere" / "model.gltf"), "{}");
+  EXPECT_TRUE(fs::is_symlink(scratch / "model.gltf"));
+}
+
+TEST(AtomicWrites, APipeIsWrittenIntoNotReplaced) {
+  // `--report /dev/stdout | jq`, or a FIFO: there is no file to rename over, and replacing the
+  // pipe's name would hide the output from its reader.
+  ScratchDir scratch;
+  const fs::path fifo = scratch / "report.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] {
+    std::ifstream in(fifo);
+    received.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  });
+  const std::string text = "a report through a pipe";
+  AtomicWriteSet files;
+  files.stage(fifo, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  EXPECT_EQ(files.commit(), std::vector<fs::path>{fifo});
+  reader.join();
+  EXPECT_EQ(received, text);
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(test::files_under(scratch.path()).size(), 0u) << "no temporary is left";
 }
 
 }  // namespace

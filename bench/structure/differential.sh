@@ -7,7 +7,8 @@
 # NEW_SHARE (default 0) of the inputs come from generate.py's SHAPES, documents built around one
 # feature each (sparse accessors, cameras, images, skins, lights, ...); SHAPES_SET (default 1)
 # picks generate.py's set of shapes (2: morph targets, samplers, primitives, material combinations,
-# URIs, bounds, buffer views, animation samplers; 3: both).
+# URIs, bounds, buffer views, animation samplers; 3: attributes, indices, skins, animation channels,
+# instancing, variants, node properties, the asset object and extension lists; 4: all three).
 #   bench/structure/differential.sh STRUCTURE_BENCH_BINARY NODE_MODULES [WORK] [COUNT=10000] [SEED=14] [NEW_SHARE=0] [SHAPES_SET=1]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

@@ -23,11 +23,18 @@
 # duplicate keys, bad UTF-8, BOM, lone surrogates, huge numbers). They are named
 # gen/<shape>_NNNNN.gltf|glb so that disagreements group by shape. At S = 0 (the default) a seed
 # makes the same inputs as before the shapes existed.
-# --shapes-set 2 draws the shapes from SHAPES2 instead (3: from both): morph targets and weights
+# --shapes-set 2 draws the shapes from SHAPES2 instead: morph targets and weights
 # counts, samplers and texture references, primitive modes, index values and attribute names,
 # material value combinations, external files, extras and unsupported extensions, accessor bounds
 # on every component type, byteStride rules, animation samplers and channels as objects. The
 # default (1) makes, seed for seed, the same inputs as before SHAPES2 existed.
+# --shapes-set 3 draws them from SHAPES3: vertex attribute sets and formats without quantization,
+# index accessors (formats, views, sharing, values per mode), skins in detail (skeletons, shared
+# joints, IBM formats and values, JOINTS/WEIGHTS sets), animation channels (weights per morph
+# target, duplicate and missing targets, input bounds), EXT_mesh_gpu_instancing,
+# KHR_materials_variants in detail, node properties (camera with mesh, matrices near the TRS
+# limits, rotations near unit length, graphs across scenes), the asset object and extension lists
+# against the extensions present. --shapes-set 4 draws from all three sets.
 import argparse, base64, copy, glob, json, math, os, random, shutil, struct, zlib
 
 parser = argparse.ArgumentParser()
@@ -37,8 +44,8 @@ parser.add_argument('--count', type=int, default=10000)
 parser.add_argument('--seed', type=int, default=14)
 parser.add_argument('--new-share', type=float, default=0.0,
                     help='share of inputs made from SHAPES (0: the inputs of the original kinds, seed for seed as before)')
-parser.add_argument('--shapes-set', type=int, default=1, choices=[1, 2, 3],
-                    help='which shapes --new-share draws from: 1 SHAPES (the default, seed for seed as before), 2 SHAPES2, 3 both')
+parser.add_argument('--shapes-set', type=int, default=1, choices=[1, 2, 3, 4],
+                    help='which shapes --new-share draws from: 1 SHAPES (the default, seed for seed as before), 2 SHAPES2, 3 SHAPES3, 4 all three')
 args = parser.parse_args()
 rng = random.Random(args.seed)
 
@@ -1243,8 +1250,334 @@ SHAPES2 = {f.__name__[6:]: f for f in [shape_morph, shape_samplers, shape_primit
                                         shape_accessor_bounds, shape_buffer_views, shape_anim_samplers]}
 
 
+# ---------------------------------------------------------------------------------------------
+# Shapes of the third set (--shapes-set 3): features neither set above varies on purpose.
+# ---------------------------------------------------------------------------------------------
+IDENT = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+
+
+def shape_attributes():
+    """Vertex attribute semantics and their formats without KHR_mesh_quantization: several
+    TEXCOORD/COLOR/JOINTS/WEIGHTS sets numbered with gaps or from 1, custom _NAMES of any format
+    (UNSIGNED_INT, matrices), per-semantic type/componentType/normalized combinations, POSITION
+    bounds present, partial or absent, and attribute offsets that break the 4-byte alignment."""
+    b = Builder(uv=False, normals=rng.random() < 0.6, texture=False)
+    p = b.prim()
+    forms = {'TEXCOORD': [(5126, 'VEC2', False), (5121, 'VEC2', True), (5123, 'VEC2', True), (5121, 'VEC2', False), (5126, 'VEC3', False), (5120, 'VEC2', True)],
+             'COLOR': [(5126, 'VEC3', False), (5126, 'VEC4', False), (5121, 'VEC4', True), (5123, 'VEC3', True), (5121, 'VEC4', False), (5126, 'VEC2', False), (5122, 'VEC4', True)],
+             'JOINTS': [(5121, 'VEC4', False), (5123, 'VEC4', False), (5126, 'VEC4', False), (5121, 'VEC3', False), (5121, 'VEC4', True)],
+             'WEIGHTS': [(5126, 'VEC4', False), (5121, 'VEC4', True), (5123, 'VEC4', True), (5121, 'VEC4', False), (5126, 'VEC3', False)],
+             '_': [(5125, 'SCALAR', False), (5126, 'MAT4', False), (5121, 'VEC3', False), (5122, 'VEC2', True), (5126, 'SCALAR', False), (5126, 'VEC4', True)]}
+    for base in rng.sample(['TEXCOORD', 'COLOR', 'JOINTS', 'WEIGHTS', '_'], pick(1, 2, 2, 3)):
+        sets = pick([0], [0, 1], [0, 2], [1], [0, 1, 2], [0, 1, 3], [0, 0])
+        for i in sets:
+            name = '_%s' % pick('FOO', 'BAR_%d' % i, 'foo', 'ID') if base == '_' else '%s_%d' % (base, i)
+            ct, kind, norm = pick(*forms[base])
+            w = WIDTH[kind]
+            if ct == 5126: vals = [pick(0.0, 0.25, 0.5, 1.0) for _ in range(3 * w)]
+            else: vals = [pick(0, 1, 2) for _ in range(3 * w)]
+            if base == 'WEIGHTS' and ct == 5126 and kind == 'VEC4': vals = pick([1, 0, 0, 0], [0.5, 0.5, 0, 0]) * 3
+            if base == 'WEIGHTS' and ct != 5126 and kind == 'VEC4': vals = [255 if ct == 5121 else 65535, 0, 0, 0] * 3
+            stride = pick(None, None, None, 4 * ((SIZE[ct] * w + 3) // 4) + pick(0, 4))
+            v = b.view(pack(FMT[ct], vals), target=pick(34962, 34962, 34962, None), stride=stride)
+            a = {'bufferView': v, 'componentType': ct, 'count': 3, 'type': kind}
+            if norm: a['normalized'] = True
+            if rng.random() < 0.15: a['normalized'] = pick(False, True)
+            if rng.random() < 0.1 and SIZE[ct] * w % 4:
+                a['byteOffset'] = SIZE[ct]; b.doc['bufferViews'][v]['byteLength'] += 4 * SIZE[ct] * w
+                b.blob.extend(b'\0' * (4 * SIZE[ct] * w))
+            if rng.random() < 0.2: a['min'] = [min(vals[j::w]) for j in range(w)]; a['max'] = [max(vals[j::w]) for j in range(w)]
+            b.doc['accessors'].append(a)
+            p['attributes'][name] = len(b.doc['accessors']) - 1
+    if ('JOINTS_0' in p['attributes'] or 'WEIGHTS_0' in p['attributes']) and rng.random() < 0.7:
+        b.doc['nodes'] = [{'mesh': 0, 'skin': 0}, {}]; b.doc['scenes'][0]['nodes'] = [0, 1]; b.doc['skins'] = [{'joints': [1]}]
+    pos = b.doc['accessors'][p['attributes']['POSITION']]
+    bounds = pick('both', 'both', 'none', 'min', 'max', 'short')
+    if bounds == 'none': del pos['min'], pos['max']
+    if bounds in ('min', 'max'): del pos[bounds]
+    if bounds == 'short': pos['min'] = pos['min'][:2]
+    return b.finish()
+
+
+def shape_indices():
+    """Index accessors: every component type and element type, normalized, with a byteStride, a
+    byteOffset off the component size, views without a target or an ARRAY_BUFFER target, the same
+    index accessor in two primitives with different vertex counts, as an attribute or animation
+    input as well, declared bounds, and restart/out-of-range/degenerate values per mode."""
+    b = Builder(uv=False, normals=False, texture=False)
+    fresh(b)
+    p = b.prim()
+    nv = pick(3, 4, 6)
+    p['attributes']['POSITION'] = b.acc('f', [float(rng.randrange(4)) for _ in range(nv * 3)], 5126, 'VEC3', nv, target=34962, minmax=True)
+    ct = pick(5121, 5123, 5125, 5125, 5123, 5120, 5122, 5126)
+    kind = pick('SCALAR', 'SCALAR', 'SCALAR', 'SCALAR', 'VEC2', 'VEC3')
+    mode = pick(None, 4, 4, 5, 6, 1, 2, 3, 0)
+    n = pick(3, 4, 5, 6, 7, 8)
+    idx = [rng.randrange(nv) for _ in range(n * WIDTH[kind])]
+    top = {5121: 255, 5123: 65535, 5125: 2 ** 32 - 1, 5120: 127, 5122: 32767, 5126: 0}[ct]
+    twist = pick('plain', 'plain', 'restart', 'oob', 'degenerate', 'all_degenerate', 'strip_degenerate')
+    if twist == 'restart': idx[rng.randrange(len(idx))] = top
+    if twist == 'oob': idx[rng.randrange(len(idx))] = pick(nv, nv + 1, top - 1)
+    if twist == 'degenerate' and len(idx) >= 3: idx[1] = idx[0]
+    if twist == 'all_degenerate': idx = [0] * len(idx)
+    if twist == 'strip_degenerate': idx = ([0, 1, 2, 2, 3, 3] + [1] * 10)[:len(idx)]
+    a = b.acc(FMT[ct], idx, ct, kind, n, target=pick(34963, 34963, 34963, None, 34962), minmax=rng.random() < 0.2)
+    acc = b.doc['accessors'][a]
+    if rng.random() < 0.1: acc['normalized'] = True
+    if rng.random() < 0.1: b.doc['bufferViews'][acc['bufferView']]['byteStride'] = pick(2, 4, 8)
+    if rng.random() < 0.1 and SIZE[ct] > 1:
+        acc['byteOffset'] = pick(1, SIZE[ct] + 1, SIZE[ct]); b.doc['bufferViews'][acc['bufferView']]['byteLength'] += 8; b.blob.extend(b'\0' * 8)
+    p['indices'] = a
+    if mode is not None: p['mode'] = mode
+    use = pick('one', 'one', 'one', 'two_prims', 'as_attribute', 'as_input')
+    if use == 'two_prims':
+        b.doc['meshes'][0]['primitives'].append({'attributes': {'POSITION': b.acc('f', [0, 0, 0, 1, 0, 0, 0, 1, 0], 5126, 'VEC3', 3, target=34962, minmax=True)},
+                                                  'indices': a, 'mode': pick(4, 0, 1)})
+    if use == 'as_attribute': p['attributes']['_IDX'] = a
+    if use == 'as_input':
+        out = b.acc('f', [0.0] * (3 * n), 5126, 'VEC3', n)
+        b.doc['animations'] = [{'samplers': [{'input': a, 'output': out}], 'channels': [{'sampler': 0, 'target': {'node': 0, 'path': 'translation'}}]}]
+    return b.finish()
+
+
+def shape_skin_details():
+    """Skins in detail: two skins sharing joints, skeleton a joint itself, an ancestor, a descendant
+    or a node of another tree, joints at different depths and in other scenes, IBM accessors
+    (count, type, normalized, stride, sparse, last row not 0 0 0 1), a skinned mesh used by a node
+    without a skin, a skin on a node whose mesh has no JOINTS, two JOINTS/WEIGHTS sets."""
+    b = Builder(texture=False)
+    p = b.prim()
+    nsets = pick(1, 1, 1, 2)
+    for s in range(nsets):
+        jv = pick([0, 1, 0, 0], [0, 1, 2, 3], [3, 0, 0, 0], [0, 0, 0, 0], [4, 1, 0, 0])
+        wv = pick([0.5, 0.5, 0, 0], [1, 0, 0, 0], [0.25, 0.25, 0.25, 0.25], [0, 0, 0, 0], [0.5, 0, 0, 0])
+        p['attributes']['JOINTS_%d' % s] = b.acc('B', jv * 3, 5121, 'VEC4', 3, target=34962)
+        p['attributes']['WEIGHTS_%d' % s] = b.acc('f', wv * 3, 5126, 'VEC4', 3, target=34962)
+    # 0: skinned node; 1 root -> 2 -> 3 joints chain; 4 another root; 5 child of 4
+    nodes = [{'mesh': 0, 'skin': 0}, {'children': [2]}, {'children': [3]}, {}, {'children': [5]}, {}]
+    joints = pick([1, 2, 3], [2, 3], [3], [1, 3], [2, 5], [3, 1, 2], [1, 2, 3, 4], [0, 1])
+    skin = {'joints': list(joints)}
+    sk = pick(None, None, 1, 2, 3, 4, 0, 5)
+    if sk is not None: skin['skeleton'] = sk
+    if rng.random() < 0.5:
+        n = len(joints) + pick(0, 0, 0, 1, -1)
+        ct, t = pick((5126, 'MAT4'), (5126, 'MAT4'), (5126, 'MAT4'), (5126, 'MAT3'), (5121, 'MAT4'), (5126, 'VEC4'))
+        vals = (IDENT if t == 'MAT4' else [1] * WIDTH[t]) * max(n, 1)
+        bad = pick(None, None, 3, 15, 12)
+        if bad is not None and t == 'MAT4': vals = list(vals); vals[bad] = pick(1, 0.5, 2)
+        a = b.acc(FMT[ct], vals, ct, t, max(n, 1), normalized=ct != 5126 and rng.random() < 0.5)
+        if rng.random() < 0.1: b.doc['bufferViews'][-1]['byteStride'] = 64
+        if rng.random() < 0.1: b.doc['bufferViews'][-1]['target'] = 34962
+        skin['inverseBindMatrices'] = a
+    skins = [skin]
+    scenes = [{'nodes': [0, 1, 4]}]
+    v = pick('plain', 'plain', 'second_skin', 'unskinned_user', 'skin_no_joints_mesh', 'joint_other_scene', 'node_transform', 'parent_transform')
+    if v == 'second_skin':
+        skins.append({'joints': pick([1, 2], list(joints), [4, 5])}); nodes.append({'mesh': 0, 'skin': 1}); scenes[0]['nodes'].append(6)
+    if v == 'unskinned_user': nodes.append({'mesh': 0}); scenes[0]['nodes'].append(6)
+    if v == 'skin_no_joints_mesh':
+        b.doc['meshes'].append({'primitives': [{'attributes': {'POSITION': p['attributes']['POSITION']}}]}); nodes.append({'mesh': 1, 'skin': 0}); scenes[0]['nodes'].append(6)
+    if v == 'joint_other_scene': scenes = [{'nodes': [0]}, {'nodes': [1, 4]}]
+    if v == 'node_transform': nodes[0][pick('translation', 'scale', 'matrix')] = {'translation': [1, 0, 0], 'scale': [2, 2, 2], 'matrix': IDENT}.get(pick('translation', 'scale', 'matrix'), [1, 0, 0])
+    if v == 'parent_transform': nodes[4]['children'] = [5, 0]; nodes[4]['translation'] = [0, 1, 0]; scenes[0]['nodes'] = [1, 4]
+    b.doc['nodes'] = nodes; b.doc['skins'] = skins; b.doc['scenes'] = scenes
+    if rng.random() < 0.2: b.doc['scene'] = len(scenes) - 1
+    return b.finish()
+
+
+def shape_anim_channels():
+    """Animation channels: no target node, a node out of range, weights on meshes with 1-3 morph
+    targets (output counts per target, CUBICSPLINE tripling, one key), weights on a node without a
+    mesh or with a mesh without targets, several paths on one node, the same target in two
+    animations or twice in one, channels on joints, matrix nodes or skinned nodes, input bounds
+    that do not match the data, integer normalized weights outputs."""
+    b = Builder(texture=False)
+    nt = pick(0, 1, 2, 3)
+    if nt:
+        b.prim()['targets'] = [{'POSITION': b.acc('f', [0, 0, 1] * 3, 5126, 'VEC3', 3, target=34962, minmax=True)} for _ in range(nt)]
+    b.doc['nodes'].append({}); b.doc['scenes'][0]['nodes'].append(1)
+    anims = [{'samplers': [], 'channels': []}]
+    for c in range(pick(1, 2, 3)):
+        path = pick('weights', 'weights', 'translation', 'rotation', 'scale')
+        node = pick(0, 0, 0, 1, 2, None)
+        interp = pick(None, 'LINEAR', 'STEP', 'CUBICSPLINE')
+        keys = pick(1, 2, 3)
+        times = [float(i) for i in range(keys)]
+        inp = b.acc('f', times, 5126, 'SCALAR', keys)
+        ia = b.doc['accessors'][inp]
+        bounds = pick('exact', 'exact', 'exact', 'none', 'wrong', 'min_only')
+        if bounds == 'exact': ia['min'] = [times[0]]; ia['max'] = [times[-1]]
+        if bounds == 'wrong': ia['min'] = [0.0]; ia['max'] = [times[-1] + pick(1, 0.5)]
+        if bounds == 'min_only': ia['min'] = [0.0]
+        k = {'weights': 'SCALAR', 'rotation': 'VEC4', 'translation': 'VEC3', 'scale': 'VEC3'}[path]
+        per = max(nt, 1) if path == 'weights' else 1
+        count = keys * per * (3 if interp == 'CUBICSPLINE' else 1) + pick(0, 0, 0, 0, per, -1)
+        oct_ = pick(5126, 5126, 5126, 5121, 5120, 5123) if path == 'weights' else 5126
+        vals = ([0, 0, 0, 1] if k == 'VEC4' else [0] * WIDTH[k]) * max(count, 1)
+        out = b.acc(FMT[oct_], vals, oct_, k, max(count, 1), normalized=oct_ != 5126 and rng.random() < 0.8)
+        s = {'input': inp, 'output': out}
+        if interp: s['interpolation'] = interp
+        anims[0]['samplers'].append(s)
+        t = {'path': path}
+        if node is not None: t['node'] = node
+        anims[0]['channels'].append({'sampler': c, 'target': t})
+    v = pick('plain', 'plain', 'dup_in_anim', 'dup_across', 'matrix_node', 'skinned', 'mesh_weights', 'node_weights')
+    if v == 'dup_in_anim': anims[0]['channels'].append(copy.deepcopy(anims[0]['channels'][0]))
+    if v == 'dup_across': anims.append(copy.deepcopy(anims[0]))
+    if v == 'matrix_node': b.doc['nodes'][0]['matrix'] = pick(IDENT, [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1])
+    if v == 'skinned':
+        p = b.prim()
+        p['attributes']['JOINTS_0'] = b.acc('B', [0, 0, 0, 0] * 3, 5121, 'VEC4', 3, target=34962)
+        p['attributes']['WEIGHTS_0'] = b.acc('f', [1, 0, 0, 0] * 3, 5126, 'VEC4', 3, target=34962)
+        b.doc['nodes'][0]['skin'] = 0; b.doc['skins'] = [{'joints': [1]}]
+    if v == 'mesh_weights': b.doc['meshes'][0]['weights'] = [0.5] * nt if nt else [0.5]
+    if v == 'node_weights': b.doc['nodes'][0]['weights'] = [0.5] * pick(nt, nt + 1)
+    b.doc['animations'] = anims
+    return b.finish()
+
+
+def shape_instancing():
+    """EXT_mesh_gpu_instancing: TRANSLATION/ROTATION/SCALE and custom attributes of several
+    formats and counts, on a node with or without a mesh, declared, required or not, with bounds
+    and targets; the accessors are otherwise unused."""
+    b = Builder(texture=False)
+    n = pick(2, 3)
+    attrs = {}
+    for name in rng.sample(['TRANSLATION', 'ROTATION', 'SCALE', '_ID', 'translation'], pick(1, 2, 3)):
+        ct, kind = {'TRANSLATION': pick((5126, 'VEC3'), (5126, 'VEC3'), (5122, 'VEC3'), (5126, 'VEC4')),
+                    'ROTATION': pick((5126, 'VEC4'), (5126, 'VEC4'), (5120, 'VEC4'), (5122, 'VEC4'), (5126, 'VEC3')),
+                    'SCALE': pick((5126, 'VEC3'), (5126, 'VEC3'), (5121, 'VEC3')), '_ID': pick((5126, 'SCALAR'), (5125, 'SCALAR')),
+                    'translation': (5126, 'VEC3')}[name]
+        cnt = n + pick(0, 0, 0, 1)
+        vals = ([0, 0, 0, 1] if kind == 'VEC4' else [1] * WIDTH[kind]) * cnt
+        if ct in (5120, 5122) and kind == 'VEC4': vals = [0, 0, 0, 127 if ct == 5120 else 32767] * cnt
+        if name == 'ROTATION' and rng.random() < 0.2: vals[0] = 1
+        attrs[name] = b.acc(FMT[ct], vals, ct, kind, cnt, target=pick(None, None, 34962), minmax=rng.random() < 0.3,
+                            normalized=ct in (5120, 5121, 5122) and rng.random() < 0.8)
+    node = pick(0, 0, 1)
+    if node == 1: b.doc['nodes'].append({}); b.doc['scenes'][0]['nodes'].append(1)
+    ext = {'attributes': attrs} if rng.random() < 0.9 else pick({}, {'attributes': {}})
+    b.doc['nodes'][node]['extensions'] = {'EXT_mesh_gpu_instancing': ext}
+    if rng.random() < 0.85: b.use('EXT_mesh_gpu_instancing', required=rng.random() < 0.3)
+    return b.finish()
+
+
+def shape_variants():
+    """KHR_materials_variants in detail: variants without names, with duplicate names or extra
+    members, empty lists; mappings with materials or variants out of range, a variant in two
+    mappings, empty variant lists, no material, names; mappings on several primitives, the root
+    object missing or not declared, unused variants and materials."""
+    b = Builder()
+    b.doc['materials'].append({'name': 'm1'})
+    variants = [{'name': 'a'}, {'name': 'b'}, {'name': 'c'}][:pick(1, 2, 3)]
+    vv = pick('plain', 'plain', 'no_name', 'dup_name', 'extra', 'empty', 'missing_root')
+    if vv == 'no_name': variants[0] = {}
+    if vv == 'dup_name' and len(variants) > 1: variants[1]['name'] = 'a'
+    if vv == 'extra': variants[0]['extras'] = pick({}, 1); variants[0]['foo'] = 1
+    if vv == 'empty': variants = []
+    if vv != 'missing_root': b.doc['extensions'] = {'KHR_materials_variants': {'variants': variants}}
+    nv = max(len(variants), 1)
+    maps = []
+    for _ in range(pick(1, 2, 3)):
+        m = {'material': pick(0, 1, 1, 2, -1), 'variants': rng.sample(range(nv), pick(1, 1, min(2, nv)))}
+        tw = pick(None, None, None, 'oob', 'empty', 'no_material', 'name', 'dup')
+        if tw == 'oob': m['variants'].append(nv + pick(0, 3))
+        if tw == 'empty': m['variants'] = []
+        if tw == 'no_material': del m['material']
+        if tw == 'name': m['name'] = pick('x', 1)
+        if tw == 'dup': m['variants'] = m['variants'] * 2
+        maps.append(m)
+    b.prim()['extensions'] = {'KHR_materials_variants': {'mappings': maps}}
+    if rng.random() < 0.3:
+        second = copy.deepcopy(b.prim()); second['extensions']['KHR_materials_variants']['mappings'] = maps[:1]
+        b.doc['meshes'][0]['primitives'].append(second)
+    if rng.random() < 0.1: b.prim()['extensions']['KHR_materials_variants'] = pick({}, {'mappings': []})
+    if rng.random() < 0.9: b.use('KHR_materials_variants', required=rng.random() < 0.1)
+    return b.finish()
+
+
+def shape_node_props():
+    """Node properties: camera with mesh, weights without a mesh or with a mesh without targets,
+    matrices that are singular, sheared, projective, mirrored or nearly orthonormal, TRS beside a
+    matrix, rotations near unit length, zero or negative scale, a node root in one scene and child
+    in another, loops through a second scene, a node in two scenes, nodes in no scene."""
+    b = Builder(texture=False)
+    b.doc['cameras'] = [{'type': 'perspective', 'perspective': {'yfov': 0.8, 'znear': 0.1}}]
+    nodes = [{'mesh': 0}, {}, {}, {}]
+    scenes = [{'nodes': [0, 1]}]
+    for _ in range(pick(1, 1, 2)):
+        i = rng.randrange(4)
+        k = pick('camera', 'weights', 'matrix', 'trs_matrix', 'rotation', 'scale', 'translation')
+        if k == 'camera': nodes[i]['camera'] = 0
+        if k == 'weights': nodes[i]['weights'] = pick([0.5], [], [0, 0])
+        if k == 'matrix':
+            nodes[i]['matrix'] = pick([0] * 15 + [1], [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1], [1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1],
+                                      [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 3, 4, 5, 1], [1.0001, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1],
+                                      [1, 0.0001, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], [1, 0.01, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1],
+                                      [0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], [1e-9, 0, 0, 0, 0, 1e-9, 0, 0, 0, 0, 1e-9, 0, 0, 0, 0, 1],
+                                      [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2], IDENT)
+        if k == 'trs_matrix': nodes[i]['matrix'] = IDENT; nodes[i][pick('translation', 'rotation', 'scale')] = pick([0, 0, 0], [0, 0, 0, 1], [1, 1, 1])
+        if k == 'rotation':
+            e = pick(0, 1e-7, 1e-6, 5e-6, 1e-5, 1e-4, 1e-3)
+            nodes[i]['rotation'] = [0, 0, 0, pick(1 + e, 1 - e)] if rng.random() < 0.7 else [0, 0, 0.7071068, 0.7071068]
+        if k == 'scale': nodes[i]['scale'] = pick([0, 0, 0], [0, 1, 1], [-1, -1, -1], [1e-30, 1, 1])
+        if k == 'translation': nodes[i]['translation'] = pick([0, 0, 0], [1e38, 0, 0], [1, 2])
+    g = pick('flat', 'flat', 'cross_scene_child', 'cross_loop', 'two_scenes', 'orphan', 'orphan_child')
+    if g == 'cross_scene_child': nodes[1]['children'] = [2]; scenes.append({'nodes': [2, 3]})
+    if g == 'cross_loop': nodes[2]['children'] = [3]; nodes[3]['children'] = [2]; scenes.append({'nodes': [2]})
+    if g == 'two_scenes': scenes.append({'nodes': [0, pick(2, 1)]})
+    if g == 'orphan_child': nodes[2]['children'] = [3]
+    b.doc['nodes'] = nodes; b.doc['scenes'] = scenes
+    b.doc['scene'] = pick(0, len(scenes) - 1)
+    return b.finish()
+
+
+KNOWN_EXTS = {'KHR_materials_unlit': ('material', {}), 'KHR_texture_transform': ('texinfo', {'offset': [0, 0]}),
+              'KHR_materials_emissive_strength': ('material', {'emissiveStrength': 2}), 'KHR_mesh_quantization': (None, None),
+              'KHR_lights_punctual': ('root', {'lights': [{'type': 'point'}]}), 'EXT_foo_bar': ('node', {}), 'ABC_thing': ('material', {}),
+              'KHR_materials_ior': ('material', {'ior': 1.4}), 'KHR_texture_basisu': ('texture', {'source': 0})}
+
+
+def shape_asset_extensions():
+    """The asset object (version and minVersion strings, generator and copyright of odd types,
+    extras, extensions) and extensionsUsed/extensionsRequired lists of several extensions, each
+    actually present in the document or not, required or not, in any order, with non-string or
+    repeated entries."""
+    b = Builder()
+    d = b.doc
+    a = d['asset']
+    if rng.random() < 0.5:
+        a['version'] = pick('2.0', '2.0', '2.1', '2.10', '2.01', '3.0', '1.0', '0.9', '2', '2.0.0', 'x.y', '2.0a', '10.0', '2.-1')
+        if rng.random() < 0.5: a['minVersion'] = pick('2.0', '2.1', '1.0', '1.9', '2.0.0', '3.0', '2.01', '2.00', '2', 'x')
+    for k in rng.sample(['generator', 'copyright', 'extras', 'extensions', 'foo'], pick(0, 1, 2)):
+        a[k] = {'generator': pick('gen', '', 1, None), 'copyright': pick('(c)', '', [1]), 'extras': pick({'a': 1}, 'x', [], None),
+                'extensions': pick({}, {'EXT_foo_bar': {}}, {'KHR_materials_unlit': {}}), 'foo': pick(1, {})}[k]
+    names = rng.sample(sorted(KNOWN_EXTS), pick(1, 2, 3))
+    used, required = [], []
+    for name in names:
+        where, body = KNOWN_EXTS[name]
+        present = rng.random() < 0.7
+        if present and where == 'material': d['materials'][0].setdefault('extensions', {})[name] = dict(body)
+        if present and where == 'texinfo': d['materials'][0]['pbrMetallicRoughness']['baseColorTexture']['extensions'] = {name: dict(body)}
+        if present and where == 'root': d.setdefault('extensions', {})[name] = copy.deepcopy(body)
+        if present and where == 'node': d['nodes'][0].setdefault('extensions', {})[name] = dict(body)
+        if present and where == 'texture': d['textures'][0].setdefault('extensions', {})[name] = dict(body)
+        if rng.random() < 0.85: used.append(name)
+        if rng.random() < 0.35: required.append(name)
+    if rng.random() < 0.1 and used: used.append(pick(used[0], 1, ''))
+    if rng.random() < 0.1 and required: required.append(required[0])
+    if rng.random() < 0.2: rng.shuffle(used)
+    if used or rng.random() < 0.1: d['extensionsUsed'] = used
+    if required or rng.random() < 0.1: d['extensionsRequired'] = required
+    return b.finish(glb_chunk=rng.random() < 0.2)
+
+
+SHAPES3 = {f.__name__[6:]: f for f in [shape_attributes, shape_indices, shape_skin_details, shape_anim_channels, shape_instancing,
+                                        shape_variants, shape_node_props, shape_asset_extensions]}
+
+
 def write_shape(n, work):
-    table = {1: SHAPES, 2: SHAPES2, 3: dict(SHAPES, **SHAPES2)}[args.shapes_set]
+    table = {1: SHAPES, 2: SHAPES2, 3: SHAPES3, 4: dict(SHAPES, **SHAPES2, **SHAPES3)}[args.shapes_set]
     while True:
         name = rng.choice(sorted(table))
         try: doc, blob, container = table[name](); break

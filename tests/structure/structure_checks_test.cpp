@@ -406,6 +406,64 @@ Codes codes_of(const Report& report) {
   return codes;
 }
 
+TEST(StructureChecks, AMorphTargetAttributeNeedsABaseAttributeThatResolves) {
+  // Judged between accessors that resolve: a base NORMAL naming no accessor is no base, and a target
+  // NORMAL naming none is only unresolved.
+  auto document = [](const char* base, const char* target) {
+    return validate_text(
+        std::string(
+            R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962}],)"
+            R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},)"
+            R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}],)"
+            R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":)") +
+        base + R"(},"targets":[{"NORMAL":)" + target + "}]}]}]}");
+  };
+  for (const char* base : {"-1", "2", "50", "4294967296"})
+    EXPECT_NE(find(document(base, "1"), "MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR"), nullptr) << base;
+  for (const auto& [base, target] : {std::pair{"1", "50"}, std::pair{"50", "50"}, std::pair{"0", "1"}})
+    EXPECT_EQ(find(document(base, target), "MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR"), nullptr)
+        << base << " " << target;
+}
+
+TEST(StructureChecks, AnExtensionListWithANonStringItemDeclaresNothing) {
+  // Schema: extensionsUsed and extensionsRequired are arrays of strings; one that is not fails the
+  // list whole. Its strings are still checked for repeats, and nothing is judged against it.
+  const Report used = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_lights_punctual",5,"KHR_lights_punctual","EXT_foo"],)"
+      R"("extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","range":-1}]}}})");
+  EXPECT_EQ(codes_of(used), (Codes{{"ARRAY_TYPE_MISMATCH", "/extensionsUsed/1"},
+                                   {"DUPLICATE_ELEMENTS", "/extensionsUsed/2"},
+                                   {"UNDECLARED_EXTENSION", "/extensions/KHR_lights_punctual"}}));
+  const Report required = validate_text(
+      R"({"asset":{"version":"2.0"},"extensionsUsed":["KHR_lights_punctual"],"extensionsRequired":[5,"KHR_texture_transform"]})");
+  EXPECT_EQ(codes_of(required), (Codes{{"ARRAY_TYPE_MISMATCH", "/extensionsRequired/0"}}));
+}
+
+TEST(StructureChecks, ACubicSplineInputWhoseCountCannotBeReadHasTooFewElements) {
+  // Spec 3.11 (animation samplers): a cubic spline needs at least two keyframes. A count that cannot
+  // be read stands for none; linear interpolation needs one, and is not judged on it.
+  for (const char* count : {"0", "-1", R"("x")"}) {
+    for (const char* interpolation : {"CUBICSPLINE", "LINEAR"}) {
+      const Report report = validate_text(
+          std::string(
+              R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":64}],"bufferViews":[{"buffer":0,"byteLength":16},)"
+              R"({"buffer":0,"byteOffset":16,"byteLength":48}],"accessors":[{"bufferView":0,"componentType":5126,"count":)") +
+          count +
+          R"(,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}],)"
+          R"("nodes":[{}],"scenes":[{"nodes":[0]}],"animations":[{"samplers":[{"input":0,"output":1,"interpolation":")" +
+          interpolation + R"("}],"channels":[{"sampler":0,"target":{"node":0,"path":"scale"}}]}]})");
+      const Issue* issue = find(report, "ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS");
+      if (std::string(interpolation) == "LINEAR") {
+        EXPECT_EQ(issue, nullptr) << count;
+        continue;
+      }
+      ASSERT_NE(issue, nullptr) << count;
+      EXPECT_EQ(issue->pointer, "/animations/0/samplers/0/input");
+      EXPECT_NE(issue->message.find("Got -1."), std::string::npos) << issue->message;
+    }
+  }
+}
+
 // A sparse float accessor of four over 64 zero bytes: indices (UNSIGNED_INT) in view 0, values in
 // view 1, each 16 bytes; `views` and `sparse` are spliced in.
 std::string sparse_document(const std::string& index_view, const std::string& value_view, const std::string& sparse) {
@@ -815,8 +873,8 @@ TEST(StructureChecks, IntegerAccessorBoundsMustFitTheirComponentType) {
   EXPECT_EQ(report.messages[1].message, "Invalid value 256 for GL type 'UNSIGNED_BYTE'.");
 }
 
-// Spec 3.5.2: a matrix decomposes into TRS. Judged by the round trip through a quaternion, with
-// the tolerance measured against the reference (bench/RESULTS.md).
+// Spec 3.5.2: a matrix decomposes into TRS, so its columns are orthogonal; a shear is their largest
+// cosine, held to 1e-3.
 TEST(StructureChecks, AShearedNodeMatrixIsNotTrs) {
   auto node_matrix = [](const char* matrix) {
     return validate_text(std::string(R"({"asset":{"version":"2.0"},"nodes":[{"matrix":[)") + matrix +
@@ -827,6 +885,16 @@ TEST(StructureChecks, AShearedNodeMatrixIsNotTrs) {
       << "a rotation with scale is TRS";
   EXPECT_NE(find(node_matrix("1,0,0,0, 0,1,0,0, 0,0,1e40,0, 0,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr)
       << "beyond single precision";
+  EXPECT_NE(find(node_matrix("1,0.5,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr)
+      << "a shear of 0.5";
+  EXPECT_NE(find(node_matrix("0,2,0,0, -1,0.005,0,0, 0,0,1,0, 0,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr)
+      << "a rotated shear of 0.005";
+  EXPECT_EQ(find(node_matrix("1,0.0001,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1"), "NODE_MATRIX_NON_TRS"), nullptr)
+      << "a shear of 1e-4 is within the tolerance";
+  EXPECT_EQ(find(node_matrix("0.844,0.4491,-0.2931,0, -58.63,168.8,89.82,0, 449.1,-293.1,844,0, 0,0,0,1"),
+                 "NODE_MATRIX_NON_TRS"),
+            nullptr)
+      << "40 degrees about (1, 1, 1), scaled by 1, 200 and 1000, written with four digits, is TRS";
 }
 
 // The reference reads a GLB as a stream and validates the JSON chunk as soon as it has it: what is

@@ -195,7 +195,8 @@ class Linker {
         if (!input->has_min || !input->has_max)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_WITHOUT_BOUNDS", sp + "/input");
         stride_forbidden(*input, sp + "/input", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
-        if (sampler.interpolation == "CUBICSPLINE" && input->count > 0 && input->count < 2)
+        // A count that cannot be read (absent, not an integer, below 1) is -1 here, too few.
+        if (sampler.interpolation == "CUBICSPLINE" && input->count < 2)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS", sp + "/input",
                      {arg("CUBICSPLINE"), arg(2), arg(input->count)});
       }
@@ -633,17 +634,14 @@ class Linker {
           // In the reference's order: the buffer view's use, the base, then the accessor's checks.
           AccessorModel* accessor = resolve(doc_.accessors, index, tp);
           if (accessor) use_view_as(*accessor, 34962, "VertexBuffer", tp);
-          // A target attribute with a valid index needs its base attribute. That attribute is
-          // missing when absent, when its own index is not a valid index (INVALID_INDEX or
-          // TYPE_MISMATCH there), or when it names a slot of the accessors that is not an object
-          // (an index outside the list is only unresolved), as in the reference.
+          // A target attribute that resolves needs a base attribute of its semantic that resolves
+          // too (spec 3.7.2.2: a target displaces its base's values); one that does not resolve is
+          // only unresolved.
           const bool in_base =
               std::any_of(primitive.attributes.begin(), primitive.attributes.end(), [&](const auto& attribute) {
-                const auto slot = static_cast<std::size_t>(attribute.second);
-                return attribute.first == semantic && attribute.second >= 0 &&
-                       !(slot < doc_.accessors.size() && !doc_.accessors[slot].object);
+                return attribute.first == semantic && accessor_object(doc_, attribute.second) != nullptr;
               });
-          if (index >= 0 && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
+          if (accessor && !in_base) issues_.at("MESH_PRIMITIVE_MORPH_TARGET_NO_BASE_ACCESSOR", tp);
           if (!accessor) continue;
           // Against the base accessor of the same semantic, an unknown count (-1) included; then
           // a target POSITION's bounds (the reference's order, unlike a base POSITION's).
