@@ -425,6 +425,29 @@ TEST(StructureChecks, AMorphTargetAttributeNeedsABaseAttributeThatResolves) {
         << base << " " << target;
 }
 
+TEST(StructureChecks, TexCoordSetsWithAGapAreNotAlsoCalledUnused) {
+  // Spec 3.7.2.1: TEXCOORD_n start at 0 and are continuous. Sets that are not are in error, and no
+  // set of theirs is judged unused; a gap in another semantic does not spare them.
+  auto document = [](const char* second) {
+    return validate_text(
+        std::string(
+            R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
+            R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"}],)"
+            R"("bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteLength":24,"byteOffset":36,"target":34962},)"
+            R"({"buffer":0,"byteLength":24,"byteOffset":60,"target":34962}],"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+            R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1,")") +
+        second + R"(":2}}]}],"buffers":[{"byteLength":84}]})");
+  };
+  const Report gap = document("TEXCOORD_2");
+  EXPECT_NE(find(gap, "MESH_PRIMITIVE_INDEXED_SEMANTIC_CONTINUITY"), nullptr);
+  EXPECT_EQ(find(gap, "UNUSED_OBJECT"), nullptr);
+  const Report color_gap = document("COLOR_1");
+  EXPECT_NE(find(color_gap, "MESH_PRIMITIVE_INDEXED_SEMANTIC_CONTINUITY"), nullptr);
+  const Issue* unused = find(color_gap, "UNUSED_OBJECT");
+  ASSERT_NE(unused, nullptr);
+  EXPECT_EQ(unused->pointer, "/meshes/0/primitives/0/attributes/TEXCOORD_0");
+}
+
 TEST(StructureChecks, AnExtensionListWithANonStringItemDeclaresNothing) {
   // Schema: extensionsUsed and extensionsRequired are arrays of strings; one that is not fails the
   // list whole. Its strings are still checked for repeats, and nothing is judged against it.

@@ -46,8 +46,6 @@ std::int64_t last_element_size(const AccessorModel& accessor) {
   return static_cast<std::int64_t>(size) * component_count(accessor.type);
 }
 
-bool valid_texcoord(const std::string& name) { return set_number(name, "TEXCOORD_").has_value(); }
-
 // A buffer view's use besides the GL targets (34962 vertex data, 34963 index data), as the
 // reference names them in BUFFER_VIEW_TARGET_OVERRIDE: inverse bind matrices, other accessor data
 // (animations, sparse indices and values), and images.
@@ -617,11 +615,13 @@ class Linker {
       }
       if (has_tangent && (!material || !(material->has_normal_texture || material->needs_tangents)))
         issues_.at("UNUSED_MESH_TANGENT", p + "/attributes/TANGENT");
-      // TEXCOORD_0 .. TEXCOORD_{n-1}, n the number of texture coordinate sets, that no binding reads.
-      std::int64_t sets = 0;
+      // TEXCOORD_0 .. TEXCOORD_{n-1}, n the number of texture coordinate sets, that no binding reads;
+      // sets that are not numbered from 0 without a gap are already in error, and judged no further.
+      std::int64_t sets = 0, last_set = -1;
       for (const auto& [name, index] : primitive.attributes)
-        if (valid_texcoord(name)) ++sets;
-      for (std::int64_t set = 0; set < sets; ++set) {
+        if (const std::optional<int> set = set_number(name, "TEXCOORD_"))
+          ++sets, last_set = std::max<std::int64_t>(last_set, *set);
+      for (std::int64_t set = 0; set < sets && last_set == sets - 1; ++set) {
         const std::string name = "TEXCOORD_" + std::to_string(set);
         const bool present = std::any_of(primitive.attributes.begin(), primitive.attributes.end(),
                                          [&](const auto& attribute) { return attribute.first == name; });
