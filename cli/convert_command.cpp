@@ -45,7 +45,7 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
                                   std::vector<InputFile>& files) {
   const fs::path output = args.output;
   const bool single_file_output = !args.file.replace_input && is_gltf_file(output) && !fs::is_directory(output);
-  const std::vector<std::string> inputs = all_inputs(args.inputs, args.pipeline);
+  const GivenInputs inputs = all_inputs(args.inputs, args.pipeline);
   // One output file is left out of the inputs too, so `convert models -o models/all.glb` reruns.
   FoundInputs found = find_gltf_files(inputs, args.file.replace_input ? fs::path() : output);
   skipped_under_output = found.skipped_under_output;
@@ -54,7 +54,7 @@ std::vector<ConvertJob> plan_jobs(const ConvertArgs& args, std::size_t& skipped_
     throw CLI::ValidationError(
         "--output", output.string() + " is one file, for " + std::to_string(files.size()) + " inputs: give a folder");
   std::vector<ConvertJob> jobs;
-  for (auto& [file, relative] : files) {
+  for (const auto& [file, relative, key] : files) {
     fs::path target;
     if (args.file.replace_input) {
       target = file;

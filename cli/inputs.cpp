@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "cli/commands.hpp"
 #include "core/asset.hpp"
@@ -49,10 +50,15 @@ fs::path folder_name(const fs::path& input) {
 }
 }  // namespace
 
-FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::path& output_folder) {
+FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_folder) {
   FoundInputs found_inputs;
   std::vector<InputFile>& files = found_inputs.files;
-  for (const fs::path input : inputs) {
+  const std::size_t named_count = inputs.named.size();
+  std::set<fs::path> listed_already;  // a list may name a file twice; it is one input
+  for (std::size_t i = 0; i < named_count + inputs.listed.size(); ++i) {
+    const bool listed = i >= named_count;
+    const fs::path input = listed ? inputs.listed[i - named_count] : inputs.named[i];
+    if (listed && !listed_already.insert(input.lexically_normal()).second) continue;
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
       // Earlier outputs are not inputs: what lies under the output folder. A folder that is itself
@@ -73,9 +79,19 @@ FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const fs::pa
         found.push_back(entry.path());
       }
       std::sort(found.begin(), found.end());
-      for (const auto& file : found) files.push_back({file, name / file.lexically_relative(input)});
+      for (const auto& file : found) {
+        const fs::path inside = file.lexically_relative(input);
+        files.push_back({file, name / inside, inside});
+      }
+    } else if (listed && !fs::is_regular_file(input, ec) && fs::exists(fs::symlink_status(input, ec))) {
+      throw CLI::ValidationError("--inputs-from", input.string() + ": not a file or a folder");
+    } else if (listed) {
+      const fs::path as_listed = input.lexically_normal();
+      const bool stays_below = as_listed.is_relative() && !as_listed.empty() && *as_listed.begin() != "..";
+      const fs::path relative = stays_below ? as_listed : input.filename();
+      files.push_back({input, relative, relative});
     } else if (fs::is_regular_file(input, ec)) {
-      files.push_back({input, input.filename()});
+      files.push_back({input, input.filename(), input.filename()});
     } else {
       throw CLI::ValidationError("input", input.string() + ": no such file or directory");
     }

@@ -19,6 +19,12 @@ namespace gltf_pbr::cli {
 struct InputFile {
   std::filesystem::path file;      // as found (relative inputs stay relative)
   std::filesystem::path relative;  // where it goes under an output folder: the input folder's name / path inside it
+  std::filesystem::path key;       // what --shard hashes: the path under the input root, whatever the root's name
+};
+
+// The inputs named on the command line and those --inputs-from lists.
+struct GivenInputs {
+  std::vector<std::string> named, listed;
 };
 
 // "1 file", "3 files": a count with its noun in the right number.
@@ -46,8 +52,12 @@ struct FoundInputs {
 
 // Files are taken as given; directories are searched recursively for .gltf and .glb, in sorted
 // order, leaving out what lies under `output_folder` (when given) so a rerun never converts its own
-// outputs. Throws CLI::ValidationError for a missing input or when nothing is found.
-FoundInputs find_gltf_files(const std::vector<std::string>& inputs, const std::filesystem::path& output_folder = {});
+// outputs. A named file goes to its name under an output folder; a listed one to its path as listed
+// when that is relative and stays below where it is read from (a list of changed files, `git diff
+// --name-only`, updates what a run over their folder wrote), else to its name. Throws
+// CLI::ValidationError for a missing named input or when nothing is found; a missing listed file
+// is kept, for the run to fail on it alone (a list of changes names deleted files).
+FoundInputs find_gltf_files(const GivenInputs& inputs, const std::filesystem::path& output_folder = {});
 
 // One run never writes an output twice: throws CLI::ValidationError naming both inputs when two
 // would go to the same output (the same file given twice, or a/Box.gltf and b/Box.gltf as files

@@ -26,7 +26,7 @@ Shard parse_shard(const std::string& text) {
 
 std::uint32_t shard_of(const InputFile& file, std::uint32_t shard_count) {
   std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64-bit offset basis and prime
-  for (const char c : file.relative.generic_string()) {
+  for (const char c : file.key.generic_string()) {
     hash ^= static_cast<unsigned char>(c);
     hash *= 1099511628211ull;
   }
@@ -74,11 +74,12 @@ void ResultsLog::write(const std::string& line) {
     throw OutputError(path_.string() + ": " + std::strerror(errno));
 }
 
-std::vector<std::string> all_inputs(std::vector<std::string> given, const PipelineArgs& args) {
-  if (!args.inputs_from.empty())
-    for (std::string& listed : read_input_list(args.inputs_from)) given.push_back(std::move(listed));
-  if (given.empty()) throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
-  return given;
+GivenInputs all_inputs(std::vector<std::string> named, const PipelineArgs& args) {
+  GivenInputs inputs{std::move(named),
+                     args.inputs_from.empty() ? std::vector<std::string>{} : read_input_list(args.inputs_from)};
+  if (inputs.named.empty() && inputs.listed.empty())
+    throw CLI::ValidationError("inputs", "give input files or folders, or --inputs-from");
+  return inputs;
 }
 
 std::vector<std::size_t> positions_in_shard(const std::vector<InputFile>& files, const PipelineArgs& args) {

@@ -62,9 +62,9 @@ struct PipelineArgs {
   std::string inputs_from, shard, results, cache;
 };
 
-// The inputs given on the command line and those --inputs-from lists; throws
+// The inputs named on the command line and those --inputs-from lists; throws
 // CLI::ValidationError when there are none.
-std::vector<std::string> all_inputs(std::vector<std::string> given, const PipelineArgs& args);
+GivenInputs all_inputs(std::vector<std::string> named, const PipelineArgs& args);
 
 // The positions in the whole run of the files this run takes: all of them, or --shard's part.
 // The whole run is found first, so every shard sees the same run and a file keeps its place in it.

@@ -125,7 +125,7 @@ bool remove_earlier_previews(const fs::path& folder) {
 // extension> (as convert --preview names them), -j files at once on the one pool; a file that
 // cannot be drawn is reported and the rest go on; one gallery page at the end.
 int run_folder(const PreviewArgs& args, preview::PreviewOptions options) {
-  const FoundInputs found = find_gltf_files({args.input}, args.output);
+  const FoundInputs found = find_gltf_files(GivenInputs{{args.input}, {}}, args.output);
   if (!options.environment.empty())  // read and prefiltered once for every file
     options.loaded_environment =
         std::make_shared<const preview::Environment>(preview::load_environment(options.environment));
@@ -227,8 +227,9 @@ int run(const PreviewArgs& args) {
   } else if (fs::is_directory(args.input)) {
     return run_folder(args, options);
   } else {
-    refuse_writing_over_inputs({InputFile{args.input, fs::path(args.input).filename()}}, preview_outputs({args.output}),
-                               RunReads{args.allow_outside, {}, {}});
+    refuse_writing_over_inputs(
+        {InputFile{args.input, fs::path(args.input).filename(), fs::path(args.input).filename()}},
+        preview_outputs({args.output}), RunReads{args.allow_outside, {}, {}});
     std::optional<ResultCache> cache;
     if (!args.cache.empty()) cache.emplace(args.cache);
     const CachedPreview done = preview_with_cache(args, options, args.input, args.output, cache ? &*cache : nullptr);

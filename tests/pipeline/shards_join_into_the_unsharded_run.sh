@@ -108,6 +108,22 @@ sed -n 1,5p "$work/group003.txt" >"$work/list.txt"
 { printf '\xef\xbb\xbf'; sed 's/$/\r/' "$work/list.txt"; printf '\r\n\n'; } >"$work/list-crlf.txt"
 "$cli" convert --inputs-from "$work/list-crlf.txt" -o "$work/listed-crlf" -q || fail "--inputs-from a CRLF list failed"
 [ "$(find "$work/listed-crlf" -name "*.gltf" | wc -l)" -eq 5 ] || fail "a CRLF list did not convert its 5 files"
+# A list of changed files relative to where the run starts (`git diff --name-only`) updates what the
+# run over their folder wrote, at the same paths; a listed file that is gone fails alone (exit 1).
+(cd "$work" && sed "s|^$work/||" list.txt >relative.txt && echo library/group003/deleted.gltf >>relative.txt)
+status=0
+(cd "$work" && "$cli" convert --inputs-from relative.txt -o listed-relative -q 2>relative-err.txt) || status=$?
+[ "$status" -eq 1 ] && grep -q "deleted.gltf: cannot read the file" "$work/relative-err.txt" ||
+  fail "a relative list with a deleted file: status $status, $(cat "$work/relative-err.txt")"
+while read -r listed; do
+  cmp -s "$work/listed-relative/$listed" "$work/whole/$listed" || fail "$listed: not where the folder run wrote it"
+done < <(sed "s|^$work/||" "$work/list.txt")
+# --shard splits by the path under the input root, whatever the root's name.
+cp -r "$work/library" "$work/renamed"
+"$cli" convert "$work/library" -o "$work/shard1-only" --shard 1/4 -q || fail "shard 1/4 alone failed"
+"$cli" convert "$work/renamed" -o "$work/shard1-renamed" --shard 1/4 -q || fail "shard 1/4 of the renamed library failed"
+[ "$(cd "$work/shard1-only/library" && find . -type f | sort)" = "$(cd "$work/shard1-renamed/renamed" && find . -type f | sort)" ] ||
+  fail "the renamed library's shard 1/4 holds other files than the library's"
 printf 'a.gltf\0b\n' >"$work/list-nul.txt"
 status=0
 "$cli" convert --inputs-from "$work/list-nul.txt" -o "$work/nul" -q 2>"$work/nul.txt" || status=$?
