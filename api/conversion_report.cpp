@@ -1,5 +1,7 @@
 // The conversion report as JSON: one entry per file (`convert --report`, the library's
 // FileConversion::report_json, the Python module's dicts) and the run around them.
+#include <utility>
+
 #include "api/files.hpp"
 #include "core/version.hpp"
 
@@ -28,9 +30,18 @@ json file_json(const FileResult& r) {
     out["input"] = r.input;
     out["output"] = r.output;
     json& times = out["timeMs"];
+    // A restored entry's errors describe its output, still true; its times and decodes were the
+    // computing run's, and are kept as such: this run decoded nothing for it and timed only the restore.
+    if (r.cached && !out.contains("computedTimeMs")) {  // a child's entry has moved them already
+      out["computedTimeMs"] = times;
+      if (out.contains("imagesDecoded")) out["computedImagesDecoded"] = std::exchange(out["imagesDecoded"], 0);
+      if (out.contains("materials") && out["materials"].is_array())
+        for (json& material : out["materials"])
+          if (material.is_object() && material.contains("timeMs"))
+            material["computedTimeMs"] = std::exchange(material["timeMs"], nullptr);
+    }
     if (r.cached) {
       out["cached"] = true;
-      if (!out.contains("computedTimeMs")) out["computedTimeMs"] = times;  // a child's entry has it already
       times = json::object();
     }
     if (!times.is_object()) times = json::object();

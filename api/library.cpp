@@ -2,6 +2,9 @@
 // the tool uses, runs the same code (api/files.hpp, validators/validate.hpp) and hands back the
 // report in the tool's JSON formats.
 #include <cmath>
+#include <iomanip>
+#include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "api/files.hpp"
@@ -12,8 +15,10 @@ namespace {
 
 // The ranges the tool's option parser enforces: a library caller is refused the same way, by name.
 void require(bool in_range, const char* option, const char* range, double value) {
-  if (!in_range)
-    throw std::invalid_argument(std::string(option) + " must be " + range + ", got " + std::to_string(value));
+  if (in_range) return;
+  std::ostringstream shown;  // 99 as "99", 0.5 as "0.5", not "99.000000"
+  shown << std::setprecision(17) << value;
+  throw std::invalid_argument(std::string(option) + " must be " + range + ", got " + shown.str());
 }
 void check(const ConvertFileOptions& o) {
   require(o.png_compression >= 0 && o.png_compression <= 9, "png_compression", "0-9", o.png_compression);
@@ -56,6 +61,12 @@ FileConversion convert_file(const ConvertJob& job, const ConvertFileOptions& opt
 std::vector<FileConversion> convert_files(std::span<const ConvertJob> jobs, const ConvertFileOptions& options,
                                           unsigned threads, const std::function<void(const FileConversion&)>& on_done) {
   check(options);
+  // Two jobs writing one file would race, and the loser's images would stay beside the winner's
+  // (the tool refuses the same before a run).
+  std::set<fs::path> outputs;
+  for (const ConvertJob& job : jobs)
+    if (!outputs.insert(fs::weakly_canonical(fs::absolute(job.output))).second)
+      throw std::invalid_argument("two jobs write " + job.output.string() + "; give each its own output");
   std::function<void(std::size_t, const FileResult&)> each;
   if (on_done) each = [&](std::size_t, const FileResult& result) { on_done(public_result(result)); };
   const std::vector<FileResult> results = convert_batch(jobs, options, threads, each);

@@ -57,6 +57,15 @@ TEST(Library, ConvertFilesReportsAFailingFileAndConvertsTheRest) {
   EXPECT_GT(fs::file_size(out / "Box.gltf"), 0u);
 }
 
+TEST(Library, ConvertFilesRefusesTwoJobsWritingOneFile) {
+  // They would race, and the loser's images would stay beside the winner's output.
+  const TempFolder folder("same_output");
+  const std::vector<gltf_pbr::ConvertJob> jobs{{kDuck, folder.path / "same.gltf", {}},
+                                               {kBox, folder.path / "." / "same.gltf", {}}};
+  EXPECT_THROW(gltf_pbr::convert_files(jobs), std::invalid_argument);
+  EXPECT_TRUE(fs::is_empty(folder.path)) << "refused before anything is written";
+}
+
 TEST(Library, ConvertFileThrowsInputErrorNamingThePointer) {
   const TempFolder folder("pointer");
   const fs::path& out = folder.path;
@@ -117,7 +126,7 @@ TEST(Library, OptionsOutOfRangeAreRefusedByName) {
     gltf_pbr::convert_file({kDuck, TempFolder("range").path / "out.gltf"}, convert);
     FAIL() << "accepted png_compression 10";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("png_compression must be 0-9", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()), "png_compression must be 0-9, got 10");
   }
   gltf_pbr::PreviewFileOptions preview;
   preview.width = 0;
