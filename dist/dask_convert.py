@@ -14,8 +14,9 @@ shard's outputs, each atomically and byte-for-byte what any other run writes for
 task that Dask retries after losing a worker converges on the same files. With no --scheduler, a
 local cluster of --local-workers processes is started and stopped.
 
-Exit codes: 0 every file converted, 1 some files failed (the report says which), 2 bad usage,
-3 a shard's task failed every retry (no report is written).
+Exit codes: 0 every file converted, 1 some files failed (the report says which, and they are
+named on stderr), 2 bad usage, 3 a shard's task failed every retry, even with each file in a
+process of its own (no report is written).
 """
 import argparse
 import json
@@ -28,25 +29,36 @@ import tempfile
 import uuid
 
 
+def printable(text):
+    """A path or message from the files as it may be shown on a terminal: control characters escaped."""
+    return "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in str(text))
+
+
 def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
     """One shard, in a gltf-pbr process of its own; returns its report's path. Exit 1 means some
-    files failed, which their report entries say; anything else is the task's failure. Each
-    attempt writes reports of its own: a process orphaned by a lost worker may still be writing
-    the files of an earlier attempt."""
-    attempt = uuid.uuid4().hex[:12]
-    report = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.json"
-    results = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.jsonl"
-    command = [tool, "convert", *inputs, "-o", output, "--shard", f"{shard}/{shards}", "--report", str(report),
-               "--results", str(results), "-q", *(["-j", str(jobs)] if jobs else []), *extra]
-    run = subprocess.run(command, capture_output=True, text=True, check=False)
-    if run.returncode not in (0, 1) or not report.exists():
-        raise RuntimeError(f"shard {shard}/{shards}: {' '.join(command)} ended with {run.returncode}: "
-                           f"{run.stderr.strip()}")
-    return str(report)
+    files failed, which their report entries say. A process that ends otherwise (a file that
+    crashes the tool takes its process down) is run again with --isolate, each file in a process of
+    its own, so that file fails alone and is named; a failure then is the task's. Each attempt
+    writes reports of its own: a process orphaned by a lost worker may still be writing the files
+    of an earlier attempt."""
+    failures = []
+    for isolate in ([False, True] if "--isolate" not in extra else [False]):
+        attempt = uuid.uuid4().hex[:12]
+        report = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.json"
+        results = pathlib.Path(work) / f"shard{shard:05d}.{attempt}.jsonl"
+        command = [tool, "convert", *inputs, "-o", output, "--shard", f"{shard}/{shards}", "--report", str(report),
+                   "--results", str(results), "-q", *(["-j", str(jobs)] if jobs else []), *extra,
+                   *(["--isolate"] if isolate else [])]
+        run = subprocess.run(command, capture_output=True, text=True, check=False)
+        if run.returncode in (0, 1) and report.exists():
+            return str(report)
+        failures.append(f"{' '.join(command)} ended with {run.returncode}: {run.stderr.strip()}")
+    raise RuntimeError(f"shard {shard}/{shards}: " + "; then ".join(failures))
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False,
+                                     epilog=__doc__.split("\n\n")[-1],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("inputs", nargs="+", help=".gltf/.glb files or folders")
     parser.add_argument("-o", "--output", required=True, help="output folder (on the shared file system)")
@@ -71,8 +83,9 @@ def main():
     inputs = [os.path.abspath(path) for path in args.inputs]
     output = os.path.abspath(args.output)
     own_work = not args.work  # a folder made here is removed once the reports are merged
+    os.makedirs(os.path.dirname(os.path.abspath(args.report)), exist_ok=True)  # as `convert --report` does
     work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="shards.", dir=os.path.dirname(
-        os.path.abspath(args.report)) or "."))
+        os.path.abspath(args.report))))
     work.mkdir(parents=True, exist_ok=True)
     work.chmod(0o755)  # mkdtemp's 0700 would shut out workers running as another user
     run = uuid.uuid4().hex[:12]  # task keys of this run: two drivers on one scheduler never share one
@@ -92,15 +105,24 @@ def main():
         futures = [client.submit(convert_shard, tool, inputs, output, shard, shards, str(work), task_jobs, extra,
                                  key=f"gltf-pbr-{run}-shard-{shard}-of-{shards}", retries=2)
                    for shard in range(shards)]
-        reports = []
+        reports, failed = [], []
+        terminal = sys.stderr.isatty()
         for done, future in enumerate(as_completed(futures), 1):
             try:
                 reports.append(future.result())
             except Exception as error:  # a task that failed every retry: the run is incomplete
-                print(f"\ndask_convert: {error}", file=sys.stderr)
-                return 3
-            print(f"\r[{done}/{shards}] shards converted", end="", file=sys.stderr, flush=True)
-        print(file=sys.stderr)
+                failed.append(str(error))
+            if terminal:
+                print(f"\r[{done}/{shards}] shards finished", end="", file=sys.stderr, flush=True)
+        if terminal:
+            print(file=sys.stderr)
+        if failed:
+            for error in failed:
+                print(f"dask_convert: {printable(error)}", file=sys.stderr)
+            print(f"dask_convert: {len(failed)} of {shards} shards failed; no report is written. The finished "
+                  f"shards' reports are in {work} (their outputs are written; a rerun redoes the rest)",
+                  file=sys.stderr)
+            return 3
     finally:
         client.close()
         if cluster:
@@ -115,7 +137,12 @@ def main():
                 joined.write(pathlib.Path(report).with_suffix(".jsonl").read_text(encoding="utf-8"))
     if own_work:
         shutil.rmtree(work, ignore_errors=True)
-    totals = json.loads(pathlib.Path(args.report).read_text(encoding="utf-8"))["totals"]
+    report = json.loads(pathlib.Path(args.report).read_text(encoding="utf-8"))
+    totals = report["totals"]
+    for entry in report["files"]:  # the files that failed, named as `gltf-pbr convert` names them
+        if entry.get("status") == "failed":
+            reason = entry.get("error", {}).get("reason", "")
+            print(f"FAILED {printable(entry['input'])}: {printable(reason)}", file=sys.stderr)
     print(f"{shards} shards on {workers} workers: {totals['files']} files, {totals['failed']} failed; "
           f"report in {args.report}", file=sys.stderr)
     return 1 if totals["failed"] else 0  # as `gltf-pbr convert` exits

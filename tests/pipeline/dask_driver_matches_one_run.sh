@@ -35,6 +35,24 @@ positions = sorted(json.loads(line)["position"] for line in open(sys.argv[1]))
 assert positions == list(range(400)), positions[:10]
 PY
 
+# A file that crashes the tool (the tests' fault hook) takes its shard's process down: the shard is
+# run again with each file in a process of its own, that file fails alone and is named, and the
+# report, in a folder that did not exist, holds every other file.
+crash=$(cd "$work/library" && find . -name "*.gltf" | sort | sed -n 7p)
+status=0
+GLTF_PBR_TEST_FAULT="crash=$(basename "$crash")" "$python" "$source/dist/dask_convert.py" "$work/library" \
+  -o "$work/crashed" --report "$work/new-folder/crashed.json" --tool "$cli" --local-workers 2 --shards 4 \
+  2>"$work/crashed.log" || status=$?
+[ "$status" -eq 1 ] || { cat "$work/crashed.log" >&2; fail "a crashing file: status $status"; }
+grep -q "FAILED .*$(basename "$crash")" "$work/crashed.log" || fail "the crashing file is not named: $(cat "$work/crashed.log")"
+"$python" - "$work/new-folder/crashed.json" "$(basename "$crash")" <<'PY' || fail "the report of a run with a crash"
+import json, sys
+report = json.load(open(sys.argv[1]))
+failed = [f["input"] for f in report["files"] if f["status"] == "failed"]
+assert len(report["files"]) == 400 and len(failed) == 1 and failed[0].endswith(sys.argv[2]), failed
+PY
+[ -z "$(find "$work/new-folder" -name "shards.*")" ] || fail "the driver left its work folder"
+
 # A running scheduler with two workers; each task waits a second first, and one worker is killed
 # while it runs a task: Dask runs that task again on the other. The tool counts its conversions,
 # and marks which worker (its parent process) runs one.
