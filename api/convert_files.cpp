@@ -171,6 +171,8 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
   if (key && result.status != FileStatus::Failed && result.preview_complete) {
     const ResultCache::Outputs outputs[] = {{roots[0], result.written}, {roots[1], result.preview_written}};
     cache.store(*key, file_json(result), outputs);
+  } else if (key) {
+    cache.leave_out(*key);
   }
   return result;
 }

@@ -207,8 +207,9 @@ std::optional<std::string> ResultCache::key(const fs::path& input, std::string_v
   const std::optional<std::vector<std::string>> uris =
       input_hash ? uris_of(folder_ / kFormat / "uris" / (*input_hash + ".json"), input, *input_hash, input_bytes)
                  : std::nullopt;
-  if (!uris) {
+  if (!uris) {  // no key: a miss that cannot be kept
     ++misses_;
+    ++not_stored_;
     return std::nullopt;
   }
   std::error_code error;
@@ -359,6 +360,12 @@ void ResultCache::store(const std::string& key, const nlohmann::json& entry, std
     if (!temporary.empty()) fs::remove_all(temporary, error);
     ++not_stored_;
   }
+}
+
+void ResultCache::leave_out(const std::string& key) {
+  std::lock_guard lock(sources_mutex_);
+  sources_.erase(key);
+  ++not_stored_;
 }
 
 nlohmann::json ResultCache::stats_json() const {

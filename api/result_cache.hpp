@@ -67,6 +67,9 @@ class ResultCache {
   // changed since (the result may be of other bytes). Never throws: a cache that cannot be written
   // costs the next run time, not this run its result, and is counted as not stored.
   void store(const std::string& key, const nlohmann::json& entry, std::span<const Outputs> outputs);
+  // A result under `key` that is not to be kept (a failure, or one made without all its inputs):
+  // counted as not stored, so that every miss is either stored or not.
+  void leave_out(const std::string& key);
 
   // XXH3-128 of the file's bytes, as key() takes it for the files an input names: for inputs a
   // command takes besides the file (an environment map). Read only when the file's device, inode,
@@ -77,7 +80,8 @@ class ResultCache {
   std::optional<std::string> digest(const std::filesystem::path& file, std::string* checked_signature = nullptr,
                                     std::optional<MappedFile>* contents = nullptr) const;
 
-  // {"folder", "hits", "misses", "stored", "notStored"} for the run's report.
+  // {"folder", "hits", "misses", "stored", "notStored"} for the run's report; misses = stored +
+  // notStored once every miss has been stored or left out.
   nlohmann::json stats_json() const;
   std::size_t hits() const { return hits_; }
 

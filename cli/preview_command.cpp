@@ -94,13 +94,21 @@ CachedPreview preview_with_cache(const PreviewArgs& args, const preview::Preview
   }
   const std::optional<LintProfile> lint =
       args.lint.empty() ? std::nullopt : lint_profile_from_name(args.lint);  // CLI::IsMember checked the name
-  const DrawnPreview drawn = preview_one(input, output, options, args.allow_outside, lint);
-  // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
-  if (key && drawn.result.scene.warnings.empty()) {
-    const ResultCache::Outputs outputs[] = {{output, drawn.written}};
-    cache->store(*key, {{"report", drawn.report}}, outputs);
+  std::optional<DrawnPreview> drawn;
+  try {
+    drawn = preview_one(input, output, options, args.allow_outside, lint);
+  } catch (...) {
+    if (key) cache->leave_out(*key);
+    throw;
   }
-  return {false, drawn_line(input.string(), drawn, output)};
+  // A preview drawn without a texture it could not decode (memory, a damaged file) is not kept.
+  if (key && drawn->result.scene.warnings.empty()) {
+    const ResultCache::Outputs outputs[] = {{output, drawn->written}};
+    cache->store(*key, {{"report", drawn->report}}, outputs);
+  } else if (key) {
+    cache->leave_out(*key);
+  }
+  return {false, drawn_line(input.string(), *drawn, output)};
 }
 
 // The files the previews in `folders` will write.

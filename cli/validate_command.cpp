@@ -201,6 +201,8 @@ int run(const ValidateArgs& args) {
     if (key && complete)
       // As text: the entry is a JSON object of sorted keys, and the report's keep their order.
       cache->store(*key, {{"report", report_to_json(report).dump()}, {"materialNames", report.material_names}}, {});
+    else if (key)
+      cache->leave_out(*key);
     return report;
   };
   Progress progress(files.size(), "validating");

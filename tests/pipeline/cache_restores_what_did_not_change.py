@@ -169,6 +169,16 @@ try:
     # index.html is the gallery page, written again over the restored folder (not kept in the cache).
     assert set(contents(work / "preview-first")) == {"before.png", "after.png", "difference.png", "sheet.png",
                                                      "report.json", "index.html"}
+
+    # A file that fails is not kept, and is counted so: every miss is stored or not stored.
+    failing = work / "failing"
+    shutil.copytree(pathlib.Path(shared) / "assets" / "Duck" / "specgloss", failing / "good")
+    (failing / "broken.gltf").write_text("{")
+    status = subprocess.run([cli, "convert", str(failing), "-o", str(work / "failing-out"), "-q", "--report",
+                             str(work / "failing.json"), "--cache", str(work / "failing-cache")], capture_output=True)
+    assert status.returncode == 1, status.stderr
+    counts = json.loads((work / "failing.json").read_text())["cache"]
+    assert counts["misses"] == 2 and counts["stored"] == 1 and counts["notStored"] == 1, counts
     print("cache: reruns restore, changes redo, shared folders hold, validation reports and previews return")
 finally:
     shutil.rmtree(work, ignore_errors=True)
