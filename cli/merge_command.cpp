@@ -211,6 +211,9 @@ Json merge(const std::vector<std::string>& files) {
     recount_validation(merged, first);
   }
   if (!caches.empty()) merged["cache"] = Json::parse(sum_of_counts(caches).dump());
+  // Shards run with and without --cache: the counts are those of the shards that had one, and say so.
+  if (!caches.empty() && caches.size() < shard_count)
+    merged["cache"]["shards"] = Json{{"counted", caches.size()}, {"of", shard_count}};
   if (kind == &kConversion)
     merged = Json::parse(nlohmann::json::parse(merged.dump()).dump());  // keys sorted, as convert writes them
   return merged;

@@ -43,6 +43,14 @@ assert sorted(positions) == list(range(1000)), "the shards overlap or miss files
 assert min(sizes) > 150, f"the shards are far from even: {sizes}"
 PY
 
+# One shard run with --cache among three without: the merged cache counts say whose they are.
+"$cli" convert "$work/library" -o "$work/sharded" --shard 0/4 --cache "$work/cache" --report "$work/shard0-cache.json" \
+  -q -j 2 || fail "shard 0/4 with a cache failed"
+"$cli" merge-reports "$work/shard0-cache.json" "$work/shard1.json" "$work/shard2.json" "$work/shard3.json" \
+  -o "$work/merged-cache.json" || fail "merging a shard with a cache failed"
+"$python" -c 'import json,sys; c = json.load(open(sys.argv[1]))["cache"]; assert c["shards"] == {"counted": 1, "of": 4}, c' \
+  "$work/merged-cache.json" || fail "a merged cache block of one shard in four does not say so"
+
 status=0
 "$cli" merge-reports "$work/shard0.json" "$work/shard1.json" "$work/shard3.json" 2>"$work/missing.txt" || status=$?
 [ "$status" -eq 2 ] && grep -q "shard 2 of 4 is missing" "$work/missing.txt" ||
