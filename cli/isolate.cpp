@@ -48,7 +48,15 @@ std::string seconds_text(double seconds) {
   return text;
 }
 
-std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+// One decimal: "30.4 MiB, above 30 MiB" rather than a whole-MiB "30 MiB, above 30 MiB".
+std::string mib(std::uint64_t bytes) {
+  char text[32];
+  if (bytes % (1 << 20) == 0)
+    std::snprintf(text, sizeof text, "%llu MiB", static_cast<unsigned long long>(bytes >> 20));
+  else
+    std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return text;
+}
 
 constexpr char kParentVariable[] = "GLTF_PBR_ISOLATED_BY";
 

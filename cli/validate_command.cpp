@@ -225,7 +225,9 @@ int run(const ValidateArgs& args) {
         {"total", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()}};
     results_log.write(line_entry.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     std::ostringstream line;
-    if (!args.quiet || fails(report, fail_on))
+    // Not when the text report goes to standard output: it opens with the same line.
+    const bool text_on_stdout = args.format == "text" && args.output.empty();
+    if (!text_on_stdout && (!args.quiet || fails(report, fail_on)))
       line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
            << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
            << report.count(Severity::Hint) << " hints\n";
@@ -276,7 +278,8 @@ constexpr const char* kValidateHelp =
     R"(Validate glTF files: structure (the Khronos glTF-Validator's issue codes), physically implausible
 materials (PBR_*: F0, albedo, metalness, from factors and texel by texel), textures (IMAGE_*) and
 meshes (MESH_*, CGAL; Draco meshes included). Rules are data (rules/*.json, built in); --config
-overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage.)";
+overrides them. Exit codes: 0 no file has issues at or above --fail-on, 1 some do, 2 bad usage or a bad
+config, 3 a report could not be written.)";
 
 void declare_options(CLI::App& cmd, ValidateArgs& args) {
   cmd.add_option("inputs", args.inputs, ".gltf/.glb files or directories (searched recursively)");

@@ -231,7 +231,7 @@ def test_preview_with_lint_reports_the_material_issues_of_both_sides(tmp_path):
 
 def test_the_readme_example_runs_as_written(tmp_path):
     lines = (SOURCE / "README.md").read_text().splitlines()
-    start = lines.index("<!-- example: python/example.py -->") + 2  # the marker, then the fence
+    start = lines.index("<!-- the example tests/python/test_module.py runs as written -->") + 2  # the marker, then the fence
     end = lines.index("```", start)
     example = tmp_path / "example.py"
     example.write_text("\n".join(lines[start:end]) + "\n")
