@@ -54,11 +54,9 @@ FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_fo
   FoundInputs found_inputs;
   std::vector<InputFile>& files = found_inputs.files;
   const std::size_t named_count = inputs.named.size();
-  std::set<fs::path> listed_already;  // a list may name a file twice; it is one input
   for (std::size_t i = 0; i < named_count + inputs.listed.size(); ++i) {
     const bool listed = i >= named_count;
     const fs::path input = listed ? inputs.listed[i - named_count] : inputs.named[i];
-    if (listed && !listed_already.insert(input.lexically_normal()).second) continue;
     std::error_code ec;
     if (fs::is_directory(input, ec)) {
       // Earlier outputs are not inputs: what lies under the output folder. A folder that is itself
@@ -96,6 +94,10 @@ FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_fo
       throw CLI::ValidationError("input", input.string() + ": no such file or directory");
     }
   }
+  // A file named twice (listed twice, or given beside a folder that holds it) is one input, where
+  // it was first found.
+  std::set<fs::path> seen;
+  std::erase_if(files, [&](const InputFile& file) { return !seen.insert(resolved(file.file)).second; });
   if (files.empty())
     throw CLI::ValidationError("input", found_inputs.skipped_under_output
                                             ? "no .gltf or .glb files found outside the output folder"

@@ -56,7 +56,8 @@ struct FoundInputs {
 // when that is relative and stays below where it is read from (a list of changed files, `git diff
 // --name-only`, updates what a run over their folder wrote), else to its name. Throws
 // CLI::ValidationError for a missing named input or when nothing is found; a missing listed file
-// is kept, for the run to fail on it alone (a list of changes names deleted files).
+// is kept, for the run to fail on it alone (a list of changes names deleted files). A file named
+// twice (listed twice, or beside a folder holding it) is one input, where it was first found.
 FoundInputs find_gltf_files(const GivenInputs& inputs, const std::filesystem::path& output_folder = {});
 
 // One run never writes an output twice: throws CLI::ValidationError naming both inputs when two

@@ -126,6 +126,11 @@ status=0
 while read -r listed; do
   cmp -s "$work/listed-relative/$listed" "$work/whole/$listed" || fail "$listed: not where the folder run wrote it"
 done < <(sed "s|^$work/||" "$work/list.txt")
+# A file given beside the folder that holds it is one input, written where the folder run writes it.
+"$cli" convert "$work/library" "$(sed -n 1p "$work/list.txt")" -o "$work/twice" --report "$work/twice.json" -q ||
+  fail "a folder and a file in it failed"
+"$python" -c 'import json,sys; assert json.load(open(sys.argv[1]))["totals"]["files"] == 1000' "$work/twice.json" ||
+  fail "a file given beside its folder was converted twice"
 # --shard splits by the path under the input root, whatever the root's name.
 cp -r "$work/library" "$work/renamed"
 "$cli" convert "$work/library" -o "$work/shard1-only" --shard 1/4 -q || fail "shard 1/4 alone failed"
