@@ -448,6 +448,64 @@ TEST(StructureChecks, TexCoordSetsWithAGapAreNotAlsoCalledUnused) {
   EXPECT_EQ(unused->pointer, "/meshes/0/primitives/0/attributes/TEXCOORD_0");
 }
 
+TEST(StructureChecks, EveryPairOfChannelsWithOneTargetIsADuplicate) {
+  // Spec 3.11: a target is animated by one channel. Three on one target are three pairs, each at
+  // its first channel.
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]},{"bufferView":2,"componentType":5126,"count":2,"type":"VEC3"}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteLength":8,"byteOffset":36},{"buffer":0,"byteLength":24,"byteOffset":44}],"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"animations":[{"samplers":[{"input":1,"output":2}],"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":0,"target":{"node":0,"path":"translation"}},{"sampler":0,"target":{"node":0,"path":"translation"}}]}],"buffers":[{"byteLength":68,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA="}]})");
+  std::vector<std::string> found;
+  for (const Issue& issue : report.messages)
+    if (issue.code == "ANIMATION_DUPLICATE_TARGETS") found.push_back(issue.pointer + " " + issue.message);
+  EXPECT_EQ(found, (std::vector<std::string>{
+                       "/animations/0/channels/0/target Animation channel has the same target as channel 1.",
+                       "/animations/0/channels/0/target Animation channel has the same target as channel 2.",
+                       "/animations/0/channels/1/target Animation channel has the same target as channel 2."}));
+}
+
+TEST(StructureChecks, InverseBindMatricesOfAnotherFormatAreNotReadForTheirValues) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"},{"bufferView":3,"componentType":5121,"count":1,"type":"MAT4"}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteLength":12,"byteOffset":36,"target":34962},{"buffer":0,"byteLength":48,"byteOffset":48,"target":34962},{"buffer":0,"byteLength":16,"byteOffset":96}],"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"skin":0},{}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}}]}],"skins":[{"joints":[1],"inverseBindMatrices":3}],"buffers":[{"byteLength":112,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAAAAAQAAAAABAAAAAAEAAAAAAg=="}]})");
+  EXPECT_NE(find(report, "SKIN_IBM_INVALID_FORMAT"), nullptr);
+  EXPECT_EQ(find(report, "ACCESSOR_INVALID_IBM"), nullptr);
+}
+
+TEST(StructureChecks, AnExtensionsObjectWithoutExtensionsLeavesANodeEmpty) {
+  const Report report = validate_text(
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{},{"extensions":{}}],"buffers":[{"byteLength":0,"uri":"data:application/octet-stream;base64,"}]})");
+  int empty = 0;
+  for (const Issue& issue : report.messages) empty += issue.code == "NODE_EMPTY";
+  EXPECT_EQ(empty, 2);
+  EXPECT_EQ(find(validate_text(
+                     R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"extensions":{"EXT_foo":{}}}]})"),
+                 "NODE_EMPTY"),
+            nullptr);
+}
+
+TEST(StructureChecks, IssuesComeInTheReferencesOrderWhereTheSpecLeavesItOpen) {
+  // The versions compared before the version is judged; a view's stride before the accessor's
+  // format; the extension lists' schemas, then each declared extension, then the required ones.
+  EXPECT_EQ(codes_of(validate_text(R"({"asset":{"version":"1.0","minVersion":"2.0"}})")),
+            (Codes{{"ASSET_MIN_VERSION_GREATER_THAN_VERSION", "/asset/minVersion"},
+                   {"UNKNOWN_ASSET_MAJOR_VERSION", "/asset/version"}}));
+  const Codes ibm = codes_of(validate_text(
+      R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"},{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"},{"bufferView":3,"componentType":5126,"count":1,"type":"MAT3"}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteLength":12,"byteOffset":36,"target":34962},{"buffer":0,"byteLength":48,"byteOffset":48,"target":34962},{"buffer":0,"byteLength":36,"byteOffset":96,"byteStride":36}],"scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"skin":0},{}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}}]}],"skins":[{"joints":[1],"inverseBindMatrices":3}],"buffers":[{"byteLength":132,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/"}]})"));
+  const auto at = [&](const char* code) {
+    return std::find_if(ibm.begin(), ibm.end(), [&](const auto& issue) { return issue.first == code; }) - ibm.begin();
+  };
+  EXPECT_LT(at("SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE"), at("SKIN_IBM_INVALID_FORMAT"));
+  EXPECT_LT(at("SKIN_IBM_INVALID_FORMAT"), static_cast<std::ptrdiff_t>(ibm.size()));
+  EXPECT_EQ(
+      codes_of(validate_text(
+          R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962}],"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"extensionsUsed":["KHR_mesh_quantization","ABC_thing","bad-name"],"extensionsRequired":["KHR_lights_punctual","KHR_lights_punctual"],"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})")),
+      (Codes{{"DUPLICATE_ELEMENTS", "/extensionsRequired/1"},
+             {"NON_REQUIRED_EXTENSION", "/extensionsUsed/0"},
+             {"UNSUPPORTED_EXTENSION", "/extensionsUsed/1"},
+             {"INVALID_EXTENSION_NAME_FORMAT", "/extensionsUsed/2"},
+             {"UNSUPPORTED_EXTENSION", "/extensionsUsed/2"},
+             {"UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/0"},
+             {"UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/1"}}));
+}
+
 TEST(StructureChecks, AnExtensionListWithANonStringItemDeclaresNothing) {
   // Schema: extensionsUsed and extensionsRequired are arrays of strings; one that is not fails the
   // list whole. Its strings are still checked for repeats, and nothing is judged against it.

@@ -313,8 +313,8 @@ class AccessorData {
         return components == 1 && a.component_type == 5126;
       case Usage::AnimationOutput:
         return a.animation_path == "rotation" && components == 4;
-      case Usage::InverseBindMatrices:
-        return components == 16;
+      case Usage::InverseBindMatrices:  // another format is already SKIN_IBM_INVALID_FORMAT: not read
+        return components == 16 && a.component_type == 5126;
       default:
         return false;
     }

@@ -186,13 +186,14 @@ class Linker {
         use_accessor(*input, AccessorModel::Usage::AnimationInput, sp + "/input");
         if (input->usage == AccessorModel::Usage::AnimationInput) input->data_uses.push_back(sp + "/input");
         use_view_as(*input, kViewUsageOther, "Other", sp + "/input");
+        // The view's stride is judged before the accessor's format, as for indices and matrices.
+        stride_forbidden(*input, sp + "/input", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
         if (input->type != "SCALAR" || input->component_type != 5126 || input->normalized)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_INVALID_FORMAT", sp + "/input",
                      {arg(format_name(input->type, input->component_type, input->normalized))},
                      {arg("{SCALAR, FLOAT}")});
         if (!input->has_min || !input->has_max)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_WITHOUT_BOUNDS", sp + "/input");
-        stride_forbidden(*input, sp + "/input", "ANIMATION_SAMPLER_ACCESSOR_WITH_BYTESTRIDE");
         // A count that cannot be read (absent, not an integer, below 1) is -1 here, too few.
         if (sampler.interpolation == "CUBICSPLINE" && input->count < 2)
           issues_.at("ANIMATION_SAMPLER_INPUT_ACCESSOR_TOO_FEW_ELEMENTS", sp + "/input",
@@ -230,14 +231,13 @@ class Linker {
       if (sampler && !channel.path.empty() && channel.path != "pointer")
         output_checks(*sampler, channel, cp, morph_targets);
       // Two channels may not drive the same property (spec 3.11 "Animations"), compared as written:
-      // two channels with the same unknown path are duplicates too (the reference's answer).
+      // two channels with the same unknown path are duplicates too (the reference's answer). Every
+      // pair is one issue, at its first channel.
       if (channel.node >= 0 && !channel.raw_path.empty() && channel.raw_path != "pointer") {
         for (std::size_t other = c + 1; other < animation.channels.size(); ++other) {
           const AnimationChannelModel& later = animation.channels[other];
-          if (later.object && later.node == channel.node && later.raw_path == channel.raw_path) {
+          if (later.object && later.node == channel.node && later.raw_path == channel.raw_path)
             issues_.at("ANIMATION_DUPLICATE_TARGETS", cp + "/target", {arg(static_cast<std::uint64_t>(other))});
-            break;
-          }
         }
       }
     }
@@ -584,14 +584,14 @@ class Linker {
       }
       if (AccessorModel* indices = resolve(doc_.accessors, primitive.indices, p + "/indices")) {
         const bool valid = indices->has_index_format();
-        // As the reference: the uses first (accessor, then buffer view), then the format.
+        // As the reference: the uses first (accessor, then buffer view), the view's stride, then the format.
         use_accessor(*indices, AccessorModel::Usage::Index, p + "/indices");
         use_view_as(*indices, 34963, "IndexBuffer", p + "/indices");
+        stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
         if (!valid)
           issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
                      {arg(format_name(indices->type, indices->component_type, indices->normalized))},
                      {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
-        stride_forbidden(*indices, p + "/indices", "MESH_PRIMITIVE_INDICES_ACCESSOR_WITH_BYTESTRIDE");
         if (!indices->vertex_limit_set) {
           indices->vertex_limit_set = true;
           // A primitive without attributes has no vertices: every index is out of range.
@@ -741,10 +741,10 @@ class Linker {
     if (AccessorModel* ibm = resolve(doc_.accessors, skin.inverse_bind_matrices, p + "/inverseBindMatrices")) {
       use_accessor(*ibm, AccessorModel::Usage::InverseBindMatrices, p + "/inverseBindMatrices");
       use_view_as(*ibm, kViewUsageIbm, "IBM", p + "/inverseBindMatrices");
+      stride_forbidden(*ibm, p + "/inverseBindMatrices", "SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE");
       if (ibm->type != "MAT4" || ibm->component_type != 5126)
         issues_.at("SKIN_IBM_INVALID_FORMAT", p + "/inverseBindMatrices",
                    {arg(format_name(ibm->type, ibm->component_type, ibm->normalized))}, {arg("{MAT4, FLOAT}")});
-      stride_forbidden(*ibm, p + "/inverseBindMatrices", "SKIN_IBM_ACCESSOR_WITH_BYTESTRIDE");
       if (ibm->count < static_cast<std::int64_t>(skin.joints.size()))  // an unknown count (-1) too
         issues_.at("INVALID_IBM_ACCESSOR_COUNT", p + "/inverseBindMatrices",
                    {arg(static_cast<std::uint64_t>(skin.joints.size())), arg(ibm->count)});

@@ -120,35 +120,31 @@ class Walker {
     read_extensions(read_, object, pointer, owner, hooks_);
   }
 
+  // The two lists' schemas first, then each declared extension in turn, then the required ones
+  // (the reference's order).
   void read_extension_lists(const Json& root) {
-    if (auto used = string_list(root, "extensionsUsed")) {
-      doc_.extensions_used = *used;
-      for (std::size_t i = 0; i < used->size(); ++i) {
-        const std::string& name = (*used)[i];
-        const std::string pointer = "/extensionsUsed/" + std::to_string(i);
-        if (!valid_extension_name(name)) context_.issues.at("INVALID_EXTENSION_NAME_FORMAT", pointer);
-        if (!extension_supported(name)) context_.issues.at("UNSUPPORTED_EXTENSION", pointer, {arg(name)});
-      }
-    }
+    const auto used = string_list(root, "extensionsUsed");
     // Schema: extensionsRequired depends on extensionsUsed, whatever its value (judged before it).
     if (present(root, "extensionsRequired") && !present(root, "extensionsUsed"))
       context_.issues.at("UNSATISFIED_DEPENDENCY", "/extensionsRequired", {arg("extensionsUsed")});
-    if (auto required = string_list(root, "extensionsRequired")) {
-      doc_.extensions_required = *required;
-      for (std::size_t i = 0; i < required->size(); ++i) {
-        if (!context_.declared((*required)[i]))
-          context_.issues.at("UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/" + std::to_string(i),
-                             {arg((*required)[i])});
-      }
-    }
-    // KHR_mesh_quantization changes what core accessors may hold, so a loader that ignores it
-    // reads garbage: it cannot be optional (KHR_mesh_quantization, "Extending Mesh Attributes").
+    const auto required = string_list(root, "extensionsRequired");
+    if (used) doc_.extensions_used = *used;
+    if (required) doc_.extensions_required = *required;
     for (std::size_t i = 0; i < doc_.extensions_used.size(); ++i) {
       const std::string& name = doc_.extensions_used[i];
+      const std::string pointer = "/extensionsUsed/" + std::to_string(i);
+      // KHR_mesh_quantization changes what core accessors may hold, so a loader that ignores it
+      // reads garbage: it cannot be optional (KHR_mesh_quantization, "Extending Mesh Attributes").
       if (name == "KHR_mesh_quantization" && std::find(doc_.extensions_required.begin(), doc_.extensions_required.end(),
                                                        name) == doc_.extensions_required.end())
-        context_.issues.at("NON_REQUIRED_EXTENSION", "/extensionsUsed/" + std::to_string(i), {arg(name)});
+        context_.issues.at("NON_REQUIRED_EXTENSION", pointer, {arg(name)});
+      if (!valid_extension_name(name)) context_.issues.at("INVALID_EXTENSION_NAME_FORMAT", pointer);
+      if (!extension_supported(name)) context_.issues.at("UNSUPPORTED_EXTENSION", pointer, {arg(name)});
     }
+    for (std::size_t i = 0; i < doc_.extensions_required.size(); ++i)
+      if (!context_.declared(doc_.extensions_required[i]))
+        context_.issues.at("UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/" + std::to_string(i),
+                           {arg(doc_.extensions_required[i])});
   }
 
   std::optional<std::vector<std::string>> string_list(const Json& root, const char* key) {
@@ -214,14 +210,14 @@ class Walker {
     }
     extensions(asset, p, Owner::Asset);
     read_.extras(asset, p);
-    if (major >= 0) {
+    if (major >= 0) {  // the two versions compared first, then the version judged (the reference's order)
+      if (min_major >= 0 && (min_major > major || (min_major == major && min_minor > minor)))
+        context_.issues.at("ASSET_MIN_VERSION_GREATER_THAN_VERSION", p + "/minVersion",
+                           {arg(*min_version), arg(*version)});
       if (major != 2)
         context_.issues.at("UNKNOWN_ASSET_MAJOR_VERSION", p + "/version", {arg(major)});
       else if (minor > 0)
         context_.issues.at("UNKNOWN_ASSET_MINOR_VERSION", p + "/version", {arg(minor)});
-      if (min_major >= 0 && (min_major > major || (min_major == major && min_minor > minor)))
-        context_.issues.at("ASSET_MIN_VERSION_GREATER_THAN_VERSION", p + "/minVersion",
-                           {arg(*min_version), arg(*version)});
     }
     return major == 2;
   }
@@ -989,7 +985,9 @@ class Walker {
     current_node_ = nullptr;
     read_.extras(o, p);
     // Completed by the link pass: a camera or mesh counts only when it resolves.
-    m.empty = m.children.empty() && !present(o, "extensions") && !present(o, "extras");
+    // An extensions object that holds no extension (empty, or not an object) gives it nothing.
+    const bool has_extension = present(o, "extensions") && o["extensions"].is_object() && !o["extensions"].empty();
+    m.empty = m.children.empty() && !has_extension && !present(o, "extras");
   }
 
   void sampler(const Json& o, const std::string& p, SamplerModel& m) {
