@@ -506,6 +506,28 @@ TEST(StructureChecks, IssuesComeInTheReferencesOrderWhereTheSpecLeavesItOpen) {
              {"UNUSED_EXTENSION_REQUIRED", "/extensionsRequired/1"}}));
 }
 
+TEST(StructureChecks, SharedIndicesAreCheckedAgainstEachPrimitiveThatDrawsWithThem) {
+  // Spec 3.7.2.1: an index names a vertex of the primitive that reads it. One accessor of indices
+  // drawn by a primitive of 6 vertices and one of 3: only the second has an index out of range.
+  const Codes shared = codes_of(validate_text(
+      R"({"asset":{"version":"2.0"},"accessors":[{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3","min":[0,0,0],"max":[2,2,0]},{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":2,"componentType":5123,"count":3,"type":"SCALAR"}],"bufferViews":[{"buffer":0,"byteLength":72,"target":34962},{"buffer":0,"byteLength":36,"byteOffset":72,"target":34962},{"buffer":0,"byteLength":6,"byteOffset":108,"target":34963}],"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":2},{"attributes":{"POSITION":1},"indices":2}]}],"buffers":[{"byteLength":116,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAgD8AAAAAAAAAQAAAAAAAAAAAAAAAAAAAAEAAAAAAAAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAQAAAA="}]})"));
+  EXPECT_EQ(std::count(shared.begin(), shared.end(),
+                       std::pair<std::string, std::string>{"ACCESSOR_INDEX_OOB", "/meshes/0/primitives/1/indices"}),
+            1);
+  EXPECT_EQ(std::count_if(shared.begin(), shared.end(),
+                          [](const auto& issue) { return issue.first == "ACCESSOR_INDEX_OOB"; }),
+            1);
+  // Element by element, each primitive in turn.
+  const Codes restart = codes_of(validate_text(
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA/wECAP8JAAA="}],"bufferViews":[{"buffer":0,"byteLength":36,"target":34962},{"buffer":0,"byteOffset":36,"byteLength":6,"target":34963}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5121,"count":6,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1},{"attributes":{"POSITION":0},"indices":1,"mode":4}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})"));
+  const Codes expected{{"ACCESSOR_INDEX_OOB", "/meshes/0/primitives/0/indices"},
+                       {"ACCESSOR_INDEX_PRIMITIVE_RESTART", "/meshes/0/primitives/0/indices"},
+                       {"ACCESSOR_INDEX_OOB", "/meshes/0/primitives/1/indices"},
+                       {"ACCESSOR_INDEX_PRIMITIVE_RESTART", "/meshes/0/primitives/1/indices"}};
+  ASSERT_GE(restart.size(), expected.size());
+  EXPECT_TRUE(std::equal(expected.begin(), expected.end(), restart.begin()));
+}
+
 TEST(StructureChecks, AnExtensionListWithANonStringItemDeclaresNothing) {
   // Schema: extensionsUsed and extensionsRequired are arrays of strings; one that is not fails the
   // list whole. Its strings are still checked for repeats, and nothing is judged against it.

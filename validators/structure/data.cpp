@@ -219,7 +219,7 @@ class AccessorData {
 
   // State carried from chunk to chunk by the usage checks.
   struct Carry {
-    std::uint64_t degenerate_triangles = 0;
+    std::vector<std::uint64_t> degenerate_triangles;  // for each of an index accessor's uses
     double previous_time = 0.0;
   };
 
@@ -293,9 +293,11 @@ class AccessorData {
     // The declared bounds are judged once every element is seen: after the elements' own issues,
     // as the reference reports them (checked against the npm validator).
     bounds(a, p, components, actual_min, actual_max, below, above);
-    if (usage && a.usage == AccessorModel::Usage::Index && carry.degenerate_triangles)
-      issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", use,
-                 {arg(carry.degenerate_triangles), arg(static_cast<std::uint64_t>(a.count / 3))});
+    if (usage && a.usage == AccessorModel::Usage::Index)
+      for (std::size_t u = 0; u < carry.degenerate_triangles.size(); ++u)
+        if (carry.degenerate_triangles[u])
+          issues_.at("ACCESSOR_INDEX_TRIANGLE_DEGENERATE", a.index_uses[u].pointer,
+                     {arg(carry.degenerate_triangles[u]), arg(static_cast<std::uint64_t>(a.count / 3))});
   }
 
   static bool has_usage_checks(const AccessorModel& a) {
@@ -326,7 +328,7 @@ class AccessorData {
     using Usage = AccessorModel::Usage;
     switch (a.usage) {
       case Usage::Index:
-        if (a.has_index_format()) index_checks(a, use, first, carry);
+        if (a.has_index_format()) index_checks(a, first, carry);
         break;
       case Usage::Vertex:
         vertex_checks(a, first, count);
@@ -370,27 +372,33 @@ class AccessorData {
     }
   }
 
-  void index_checks(const AccessorModel& a, const std::string& use, std::size_t first, Carry& carry) {
+  // Each element against each primitive that draws with the accessor, element by element (the
+  // reference's order), each use with its own vertex count and mode.
+  void index_checks(const AccessorModel& a, std::size_t first, Carry& carry) {
     const double restart = a.component_type == 5121 ? 255.0 : a.component_type == 5123 ? 65535.0 : 4294967295.0;
-    const double limit = a.vertex_limit >= 0 ? static_cast<double>(a.vertex_limit) : INFINITY;  // -1: unknown
+    carry.degenerate_triangles.resize(a.index_uses.size());
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
-      // A restart value is also out of bounds when the vertices do not reach it: both are
-      // reported, in this order (checked against the npm validator).
-      if (value >= limit)
-        issues_.at("ACCESSOR_INDEX_OOB", use,
-                   {arg(static_cast<std::uint64_t>(first + k)), arg(static_cast<std::int64_t>(value)),
-                    arg(a.vertex_limit - 1)});
-      if (value == restart)
-        issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use,
-                   {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
+      for (const AccessorModel::IndexUse& use : a.index_uses) {
+        const double limit = use.vertex_limit >= 0 ? static_cast<double>(use.vertex_limit) : INFINITY;  // -1: unknown
+        // A restart value is also out of bounds when the vertices do not reach it: both are
+        // reported, in this order (checked against the npm validator).
+        if (value >= limit)
+          issues_.at("ACCESSOR_INDEX_OOB", use.pointer,
+                     {arg(static_cast<std::uint64_t>(first + k)), arg(static_cast<std::int64_t>(value)),
+                      arg(use.vertex_limit - 1)});
+        if (value == restart)
+          issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use.pointer,
+                     {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
+      }
     }
     // Chunks hold whole triangles (kChunkElements is a multiple of 3; a whole accessor is one chunk).
-    if (a.primitive_mode == 4 && a.count >= 3)
-      for (std::size_t t = 0; t + 2 < values_.size(); t += 3) {
-        const double i0 = values_[t], i1 = values_[t + 1], i2 = values_[t + 2];
-        carry.degenerate_triangles += i0 == i1 || i1 == i2 || i0 == i2;
-      }
+    for (std::size_t u = 0; u < a.index_uses.size(); ++u)
+      if (a.index_uses[u].mode == 4 && a.count >= 3)
+        for (std::size_t t = 0; t + 2 < values_.size(); t += 3) {
+          const double i0 = values_[t], i1 = values_[t + 1], i2 = values_[t + 2];
+          carry.degenerate_triangles[u] += i0 == i1 || i1 == i2 || i0 == i2;
+        }
   }
 
   // Each element is checked for every attribute that reads the accessor, in element order.

@@ -592,14 +592,11 @@ class Linker {
           issues_.at("MESH_PRIMITIVE_INDICES_ACCESSOR_INVALID_FORMAT", p + "/indices",
                      {arg(format_name(indices->type, indices->component_type, indices->normalized))},
                      {arg("{SCALAR, UNSIGNED_BYTE}"), arg("{SCALAR, UNSIGNED_SHORT}"), arg("{SCALAR, UNSIGNED_INT}")});
-        if (!indices->vertex_limit_set) {
-          indices->vertex_limit_set = true;
-          // A primitive without attributes has no vertices: every index is out of range.
-          indices->vertex_limit = primitive.attributes.empty() ? 0 : vertex_count;
-          // The index data of a primitive whose mode cannot be read is still read as triangles,
-          // the default mode (the reference reports their degenerate triangles).
-          indices->primitive_mode = primitive.mode < 0 ? 4 : primitive.mode;
-        }
+        // A primitive without attributes has no vertices: every index is out of range. The index
+        // data of a primitive whose mode cannot be read is still read as triangles, the default
+        // mode (the reference reports their degenerate triangles).
+        indices->index_uses.push_back(
+            {p + "/indices", primitive.attributes.empty() ? 0 : vertex_count, primitive.mode < 0 ? 4 : primitive.mode});
         incompatible_mode(primitive, indices->count, p);
       } else if (primitive.indices < 0 && vertex_count > 0) {
         incompatible_mode(primitive, vertex_count, p);

@@ -99,10 +99,14 @@ struct AccessorModel : EntityModel {
   std::string usage_pointer;   // pointer of the first use that carries a data check
   std::string animation_path;  // for AnimationOutput
   std::string interpolation;
-  // Indices: the vertex count and drawing mode of the first primitive that draws with them.
-  std::int64_t vertex_limit = -1;  // -1: unknown
-  bool vertex_limit_set = false;
-  int primitive_mode = 4;
+  // Indices: each primitive that draws with them, in document order. Spec 3.7.2.1 bounds an index by
+  // the vertices of the primitive that reads it, so each is checked against its own.
+  struct IndexUse {
+    std::string pointer;
+    std::int64_t vertex_limit = -1;  // -1: unknown
+    int mode = 4;
+  };
+  std::vector<IndexUse> index_uses;
   bool fits = false;  // the link pass found it inside its buffer view
   // Every use that reads it as its first use does (a mesh attribute with the first semantic, an
   // animation sampler's input, a channel of the first path reading its output): the reference
