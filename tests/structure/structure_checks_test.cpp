@@ -179,8 +179,10 @@ TEST(StructureChecks, WeightsAreSummedAcrossEverySetAndReportedAtEach) {
                              {first, {weight, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}}});
   };
   EXPECT_TRUE(codes_and_pointers(second_set(2, 0.25f)).empty()) << "set 1 brings the first vertex's 0.75 to one";
+  // Read component by component, each set in turn: JOINTS_1's first joint (1) comes before
+  // JOINTS_0's second (1 again), which is the repeat and whose weight is left out.
   EXPECT_EQ(codes_and_pointers(second_set(1, 0.25f)),
-            (std::vector<std::string>{"ACCESSOR_JOINTS_INDEX_DUPLICATE /meshes/0/primitives/0/attributes/JOINTS_1",
+            (std::vector<std::string>{"ACCESSOR_JOINTS_INDEX_DUPLICATE /meshes/0/primitives/0/attributes/JOINTS_0",
                                       "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_0",
                                       "ACCESSOR_WEIGHTS_NON_NORMALIZED /meshes/0/primitives/0/attributes/WEIGHTS_1"}))
       << "joint 1 again: its weight is left out";

@@ -540,9 +540,11 @@ class AccessorData {
           if (vertex >= primitive.count) continue;
           used.clear();
           primitive.sum = 0;
-          for (const SkinSet& set : primitive.sets) {
-            const std::size_t local = static_cast<std::size_t>(vertex - set.held_first) * 4;
-            for (int c = 0; c < 4; ++c) {
+          // Component by component, each set in turn within one (the reference's order: with two
+          // sets, the first component of JOINTS_1 comes before the second of JOINTS_0).
+          for (int c = 0; c < 4; ++c) {
+            for (const SkinSet& set : primitive.sets) {
+              const std::size_t local = static_cast<std::size_t>(vertex - set.held_first) * 4;
               const std::uint64_t index = static_cast<std::uint64_t>(vertex) * 4 + static_cast<std::uint64_t>(c);
               const double joint = set.joint_values[local + c];
               const double raw_weight = set.weight_values[local + c];
