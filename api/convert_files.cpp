@@ -160,6 +160,7 @@ FileResult convert_cached(const ConvertJob& job, const ConvertFileOptions& optio
         return hit;
       }
     } catch (const OutputError& e) {
+      cache.leave_out(*key);
       FileResult failed = result_of(job);
       failed.failure = "output " + job.output.string() + ": " + e.what();
       failed.total_ms = ms_between(start, Clock::now());

@@ -1,10 +1,9 @@
 // The C++ library's functions (include/gltf_pbr/gltf_pbr.hpp): each maps its options onto the ones
 // the tool uses, runs the same code (api/files.hpp, validators/validate.hpp) and hands back the
 // report in the tool's JSON formats.
+#include <charconv>
 #include <cmath>
-#include <iomanip>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "api/files.hpp"
@@ -16,9 +15,9 @@ namespace {
 // The ranges the tool's option parser enforces: a library caller is refused the same way, by name.
 void require(bool in_range, const char* option, const char* range, double value) {
   if (in_range) return;
-  std::ostringstream shown;  // 99 as "99", 0.5 as "0.5", not "99.000000"
-  shown << std::setprecision(17) << value;
-  throw std::invalid_argument(std::string(option) + " must be " + range + ", got " + shown.str());
+  char shown[32];  // the shortest text that reads back as the value: 99, 0.1, not 99.000000
+  const auto end = std::to_chars(shown, shown + sizeof shown, value).ptr;
+  throw std::invalid_argument(std::string(option) + " must be " + range + ", got " + std::string(shown, end));
 }
 void check(const ConvertFileOptions& o) {
   require(o.png_compression >= 0 && o.png_compression <= 9, "png_compression", "0-9", o.png_compression);
@@ -64,9 +63,13 @@ std::vector<FileConversion> convert_files(std::span<const ConvertJob> jobs, cons
   // Two jobs writing one file would race, and the loser's images would stay beside the winner's
   // (the tool refuses the same before a run).
   std::set<fs::path> outputs;
-  for (const ConvertJob& job : jobs)
-    if (!outputs.insert(fs::weakly_canonical(fs::absolute(job.output))).second)
+  for (const ConvertJob& job : jobs) {
+    std::error_code ec;  // a path that cannot be resolved is compared as written
+    fs::path resolved = fs::weakly_canonical(job.output, ec);
+    if (ec) resolved = fs::absolute(job.output, ec).lexically_normal();
+    if (!outputs.insert(resolved).second)
       throw std::invalid_argument("two jobs write " + job.output.string() + "; give each its own output");
+  }
   std::function<void(std::size_t, const FileResult&)> each;
   if (on_done) each = [&](std::size_t, const FileResult& result) { on_done(public_result(result)); };
   const std::vector<FileResult> results = convert_batch(jobs, options, threads, each);

@@ -81,8 +81,10 @@ FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_fo
         const fs::path inside = file.lexically_relative(input);
         files.push_back({file, name / inside, inside});
       }
-    } else if (listed && !fs::is_regular_file(input, ec) && fs::exists(fs::symlink_status(input, ec))) {
+    } else if (listed && fs::exists(input, ec) && !fs::is_regular_file(input, ec)) {
       throw CLI::ValidationError("--inputs-from", input.string() + ": not a file or a folder");
+    } else if (listed && !output_folder.empty() && is_under(input, output_folder)) {
+      ++found_inputs.skipped_under_output;  // an earlier output, listed as a changed file
     } else if (listed) {
       const fs::path as_listed = input.lexically_normal();
       const bool stays_below = as_listed.is_relative() && !as_listed.empty() && *as_listed.begin() != "..";
@@ -95,9 +97,14 @@ FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_fo
     }
   }
   // A file named twice (listed twice, or given beside a folder that holds it) is one input, where
-  // it was first found.
+  // it was first found. Compared by its folder resolved and its own name, so a link to a file
+  // beside it stays an input of its own.
   std::set<fs::path> seen;
-  std::erase_if(files, [&](const InputFile& file) { return !seen.insert(resolved(file.file)).second; });
+  std::erase_if(files, [&](const InputFile& file) {
+    return !seen.insert(resolved(file.file.parent_path().empty() ? fs::path(".") : file.file.parent_path()) /
+                        file.file.filename())
+                .second;
+  });
   if (files.empty())
     throw CLI::ValidationError("input", found_inputs.skipped_under_output
                                             ? "no .gltf or .glb files found outside the output folder"
@@ -216,10 +223,17 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
   for (const PlannedOutput& output : outputs) {
     std::error_code ec;
     if (!output.path.empty() && fs::exists(output.path, ec)) existing.emplace(resolved(output.path), &output);
-    // Found now, not after the run's work: a file output where a folder stands cannot be written.
-    if (!output.path.empty() && !output.names && fs::is_directory(output.path, ec))
+    // Found now, not after the run's work: a file output where a folder or a symbolic link stands
+    // is not written (AtomicWriteSet: a link is neither renamed over nor written through).
+    if (output.path.empty() || output.names || own_descriptor(output.path)) continue;
+    if (fs::is_directory(output.path, ec))
       throw CLI::ValidationError(output.option,
                                  "refusing to write " + printable(output.path.string()) + ": it is a folder");
+    if (fs::is_symlink(fs::symlink_status(output.path, ec)) &&
+        (fs::is_regular_file(output.path, ec) || !fs::exists(output.path, ec)))
+      throw CLI::ValidationError(output.option,
+                                 "refusing to write " + printable(output.path.string()) +
+                                     ": it is a symbolic link; name the file itself, or remove the link");
   }
   if (existing.empty()) return;
   // Files with another name: a file with one link is the file the run reads only under the same
@@ -247,7 +261,7 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
       if (fs::equivalent(read, output->path, ec)) refuse(*output, output->path);
     }
     // A folder of named outputs: the name the run reads, and the file it leads to (a symbolic link
-    // in the folder would be renamed over; its target's name may be one too).
+    // in the folder is refused when written, but its target's name may be one too).
     const fs::path as_named =
         resolved(read.parent_path().empty() ? fs::path(".") : read.parent_path()) / read.filename();
     for (const fs::path& named : {as_named, file})

@@ -48,14 +48,18 @@ std::string seconds_text(double seconds) {
   return text;
 }
 
-// One decimal: "30.4 MiB, above 30 MiB" rather than a whole-MiB "30 MiB, above 30 MiB".
-std::string mib(std::uint64_t bytes) {
-  char text[32];
-  if (bytes % (1 << 20) == 0)
-    std::snprintf(text, sizeof text, "%llu MiB", static_cast<unsigned long long>(bytes >> 20));
-  else
-    std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+// One decimal, more where the two figures would read alike ("30.04 MiB of memory, above 30 MiB",
+// not "30.0 MiB of memory, above 30 MiB"); a whole limit as it was given.
+std::string mib(std::uint64_t bytes, int decimals) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*f MiB", decimals, static_cast<double>(bytes) / (1 << 20));
   return text;
+}
+std::string mib_above(std::uint64_t used, std::uint64_t limit) {
+  int decimals = 1;
+  while (decimals < 6 && mib(used, decimals) == mib(limit, decimals)) ++decimals;
+  return mib(used, decimals) + " of memory, above " +
+         (limit % (1 << 20) == 0 ? std::to_string(limit >> 20) + " MiB" : mib(limit, decimals));
 }
 
 constexpr char kParentVariable[] = "GLTF_PBR_ISOLATED_BY";
@@ -148,7 +152,7 @@ FileResult convert_in_child(const ConvertJob& job, const std::vector<std::string
     if (limits.seconds > 0 && seconds > limits.seconds)
       stopped = "took longer than " + seconds_text(limits.seconds) + " s (--file-timeout): stopped";
     else if (const std::uint64_t resident = limits.bytes ? resident_bytes(pid) : 0; resident > limits.bytes)
-      stopped = "used " + mib(resident) + " of memory, above " + mib(limits.bytes) + " (--file-memory): stopped";
+      stopped = "used " + mib_above(resident, limits.bytes) + " (--file-memory): stopped";
     if (!stopped.empty()) {
       ::kill(pid, SIGKILL);
       while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {

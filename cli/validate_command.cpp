@@ -1,5 +1,6 @@
 // `gltf-pbr validate`: many files in parallel, one Khronos-schema report per file plus a summary,
 // as JSON, text or SARIF; --fail-on turns findings into the exit code.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -29,6 +30,14 @@
 
 namespace gltf_pbr::cli {
 namespace {
+
+// Whether two descriptors are one file: a terminal, or a log both are redirected to.
+bool same_file(int a, int b) {
+  struct stat first {
+  }, second{};
+  return ::fstat(a, &first) == 0 && ::fstat(b, &second) == 0 && first.st_dev == second.st_dev &&
+         first.st_ino == second.st_ino;
+}
 
 struct ValidateArgs {
   std::vector<std::string> inputs;
@@ -205,6 +214,9 @@ int run(const ValidateArgs& args) {
       cache->leave_out(*key);
     return report;
   };
+  // The text report on standard output opens each file with the same line: not repeated on
+  // standard error when both reach one place (a terminal, a log taking 2>&1).
+  const bool line_in_report = args.format == "text" && args.output.empty() && same_file(STDOUT_FILENO, STDERR_FILENO);
   Progress progress(files.size(), "validating");
   const auto validate_one = [&](std::int64_t index) {
     const auto i = static_cast<std::size_t>(index);
@@ -225,9 +237,7 @@ int run(const ValidateArgs& args) {
         {"total", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()}};
     results_log.write(line_entry.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     std::ostringstream line;
-    // Not when the text report goes to standard output: it opens with the same line.
-    const bool text_on_stdout = args.format == "text" && args.output.empty();
-    if (!text_on_stdout && (!args.quiet || fails(report, fail_on)))
+    if (!line_in_report && (!args.quiet || fails(report, fail_on)))
       line << printable(report.uri) << ": " << report.count(Severity::Error) << " errors, "
            << report.count(Severity::Warning) << " warnings, " << report.count(Severity::Information) << " infos, "
            << report.count(Severity::Hint) << " hints\n";

@@ -233,31 +233,34 @@ AtomicWriteSet::~AtomicWriteSet() {
   }
 }
 
-void AtomicWriteSet::stage(const fs::path& named, std::span<const std::uint8_t> bytes) {
+// The descriptor a name stands for when it names one of this process's own (/dev/stdout,
+// /dev/stderr, /dev/fd/N, /proc/self/fd/N): what the shell opened, a file appended to included.
+std::optional<int> own_descriptor(const fs::path& name) {
   std::error_code ec;
-  const fs::file_status target = fs::status(named, ec);  // through links
-  // /dev/stdout and /proc/self/fd/1 lead to whatever the shell opened, a file redirected to included.
-  const fs::path absolute = fs::absolute(named, ec).lexically_normal();
-  const auto top = absolute.has_root_directory() && std::distance(absolute.begin(), absolute.end()) > 2
-                       ? *std::next(absolute.begin())
-                       : fs::path();
-  const bool system_name = top == "dev" || top == "proc";
-  if (fs::exists(target) && !fs::is_directory(target) && (system_name || !fs::is_regular_file(target))) {
-    written_into_.emplace_back(named, std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
+  const std::string path = fs::absolute(name, ec).lexically_normal().string();
+  if (path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  for (const std::string_view prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    if (!path.starts_with(prefix) || path.size() == prefix.size() || path.size() > prefix.size() + 9) continue;
+    const std::string digits = path.substr(prefix.size());
+    if (digits.find_first_not_of("0123456789") == std::string::npos) return std::stoi(digits);
+  }
+  return std::nullopt;
+}
+
+void AtomicWriteSet::stage(const fs::path& destination, std::span<const std::uint8_t> bytes) {
+  std::error_code ec;
+  const std::optional<int> descriptor = own_descriptor(destination);
+  const fs::file_status target = fs::status(destination, ec);  // through links
+  if (descriptor || (fs::exists(target) && !fs::is_regular_file(target) && !fs::is_directory(target))) {
+    written_into_.push_back({destination, descriptor.value_or(-1), {bytes.begin(), bytes.end()}});
     return;
   }
-  fs::path destination = named;
-  if (fs::is_symlink(fs::symlink_status(named, ec))) {
-    const fs::path file = fs::canonical(named, ec);
-    const fs::path folder = fs::canonical(named.parent_path().empty() ? fs::path(".") : named.parent_path(), ec);
-    if (file.empty() || ec)
-      throw OutputError("cannot write " + named.string() + ": it is a link to " + fs::read_symlink(named, ec).string() +
-                        ", which does not exist");
-    if (file.parent_path() != folder)
-      throw OutputError("cannot write " + named.string() + ": it is a link to " + file.string() +
-                        ", in another folder; name that file itself");
-    destination = file;
-  }
+  // Renaming over a link would take away the file it named from whatever reads it; writing through
+  // it may replace a file the run reads, or one it writes under another name.
+  if (fs::is_symlink(fs::symlink_status(destination, ec)))
+    throw OutputError("cannot write " + destination.string() + ": it is a symbolic link (to " +
+                      fs::read_symlink(destination, ec).string() + "); name the file itself, or remove the link");
   if (!destination.parent_path().empty() && !fs::create_directories(destination.parent_path(), ec) && ec)
     throw OutputError("cannot create the folder " + destination.parent_path().string() + ": " + ec.message());
   auto fail = [&](int error) { throw OutputError("cannot write " + destination.string() + ": " + errno_text(error)); };
@@ -346,17 +349,18 @@ std::vector<fs::path> AtomicWriteSet::commit() {
     written.push_back(staged_[k].second);
   }
   staged_.clear();
-  for (const auto& [destination, bytes] : written_into_) {
-    const int fd = ::open(destination.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  for (const WrittenInto& into : written_into_) {
+    // Opened without truncation; a pipe's open waits for its reader, as a shell's redirection does.
+    const int fd = into.descriptor >= 0 ? into.descriptor : ::open(into.destination.c_str(), O_WRONLY | O_CLOEXEC);
     int error = fd < 0 ? errno : 0;
-    for (std::size_t at = 0; at < bytes.size() && error == 0;) {
-      const ssize_t n = ::write(fd, bytes.data() + at, bytes.size() - at);
+    for (std::size_t at = 0; at < into.bytes.size() && error == 0;) {
+      const ssize_t n = ::write(fd, into.bytes.data() + at, into.bytes.size() - at);
       if (n < 0 && errno != EINTR) error = errno;
       if (n > 0) at += static_cast<std::size_t>(n);
     }
-    if (fd >= 0 && ::close(fd) != 0 && error == 0) error = errno;
-    if (error != 0) throw OutputError("cannot write " + destination.string() + ": " + errno_text(error));
-    written.push_back(destination);
+    if (fd >= 0 && into.descriptor < 0 && ::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) throw OutputError("cannot write " + into.destination.string() + ": " + errno_text(error));
+    written.push_back(into.destination);
   }
   written_into_.clear();
   return written;

@@ -49,10 +49,15 @@ class MappedFile {
 // A set of files written to temporary names and renamed into place only by commit(),
 // so a failure never leaves partial output. Destroying it without commit() removes the temporaries,
 // and so does SIGINT or SIGTERM arriving while they exist. A file that replaces an existing one
-// keeps that file's mode and, where permitted, its owner and group. A symbolic link is kept and the
-// file it leads to replaced, when that file is in the link's own folder (files written beside it,
-// a .gltf's images, land there too); a link elsewhere is refused. A device, pipe or socket
-// (/dev/stdout, /dev/null, a FIFO) cannot be replaced: it is written into, after the renames.
+// keeps that file's mode and, where permitted, its owner and group. A device, pipe or socket
+// (/dev/null, a FIFO) cannot be replaced: it is written into, after the renames, and a name of one
+// of this process's descriptors (/dev/stdout, /proc/self/fd/1) into that descriptor, at its offset.
+// A symbolic link is refused: renamed over, it would no longer lead to its file; written through,
+// it might lead to a file the run reads.
+// The descriptor a name stands for when it names one of this process's own (/dev/stdout,
+// /dev/stderr, /dev/fd/N, /proc/self/fd/N); std::nullopt for any other name.
+std::optional<int> own_descriptor(const fs::path& name);
+
 class AtomicWriteSet {
  public:
   AtomicWriteSet() = default;
@@ -69,7 +74,12 @@ class AtomicWriteSet {
 
  private:
   std::vector<std::pair<fs::path, fs::path>> staged_;  // (temporary, destination)
-  std::vector<std::pair<fs::path, std::vector<std::uint8_t>>> written_into_;  // special files, their bytes
+  struct WrittenInto {
+    fs::path destination;
+    int descriptor;  // this process's own, or -1: opened by name
+    std::vector<std::uint8_t> bytes;
+  };
+  std::vector<WrittenInto> written_into_;
 };
 
 // A private folder under the system's temporary directory (TMPDIR), named `prefix` and six random

@@ -50,6 +50,11 @@ struct Report {
   // and pointer valid UTF-8 (invalid bytes become U+FFFD): a library's error text can quote a
   // file's raw bytes, and every report format is UTF-8 text.
   void add(Issue issue);
+  // Whether no more distinct messages of `code` are listed (max_listed_per_code reached).
+  bool listing_full(const std::string& code) const {
+    const auto found = per_code_.find(code);
+    return max_listed_per_code != 0 && found != per_code_.end() && found->second.listed >= max_listed_per_code;
+  }
   // Issues found of this severity: a folded message counts every issue it stands for.
   std::uint64_t count(Severity severity) const;
 

@@ -31,7 +31,7 @@ import uuid
 
 def printable(text):
     """A path or message from the files as it may be shown on a terminal: control characters escaped."""
-    return "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in str(text))
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in str(text))
 
 
 def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
@@ -53,6 +53,8 @@ def convert_shard(tool, inputs, output, shard, shards, work, jobs, extra):
         if run.returncode in (0, 1) and report.exists():
             return str(report)
         failures.append(f"{' '.join(command)} ended with {run.returncode}: {run.stderr.strip()}")
+        if 0 <= run.returncode <= 3:  # its own verdict (bad usage, a report it could not write): no crash
+            break
     raise RuntimeError(f"shard {shard}/{shards}: " + "; then ".join(failures))
 
 

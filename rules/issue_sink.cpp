@@ -17,6 +17,11 @@ void IssueSink::at(const std::string& code, const std::string& pointer, const st
   if (r.enabled) report_.add({code, r.format(args, list), r.severity, pointer, {}, 1});
 }
 
+void IssueSink::at_unlisted(const std::string& code, const std::string& pointer, std::uint64_t count) {
+  const Rule& r = rule(code);
+  if (r.enabled && count > 0) report_.add({code, std::string(), r.severity, pointer, {}, count});
+}
+
 void IssueSink::at_text(const std::string& code, const std::string& pointer, const std::vector<std::string>& args) {
   const Rule& r = rule(code);
   if (r.enabled) report_.add({code, r.format(args), r.severity, pointer, {}, 1});

@@ -20,6 +20,10 @@ class IssueSink {
   void at_text(const std::string& code, const std::string& pointer, const std::vector<std::string>& args);
   void at_offset(const std::string& code, std::uint64_t offset, const std::vector<MessageArg>& args = {});
   bool enabled(const std::string& code) const { return rules_.enabled(code); }
+  // Whether the report lists no more messages of `code` (Report::max_listed_per_code): a step that
+  // may find very many adds the rest with at_unlisted, counted without a message each.
+  bool listing_full(const std::string& code) const { return report_.listing_full(code); }
+  void at_unlisted(const std::string& code, const std::string& pointer, std::uint64_t count);
   // Whether an error-severity issue was found, shown or silenced by the configuration.
   bool found_error() const { return found_error_; }
 

@@ -1145,6 +1145,19 @@ TEST(LostOutputs, AReportToAPipeReachesItsReader) {
   EXPECT_EQ(test::read_text(scratch / "code.txt"), "0\n");
   const nlohmann::json report = nlohmann::json::parse(test::read_text(scratch / "piped.json"));
   EXPECT_EQ(report.at("files").size(), 1u);
+  // Appended to a log, with the run's messages beside it: written at the descriptor's end, not
+  // over what the log held.
+  test::write_text(scratch / "run.log", "EARLIER\n");
+  const std::string appended = quoted(GLTF_PBR_CLI) + " convert " + quoted(gltf) + " -o " + quoted(scratch / "out2") +
+                               " --report /dev/stdout >> " + quoted(scratch / "run.log") + " 2>&1";
+  ASSERT_EQ(std::system(appended.c_str()), 0);
+  const std::string log = test::read_text(scratch / "run.log");
+  EXPECT_EQ(log.rfind("EARLIER\n", 0), 0u) << log;
+  const std::size_t json_start = log.find("\n{") + 1;
+  ASSERT_NE(json_start, 0u) << log;
+  const std::size_t json_end = log.find("\n}\n", json_start);
+  ASSERT_NE(json_end, std::string::npos) << log;
+  EXPECT_EQ(nlohmann::json::parse(log.substr(json_start, json_end + 2 - json_start)).at("files").size(), 1u) << log;
 }
 
 TEST(LostOutputs, AReportOrResultsFileNamingAnInputIsRefusedBeforeAnythingIsWritten) {

@@ -140,32 +140,19 @@ TEST(AtomicWrites, AFailedCommitPutsBackEveryFileItHadAlreadyRenamed) {
   EXPECT_EQ(test::files_under(scratch.path()).size(), 2u);
 }
 
-TEST(AtomicWrites, ALinkInItsOwnFolderIsKeptAndItsFileReplaced) {
+TEST(AtomicWrites, ALinkIsNeitherRenamedOverNorWrittenThrough) {
+  // Renamed over, the link would no longer lead to its file; written through, it may lead to a file
+  // the run reads (a texture) or writes under another name (another output).
   ScratchDir scratch;
-  test::write_text(scratch / "report-2026.json", "the earlier report");
-  fs::create_symlink("report-2026.json", scratch / "report.json");
-  const std::string text = "a new report";
-  AtomicWriteSet files;
-  files.stage(scratch / "report.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-  files.commit();
-  EXPECT_TRUE(fs::is_symlink(scratch / "report.json"));
-  EXPECT_EQ(test::read_text(scratch / "report-2026.json"), text);
-}
-
-TEST(AtomicWrites, ALinkIntoAnotherFolderOrToNothingIsRefused) {
-  // Files written beside the one named (a .gltf's images) would land beside the link, away from
-  // the file the link leads to.
-  ScratchDir scratch;
-  fs::create_directories(scratch / "elsewhere");
-  test::write_text(scratch / "elsewhere" / "model.gltf", "{}");
-  fs::create_symlink("elsewhere/model.gltf", scratch / "model.gltf");
+  test::write_text(scratch / "texture.png", "an input");
+  fs::create_symlink("texture.png", scratch / "heat-map.png");
   fs::create_symlink("missing.json", scratch / "dangling.json");
   const std::uint8_t byte = 0;
   AtomicWriteSet files;
-  EXPECT_THROW(files.stage(scratch / "model.gltf", std::span(&byte, 1)), OutputError);
+  EXPECT_THROW(files.stage(scratch / "heat-map.png", std::span(&byte, 1)), OutputError);
   EXPECT_THROW(files.stage(scratch / "dangling.json", std::span(&byte, 1)), OutputError);
-  EXPECT_EQ(test::read_text(scratch / "elsewhere" / "model.gltf"), "{}");
-  EXPECT_TRUE(fs::is_symlink(scratch / "model.gltf"));
+  EXPECT_EQ(test::read_text(scratch / "texture.png"), "an input");
+  EXPECT_TRUE(fs::is_symlink(scratch / "heat-map.png"));
 }
 
 TEST(AtomicWrites, APipeIsWrittenIntoNotReplaced) {

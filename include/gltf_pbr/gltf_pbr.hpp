@@ -121,6 +121,8 @@ GLTF_PBR_API FileConversion convert_file(const ConvertJob& job, const ConvertFil
 // Converts many files on the process's pool, at most `threads` at a time (0: one per hardware
 // thread). A file that fails is reported as Failed and the others go on; results keep the jobs'
 // order. on_done, if given, is called once per file as it finishes, from the thread that ran it.
+// Throws std::invalid_argument, before any file is written, for an option out of its range or two
+// jobs that write one output.
 GLTF_PBR_API std::vector<FileConversion> convert_files(std::span<const ConvertJob> jobs,
                                                        const ConvertFileOptions& options = {}, unsigned threads = 0,
                                                        const std::function<void(const FileConversion&)>& on_done = {});

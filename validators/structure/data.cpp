@@ -221,6 +221,10 @@ class AccessorData {
   struct Carry {
     std::vector<std::uint64_t> degenerate_triangles;  // for each of an index accessor's uses
     double previous_time = 0.0;
+    // Index issues past the report's listing of their code, the first included (added when found):
+    // counted here and the rest added at the end as one count (n indices shared by u primitives may
+    // hold n u of them).
+    std::uint64_t unlisted_out_of_range = 0, unlisted_restarts = 0;
   };
 
   void accessor(std::size_t i) {
@@ -293,6 +297,13 @@ class AccessorData {
     // The declared bounds are judged once every element is seen: after the elements' own issues,
     // as the reference reports them (checked against the npm validator).
     bounds(a, p, components, actual_min, actual_max, below, above);
+    if (usage && a.usage == AccessorModel::Usage::Index && !a.index_uses.empty()) {  // the first was added
+      const std::string& pointer = a.index_uses.front().pointer;
+      if (carry.unlisted_out_of_range > 1)
+        issues_.at_unlisted("ACCESSOR_INDEX_OOB", pointer, carry.unlisted_out_of_range - 1);
+      if (carry.unlisted_restarts > 1)
+        issues_.at_unlisted("ACCESSOR_INDEX_PRIMITIVE_RESTART", pointer, carry.unlisted_restarts - 1);
+    }
     if (usage && a.usage == AccessorModel::Usage::Index)
       for (std::size_t u = 0; u < carry.degenerate_triangles.size(); ++u)
         if (carry.degenerate_triangles[u])
@@ -377,17 +388,26 @@ class AccessorData {
   void index_checks(const AccessorModel& a, std::size_t first, Carry& carry) {
     const double restart = a.component_type == 5121 ? 255.0 : a.component_type == 5123 ? 65535.0 : 4294967295.0;
     carry.degenerate_triangles.resize(a.index_uses.size());
+    // Once a code's listing is full the report only counts it (it never empties again): the first
+    // issue past it is added, to take its place in the report, and the rest are counted.
+    const auto listed = [&](const char* code, std::uint64_t& unlisted, const std::string& pointer) {
+      if (unlisted > 0) return ++unlisted, false;
+      if (!issues_.listing_full(code)) return true;
+      issues_.at_unlisted(code, pointer, 1);
+      unlisted = 1;
+      return false;
+    };
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
       for (const AccessorModel::IndexUse& use : a.index_uses) {
         const double limit = use.vertex_limit >= 0 ? static_cast<double>(use.vertex_limit) : INFINITY;  // -1: unknown
         // A restart value is also out of bounds when the vertices do not reach it: both are
         // reported, in this order (checked against the npm validator).
-        if (value >= limit)
+        if (value >= limit && listed("ACCESSOR_INDEX_OOB", carry.unlisted_out_of_range, use.pointer))
           issues_.at("ACCESSOR_INDEX_OOB", use.pointer,
                      {arg(static_cast<std::uint64_t>(first + k)), arg(static_cast<std::int64_t>(value)),
                       arg(use.vertex_limit - 1)});
-        if (value == restart)
+        if (value == restart && listed("ACCESSOR_INDEX_PRIMITIVE_RESTART", carry.unlisted_restarts, use.pointer))
           issues_.at("ACCESSOR_INDEX_PRIMITIVE_RESTART", use.pointer,
                      {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
       }
