@@ -225,6 +225,7 @@ class AccessorData {
     // counted here and the rest added at the end as one count (n indices shared by u primitives may
     // hold n u of them).
     std::uint64_t unlisted_out_of_range = 0, unlisted_restarts = 0;
+    std::vector<double> sorted_limits;  // the uses' vertex counts, for counting past the listing
   };
 
   void accessor(std::size_t i) {
@@ -387,6 +388,7 @@ class AccessorData {
   // reference's order), each use with its own vertex count and mode.
   void index_checks(const AccessorModel& a, std::size_t first, Carry& carry) {
     const double restart = a.component_type == 5121 ? 255.0 : a.component_type == 5123 ? 65535.0 : 4294967295.0;
+    if (a.index_uses.empty()) return;
     carry.degenerate_triangles.resize(a.index_uses.size());
     // Once a code's listing is full the report only counts it (it never empties again): the first
     // issue past it is added, to take its place in the report, and the rest are counted.
@@ -397,8 +399,24 @@ class AccessorData {
       unlisted = 1;
       return false;
     };
+    if (carry.sorted_limits.empty()) {
+      for (const AccessorModel::IndexUse& use : a.index_uses)
+        carry.sorted_limits.push_back(use.vertex_limit >= 0 ? static_cast<double>(use.vertex_limit) : INFINITY);
+      std::sort(carry.sorted_limits.begin(), carry.sorted_limits.end());
+    }
+    const std::uint64_t uses = a.index_uses.size();
     for (std::size_t k = 0; k < values_.size(); ++k) {
       const double value = values_[k];
+      // With both codes only counted, an element costs a search, not a pass over every use (n
+      // indices drawn by u primitives are n u checks otherwise).
+      if (carry.unlisted_out_of_range > 0 && (carry.unlisted_restarts > 0 || value != restart)) {
+        carry.unlisted_out_of_range +=
+            static_cast<std::uint64_t>(std::upper_bound(carry.sorted_limits.begin(), carry.sorted_limits.end(), value) -
+                                       carry.sorted_limits.begin());
+        if (value == restart) carry.unlisted_restarts += uses;
+        continue;
+      }
+      if (value < carry.sorted_limits.front() && value != restart) continue;  // in range for every use
       for (const AccessorModel::IndexUse& use : a.index_uses) {
         const double limit = use.vertex_limit >= 0 ? static_cast<double>(use.vertex_limit) : INFINITY;  // -1: unknown
         // A restart value is also out of bounds when the vertices do not reach it: both are
@@ -412,13 +430,18 @@ class AccessorData {
                      {arg(static_cast<std::int64_t>(value)), arg(static_cast<std::uint64_t>(first + k))});
       }
     }
-    // Chunks hold whole triangles (kChunkElements is a multiple of 3; a whole accessor is one chunk).
+    // Chunks hold whole triangles (kChunkElements is a multiple of 3; a whole accessor is one
+    // chunk), counted once for every use that draws triangles.
+    const bool triangles = std::any_of(a.index_uses.begin(), a.index_uses.end(),
+                                       [](const AccessorModel::IndexUse& use) { return use.mode == 4; });
+    if (!triangles || a.count < 3) return;
+    std::uint64_t degenerate = 0;
+    for (std::size_t t = 0; t + 2 < values_.size(); t += 3) {
+      const double i0 = values_[t], i1 = values_[t + 1], i2 = values_[t + 2];
+      degenerate += i0 == i1 || i1 == i2 || i0 == i2;
+    }
     for (std::size_t u = 0; u < a.index_uses.size(); ++u)
-      if (a.index_uses[u].mode == 4 && a.count >= 3)
-        for (std::size_t t = 0; t + 2 < values_.size(); t += 3) {
-          const double i0 = values_[t], i1 = values_[t + 1], i2 = values_[t + 2];
-          carry.degenerate_triangles[u] += i0 == i1 || i1 == i2 || i0 == i2;
-        }
+      if (a.index_uses[u].mode == 4) carry.degenerate_triangles[u] += degenerate;
   }
 
   // Each element is checked for every attribute that reads the accessor, in element order.
