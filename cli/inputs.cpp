@@ -36,6 +36,12 @@ fs::path resolved(const fs::path& path) {
   return canonical;
 }
 
+// The path as named in its folder: the folder resolved, the file's own name kept (a link stays
+// itself, not the file it leads to).
+fs::path named_in_resolved_folder(const fs::path& path) {
+  return resolved(path.parent_path().empty() ? fs::path(".") : path.parent_path()) / path.filename();
+}
+
 bool is_under(const fs::path& path, const fs::path& folder) {
   const fs::path file = resolved(path), root = resolved(folder);
   const auto [root_end, ignored] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
@@ -100,11 +106,7 @@ FoundInputs find_gltf_files(const GivenInputs& inputs, const fs::path& output_fo
   // it was first found. Compared by its folder resolved and its own name, so a link to a file
   // beside it stays an input of its own.
   std::set<fs::path> seen;
-  std::erase_if(files, [&](const InputFile& file) {
-    return !seen.insert(resolved(file.file.parent_path().empty() ? fs::path(".") : file.file.parent_path()) /
-                        file.file.filename())
-                .second;
-  });
+  std::erase_if(files, [&](const InputFile& file) { return !seen.insert(named_in_resolved_folder(file.file)).second; });
   if (files.empty())
     throw CLI::ValidationError("input", found_inputs.skipped_under_output
                                             ? "no .gltf or .glb files found outside the output folder"
@@ -262,8 +264,7 @@ void refuse_writing_over_inputs(const std::vector<InputFile>& files, std::span<c
     }
     // A folder of named outputs: the name the run reads, and the file it leads to (a symbolic link
     // in the folder is refused when written, but its target's name may be one too).
-    const fs::path as_named =
-        resolved(read.parent_path().empty() ? fs::path(".") : read.parent_path()) / read.filename();
+    const fs::path as_named = named_in_resolved_folder(read);
     for (const fs::path& named : {as_named, file})
       for (auto [it, end] = existing.equal_range(named.parent_path()); it != end; ++it)
         if (it->second->names && it->second->names(named.filename().string()))

@@ -33,8 +33,8 @@ namespace {
 
 // Whether two descriptors are one file: a terminal, or a log both are redirected to.
 bool same_file(int a, int b) {
-  struct stat first {
-  }, second{};
+  struct stat first {};
+  struct stat second {};
   return ::fstat(a, &first) == 0 && ::fstat(b, &second) == 0 && first.st_dev == second.st_dev &&
          first.st_ino == second.st_ino;
 }
